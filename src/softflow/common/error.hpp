@@ -1,0 +1,34 @@
+// Typed errors: user input, meshing, solver. Caught once, in main.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace softflow {
+
+/// Base of every error softflow reports to the user.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Bad user input (case file or command line). The message names the key,
+/// the offending value and what is allowed.
+class InputError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// The mesher could not build the requested geometry.
+class MeshError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A linear or nonlinear solver failed.
+class SolverError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace softflow

@@ -1,0 +1,64 @@
+// Builds the shear cell with suspended objects as a curved P2 mesh (gmsh).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "softflow/mesh/mesh.hpp"
+
+namespace softflow::geometry {
+
+enum class ObjectShape { sphere, ellipsoid };
+
+/// One suspended object. Lengths are in the case's length unit.
+struct ObjectSpec {
+  ObjectShape shape = ObjectShape::sphere;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  /// Semi-axes along the body axes; a sphere has three equal entries.
+  Eigen::Vector3d semi_axes = Eigen::Vector3d::Ones();
+  /// Body orientation: R = Rz(rz) * Ry(ry) * Rx(rx), angles in degrees.
+  Eigen::Vector3d rotation_deg = Eigen::Vector3d::Zero();
+};
+
+/// Mesh resolution: size graded from the interface to the far field.
+struct MeshSizing {
+  /// P2 nodes around the equator of each object (thesis: 28/40/50). The
+  /// interface element size is h = 2 pi r / (equator_nodes / 2), r the
+  /// object's smallest semi-axis.
+  int equator_nodes = 40;
+  /// Element size far from the objects (at the walls).
+  double far_size = 3.0;
+  /// Size growth with distance from the interface: h(d) = h0 + growth * d.
+  double growth = 0.4;
+  /// Run gmsh's high-order optimisation (fixes inverted curved elements).
+  bool optimize_high_order = true;
+};
+
+struct ShearCellSpec {
+  mesh::Box box;
+  std::vector<ObjectSpec> objects;
+  MeshSizing sizing;
+};
+
+/// What the mesher reports.
+struct MeshReport {
+  int n_nodes = 0;
+  int n_tets = 0;
+  int n_interface_nodes = 0;  ///< P2 nodes on all interfaces
+  int n_equator_nodes = 0;    ///< P2 nodes within h/4 of the first object's z-equator plane
+  double min_quality = 0.0;   ///< mesh::min_quality of the result
+  double seconds = 0.0;
+};
+
+/// Checks the spec (objects inside the box, away from walls and periodic
+/// faces, not overlapping). Throws InputError naming the offending object
+/// (1-based index, as in the case file) and what is wrong.
+void validate(const ShearCellSpec& spec);
+
+/// Meshes the cell with gmsh (OCC): box fragmented with the objects,
+/// periodic in x and/or z, P2 curved elements. Calls validate() first.
+mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report = nullptr);
+
+}  // namespace softflow::geometry

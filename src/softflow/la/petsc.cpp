@@ -1,0 +1,60 @@
+#include "softflow/la/petsc.hpp"
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+
+namespace softflow::la {
+
+void check(PetscErrorCode code, const char* what) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  throw SolverError(fmt::format("PETSc error in {}: {} (code {})", what, text ? text : "?", code));
+}
+
+int mpi_rank(MPI_Comm comm) {
+  int r = 0;
+  MPI_Comm_rank(comm, &r);
+  return r;
+}
+
+int mpi_size(MPI_Comm comm) {
+  int s = 1;
+  MPI_Comm_size(comm, &s);
+  return s;
+}
+
+Vector make_vector(PetscInt n_local, PetscInt n_global) {
+  Vector v;
+  check(VecCreateMPI(PETSC_COMM_WORLD, n_local, n_global, v.out()), "VecCreateMPI");
+  return v;
+}
+
+std::vector<double> gather_to_all(Vec v) {
+  VecScatter scatter = nullptr;
+  Vec all = nullptr;
+  check(VecScatterCreateToAll(v, &scatter, &all), "VecScatterCreateToAll");
+  check(VecScatterBegin(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  check(VecScatterEnd(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  PetscInt n = 0;
+  check(VecGetSize(all, &n), "VecGetSize");
+  const PetscScalar* a = nullptr;
+  check(VecGetArrayRead(all, &a), "VecGetArrayRead");
+  std::vector<double> out(a, a + n);
+  check(VecRestoreArrayRead(all, &a), "VecRestoreArrayRead");
+  VecScatterDestroy(&scatter);
+  VecDestroy(&all);
+  return out;
+}
+
+IndexSet make_index_set(std::span<const PetscInt> owned_indices, PetscInt block_size) {
+  IndexSet is;
+  check(ISCreateGeneral(PETSC_COMM_WORLD, static_cast<PetscInt>(owned_indices.size()),
+                        owned_indices.data(), PETSC_COPY_VALUES, is.out()),
+        "ISCreateGeneral");
+  if (block_size > 1) check(ISSetBlockSize(is.get(), block_size), "ISSetBlockSize");
+  return is;
+}
+
+}  // namespace softflow::la

@@ -1,0 +1,73 @@
+// Thin RAII wrappers over PETSc objects; the only place (with la/*.cpp) that includes PETSc.
+#pragma once
+
+#include <petscksp.h>
+
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace softflow::la {
+
+/// Throws SolverError with PETSc's message if `code` is an error.
+void check(PetscErrorCode code, const char* what);
+
+/// Owns a PETSc object handle and destroys it exactly once.
+template <class Handle, PetscErrorCode (*destroy)(Handle*)>
+class Owned {
+ public:
+  Owned() = default;
+  explicit Owned(Handle h) : handle_(h) {}
+  Owned(const Owned&) = delete;
+  Owned& operator=(const Owned&) = delete;
+  Owned(Owned&& o) noexcept : handle_(std::exchange(o.handle_, nullptr)) {}
+  Owned& operator=(Owned&& o) noexcept {
+    if (this != &o) {
+      reset();
+      handle_ = std::exchange(o.handle_, nullptr);
+    }
+    return *this;
+  }
+  ~Owned() { reset(); }
+  void reset() {
+    if (handle_) destroy(&handle_);
+    handle_ = nullptr;
+  }
+  [[nodiscard]] Handle get() const { return handle_; }
+  Handle* out() {
+    reset();
+    return &handle_;
+  }
+  explicit operator bool() const { return handle_ != nullptr; }
+
+ private:
+  Handle handle_ = nullptr;
+};
+
+using Vector = Owned<Vec, VecDestroy>;
+using Matrix = Owned<Mat, MatDestroy>;
+using Solver = Owned<KSP, KSPDestroy>;
+using IndexSet = Owned<IS, ISDestroy>;
+
+/// Contiguous ownership of global indices [begin, end) on this rank.
+struct OwnershipRange {
+  PetscInt begin = 0;
+  PetscInt end = 0;
+  [[nodiscard]] bool owns(PetscInt i) const { return i >= begin && i < end; }
+  [[nodiscard]] PetscInt size() const { return end - begin; }
+};
+
+int mpi_rank(MPI_Comm comm = PETSC_COMM_WORLD);
+int mpi_size(MPI_Comm comm = PETSC_COMM_WORLD);
+
+/// A distributed vector with the given local size.
+Vector make_vector(PetscInt n_local, PetscInt n_global);
+
+/// Copies a distributed vector to a full std::vector on every rank.
+std::vector<double> gather_to_all(Vec v);
+
+/// An index set of this rank's global indices (sorted, owned).
+IndexSet make_index_set(std::span<const PetscInt> owned_indices, PetscInt block_size = 1);
+
+}  // namespace softflow::la

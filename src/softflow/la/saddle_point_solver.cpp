@@ -1,0 +1,104 @@
+#include "softflow/la/saddle_point_solver.hpp"
+
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+
+namespace softflow::la {
+
+void set_default_option(const std::string& name, const std::string& value) {
+  PetscBool set = PETSC_FALSE;
+  check(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set), "PetscOptionsHasName");
+  if (!set) check(PetscOptionsSetValue(nullptr, name.c_str(), value.c_str()), "PetscOptionsSetValue");
+}
+
+namespace {
+
+void configure_direct(const SaddlePointSettings& s, KSP ksp) {
+  const std::string p = "-" + s.prefix;
+  set_default_option(p + "ksp_type", "preonly");
+  set_default_option(p + "pc_type", "lu");
+  set_default_option(p + "pc_factor_mat_solver_type", "mumps");
+  // Saddle-point LU pivots off the diagonal; give MUMPS room to do so.
+  set_default_option("-mat_mumps_icntl_14", "80");
+}
+
+void configure_iterative(const SaddlePointSettings& s, KSP ksp) {
+  // Settings measured best on this machine (PLATFORM.md): lower-triangular
+  // Schur factorisation, Schur complement approximated by the scaled
+  // pressure mass matrix, BoomerAMG tuned for 3D P2 elasticity-like blocks.
+  const std::string p = "-" + s.prefix;
+  set_default_option(p + "ksp_type", "fgmres");
+  set_default_option(p + "ksp_gmres_restart", "200");
+  set_default_option(p + "pc_type", "fieldsplit");
+  set_default_option(p + "pc_fieldsplit_type", "schur");
+  set_default_option(p + "pc_fieldsplit_schur_fact_type", "lower");
+  set_default_option(p + "pc_fieldsplit_schur_precondition", "a11");
+  const std::string v = p + "fieldsplit_velocity_";
+  set_default_option(v + "ksp_type", "preonly");
+  set_default_option(v + "pc_type", "hypre");
+  set_default_option(v + "pc_hypre_type", "boomeramg");
+  set_default_option(v + "pc_hypre_boomeramg_strong_threshold", "0.7");
+  set_default_option(v + "pc_hypre_boomeramg_coarsen_type", "HMIS");
+  set_default_option(v + "pc_hypre_boomeramg_interp_type", "ext+i");
+  set_default_option(v + "pc_hypre_boomeramg_P_max", "4");
+  set_default_option(v + "pc_hypre_boomeramg_agg_nl", "1");
+  const std::string q = p + "fieldsplit_pressure_";
+  set_default_option(q + "ksp_type", "preonly");
+  set_default_option(q + "pc_type", "jacobi");
+}
+
+}  // namespace
+
+SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings, IS velocity_dofs,
+                                     IS pressure_dofs)
+    : settings_(settings) {
+  check(KSPCreate(PETSC_COMM_WORLD, ksp_.out()), "KSPCreate");
+  check(KSPSetOptionsPrefix(ksp_.get(), settings.prefix.c_str()), "KSPSetOptionsPrefix");
+  check(KSPSetTolerances(ksp_.get(), settings.rtol, PETSC_DEFAULT, PETSC_DEFAULT,
+                         settings.max_iterations),
+        "KSPSetTolerances");
+  if (settings.method == SaddlePointMethod::direct) {
+    configure_direct(settings, ksp_.get());
+  } else {
+    configure_iterative(settings, ksp_.get());
+  }
+  PC pc = nullptr;
+  check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
+  // Named fields, so every split can be tuned from the command line.
+  if (settings.method == SaddlePointMethod::iterative) {
+    check(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
+    check(PCFieldSplitSetIS(pc, "velocity", velocity_dofs), "PCFieldSplitSetIS(velocity)");
+    check(PCFieldSplitSetIS(pc, "pressure", pressure_dofs), "PCFieldSplitSetIS(pressure)");
+  }
+  check(KSPSetFromOptions(ksp_.get()), "KSPSetFromOptions");
+}
+
+void SaddlePointSolver::set_operators(Mat a, Mat pmat) {
+  check(KSPSetOperators(ksp_.get(), a, pmat ? pmat : a), "KSPSetOperators");
+}
+
+SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
+  const auto start = std::chrono::steady_clock::now();
+  check(KSPSolve(ksp_.get(), b, x), "KSPSolve");
+  SolveReport r;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  PetscInt its = 0;
+  check(KSPGetIterationNumber(ksp_.get(), &its), "KSPGetIterationNumber");
+  r.iterations = static_cast<int>(its);
+  KSPConvergedReason reason;
+  check(KSPGetConvergedReason(ksp_.get(), &reason), "KSPGetConvergedReason");
+  r.reason = KSPConvergedReasons[reason];
+  check(KSPGetResidualNorm(ksp_.get(), &r.residual_norm), "KSPGetResidualNorm");
+  if (reason < 0) {
+    throw SolverError(fmt::format(
+        "Stokes solver did not converge: {} after {} iterations (residual {:.3e}); try "
+        "[solver] type = \"direct\", a larger max_iterations, or a finer mesh",
+        r.reason, r.iterations, r.residual_norm));
+  }
+  return r;
+}
+
+}  // namespace softflow::la

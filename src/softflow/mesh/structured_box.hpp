@@ -1,0 +1,21 @@
+// Structured P2 tetrahedral meshes of a box, for verification tests and benchmarks.
+#pragma once
+
+#include <functional>
+
+#include "softflow/mesh/mesh.hpp"
+
+namespace softflow::mesh {
+
+/// A box split into nx * ny * nz cubes of 6 tetrahedra each (Kuhn
+/// triangulation, conforming across cubes), P2 with straight edges, all
+/// six faces tagged as boundary (no periodicity), one region (the matrix).
+/// The box is [-L/2, L/2] x [-H/2, H/2] x [-W/2, W/2].
+Mesh structured_box(const Box& box, int nx, int ny, int nz);
+
+/// Moves every geometry node (vertices and edge nodes) by x -> map(x). A
+/// nonlinear map curves the elements: the result is a genuinely
+/// isoparametric mesh.
+void map_nodes(Mesh& mesh, const std::function<Point(const Point&)>& map);
+
+}  // namespace softflow::mesh

@@ -1,0 +1,46 @@
+// Element kernels of the Taylor-Hood Stokes weak form, each named after its term.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "softflow/fem/tabulation.hpp"
+
+namespace softflow::physics {
+
+/// Element matrix in the local order of fem::StokesDofMap (30 velocity + 4 pressure).
+using TetMatrix = Eigen::Matrix<double, 34, 34>;
+using TetVector = Eigen::Matrix<double, 34, 1>;
+using TriangleVelocityVector = Eigen::Matrix<double, 18, 1>;
+
+/// Adds on one tetrahedron, with eta the region's viscosity:
+///   (1) a(v, u) = (2 eta D(v), D(u))        velocity-velocity,
+///   (2) b(q, u) = -(q, div u) and its transpose  pressure-velocity,
+///   (3) if pressure_mass: -(1/eta)(q, p)      pressure-pressure, used only in
+///       the preconditioning matrix as the Schur-complement approximation.
+/// Returns the element volume.
+double add_stokes_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
+                             double eta, bool pressure_mass, TetMatrix& out);
+
+/// (v, f) on one tetrahedron: body force loading of the velocity rows.
+template <class Force>
+void add_body_force(const element::TetNodes& x, const fem::TetTabulation& tab, const Force& f,
+                    TetVector& out) {
+  for (int q = 0; q < tab.rule.size(); ++q) {
+    const auto map = element::tet_map(x, tab.p2_grad[q]);
+    Eigen::Vector3d xq = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 10; ++k) xq += tab.p2[q][k] * x.col(k);
+    const Eigen::Vector3d fq = f(xq) * (tab.rule.weights[q] * map.det_jacobian);
+    for (int k = 0; k < 10; ++k)
+      for (int d = 0; d < 3; ++d) out(3 * k + d) += tab.p2[q][k] * fq(d);
+  }
+}
+
+/// Surface tension, thesis eq. 2.34's interface term moved to the right side:
+///   -Gamma * integral_S (grad_s v)^T : (I - n n) ds = -Gamma * integral_S div_s v ds
+/// on one curved P2 interface triangle (velocity of its 6 nodes, 3k + d).
+/// No curvature is computed: the identity integral_S div_s v = integral_S
+/// (div n) v.n ds for closed S makes this the weak form of the traction jump.
+void add_surface_tension(const element::TriangleNodes& x, double gamma,
+                         TriangleVelocityVector& out);
+
+}  // namespace softflow::physics

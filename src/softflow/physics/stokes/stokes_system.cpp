@@ -1,0 +1,235 @@
+#include "softflow/physics/stokes/stokes_system.hpp"
+
+#include <chrono>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/physics/stokes/stokes_kernels.hpp"
+
+namespace softflow::physics {
+
+namespace {
+using la::check;
+// Degree 5 (14 points): exact for the affine-element integrands (degree <= 4)
+// and accurate to well below discretisation error on curved P2 elements.
+constexpr int kQuadratureDegree = 5;
+}  // namespace
+
+StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings& settings,
+                           bool double_interface_velocity)
+    : mesh_(mesh),
+      settings_(settings),
+      dofs_(mesh, double_interface_velocity),
+      tabulation_(kQuadratureDegree) {
+  partition();
+  create_matrices();
+  solver_ = std::make_unique<la::SaddlePointSolver>(settings_, velocity_is_.get(),
+                                                    pressure_is_.get());
+}
+
+StokesSystem::~StokesSystem() = default;
+
+void StokesSystem::partition() {
+  // Contiguous node ranges with about equal numbers of unknowns per rank.
+  const int rank = la::mpi_rank(), size = la::mpi_size();
+  const int n_nodes = mesh_.n_nodes();
+  const long target_begin = static_cast<long>(dofs_.n_dofs()) * rank / size;
+  const long target_end = static_cast<long>(dofs_.n_dofs()) * (rank + 1) / size;
+  auto first_node_at = [&](long dof) {
+    int lo = 0, hi = n_nodes;  // first node whose offset >= dof
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      if (dofs_.dof_offset_of_node(mid) < dof) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+  };
+  range_.begin = dofs_.dof_offset_of_node(first_node_at(target_begin));
+  range_.end = rank + 1 == size ? dofs_.n_dofs() : dofs_.dof_offset_of_node(first_node_at(target_end));
+
+  for (int t = 0; t < mesh_.n_tets(); ++t)
+    if (range_.owns(dofs_.tet_dofs(t)[0])) owned_tets_.push_back(t);
+  for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) {
+    const int node = mesh_.interface_faces[f][0];
+    if (range_.owns(dofs_.velocity_dof(node, 0))) owned_interface_faces_.push_back(f);
+  }
+
+  std::vector<PetscInt> velocity, pressure;
+  for (PetscInt i = range_.begin; i < range_.end; ++i)
+    (dofs_.is_velocity(static_cast<int>(i)) ? velocity : pressure).push_back(i);
+  velocity_is_ = la::make_index_set(velocity, 3);
+  pressure_is_ = la::make_index_set(pressure);
+}
+
+void StokesSystem::create_matrices() {
+  // Exact preallocation: insert the element patterns once into a
+  // MATPREALLOCATOR, which then sizes the real matrices (PLATFORM.md: a
+  // naive assembly spends most of its time in MatSetValues).
+  la::Matrix pattern;
+  check(MatCreate(PETSC_COMM_WORLD, pattern.out()), "MatCreate");
+  check(MatSetSizes(pattern.get(), range_.size(), range_.size(), dofs_.n_dofs(), dofs_.n_dofs()),
+        "MatSetSizes");
+  check(MatSetType(pattern.get(), MATPREALLOCATOR), "MatSetType");
+  check(MatSetUp(pattern.get()), "MatSetUp");
+  const TetMatrix zeros = TetMatrix::Zero();
+  for (int t : owned_tets_) {
+    const auto& d = dofs_.tet_dofs(t);
+    check(MatSetValues(pattern.get(), 34, d.data(), 34, d.data(), zeros.data(), ADD_VALUES),
+          "MatSetValues(pattern)");
+  }
+  check(MatAssemblyBegin(pattern.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  check(MatAssemblyEnd(pattern.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+
+  auto make = [&](la::Matrix& m) {
+    check(MatCreate(PETSC_COMM_WORLD, m.out()), "MatCreate");
+    check(MatSetSizes(m.get(), range_.size(), range_.size(), dofs_.n_dofs(), dofs_.n_dofs()),
+          "MatSetSizes");
+    check(MatSetType(m.get(), MATAIJ), "MatSetType");
+    check(MatPreallocatorPreallocate(pattern.get(), PETSC_TRUE, m.get()),
+          "MatPreallocatorPreallocate");
+    check(MatSetOption(m.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  };
+  make(a_);
+  if (settings_.method == la::SaddlePointMethod::iterative) make(pmat_);
+}
+
+void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
+  check(MatZeroEntries(a_.get()), "MatZeroEntries");
+  if (pmat_) check(MatZeroEntries(pmat_.get()), "MatZeroEntries");
+  const bool iterative = static_cast<bool>(pmat_);
+  TetMatrix ke;
+  TetVector fe;
+  for (int t : owned_tets_) {
+    const int region = mesh_.tet_region[t];
+    const double eta = problem.viscosity.at(region);
+    const auto x = fem::tet_nodes(mesh_, t);
+    const auto& d = dofs_.tet_dofs(t);
+    ke.setZero();
+    add_stokes_tet_matrix(x, tabulation_, eta, false, ke);
+    // Eigen is column-major; the element matrix is symmetric, so the
+    // row-major view PETSc expects is the same data.
+    check(MatSetValues(a_.get(), 34, d.data(), 34, d.data(), ke.data(), ADD_VALUES),
+          "MatSetValues(A)");
+    if (iterative) {
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) ke(30 + i, 30 + j) = 0.0;
+      TetMatrix mass = TetMatrix::Zero();
+      add_stokes_tet_matrix(x, tabulation_, eta, true, mass);
+      ke.bottomRightCorner<4, 4>() = mass.bottomRightCorner<4, 4>();
+      check(MatSetValues(pmat_.get(), 34, d.data(), 34, d.data(), ke.data(), ADD_VALUES),
+            "MatSetValues(P)");
+    }
+    if (problem.body_force) {
+      fe.setZero();
+      add_body_force(x, tabulation_, [&](const Vec3& xq) { return problem.body_force(xq, region); },
+                     fe);
+      check(VecSetValues(rhs, 30, d.data(), fe.data(), ADD_VALUES), "VecSetValues(f)");
+    }
+  }
+  for (int f : owned_interface_faces_) {
+    const int object = mesh_.interface_object[f];
+    const double gamma = object - 1 < static_cast<int>(problem.interfacial_tension.size())
+                             ? problem.interfacial_tension[object - 1]
+                             : 0.0;
+    if (gamma == 0.0) continue;
+    const auto& tri = mesh_.interface_faces[f];
+    TriangleVelocityVector fs = TriangleVelocityVector::Zero();
+    add_surface_tension(fem::triangle_nodes(mesh_, tri), gamma, fs);
+    // Shared (no-slip) velocity: the matrix-side copy is the interface velocity.
+    std::array<PetscInt, 18> rows;
+    for (int k = 0; k < 6; ++k)
+      for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.velocity_dof(tri[k], 0) + c;
+    check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
+  }
+  for (Mat m : {a_.get(), pmat_.get()}) {
+    if (!m) continue;
+    check(MatAssemblyBegin(m, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(m, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  }
+  check(VecAssemblyBegin(rhs), "VecAssemblyBegin");
+  check(VecAssemblyEnd(rhs), "VecAssemblyEnd");
+}
+
+void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x) {
+  // Rows and columns of constrained unknowns are eliminated symmetrically
+  // (MatZeroRowsColumns), so the system stays symmetric for MINRES users.
+  std::vector<PetscInt> rows;
+  std::vector<PetscScalar> values;
+  std::vector<char> seen(range_.size(), 0);
+  auto constrain = [&](PetscInt dof, double value) {
+    if (!range_.owns(dof) || seen[dof - range_.begin]) return;
+    seen[dof - range_.begin] = 1;
+    rows.push_back(dof);
+    values.push_back(value);
+  };
+  for (const auto& face : mesh_.boundary_faces)
+    for (int node : face) {
+      const Vec3 g = problem.boundary_velocity ? problem.boundary_velocity(mesh_.nodes[node])
+                                               : Vec3::Zero();
+      const int v = dofs_.velocity_dof(node, 0);
+      for (int c = 0; c < 3; ++c) constrain(v + c, g(c));
+    }
+  if (problem.pressure_gauge_node >= 0) {
+    const int p = dofs_.pressure_dof(problem.pressure_gauge_node, 0);
+    if (p < 0) throw SolverError("pressure gauge node is not a matrix vertex");
+    constrain(p, problem.pressure_gauge_value);
+  }
+  check(VecSetValues(x, static_cast<PetscInt>(rows.size()), rows.data(), values.data(),
+                     INSERT_VALUES),
+        "VecSetValues(x)");
+  check(VecAssemblyBegin(x), "VecAssemblyBegin");
+  check(VecAssemblyEnd(x), "VecAssemblyEnd");
+  for (Mat m : {a_.get(), pmat_.get()}) {
+    if (!m) continue;
+    const bool is_operator = m == a_.get();
+    check(MatZeroRowsColumns(m, static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
+                             is_operator ? x : nullptr, is_operator ? rhs : nullptr),
+          "MatZeroRowsColumns");
+  }
+}
+
+StokesResult StokesSystem::solve(const StokesProblem& problem) {
+  if (static_cast<int>(problem.viscosity.size()) < mesh_.n_objects + 1)
+    throw SolverError(fmt::format("StokesProblem: {} viscosities for {} regions",
+                                  problem.viscosity.size(), mesh_.n_objects + 1));
+  const auto start = std::chrono::steady_clock::now();
+  la::Vector rhs = la::make_vector(range_.size(), dofs_.n_dofs());
+  la::Vector x = la::make_vector(range_.size(), dofs_.n_dofs());
+  check(VecSet(rhs.get(), 0.0), "VecSet");
+  check(VecSet(x.get(), 0.0), "VecSet");
+  assemble(problem, rhs.get());
+  apply_dirichlet(problem, rhs.get(), x.get());
+  StokesResult result;
+  result.assembly_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  solver_->set_operators(a_.get(), pmat_.get());
+  result.solve = solver_->solve(rhs.get(), x.get());
+  result.solution = la::gather_to_all(x.get());
+  return result;
+}
+
+int default_pressure_gauge_node(const mesh::Mesh& mesh) {
+  // The bottom-wall vertex farthest from the origin (the objects sit near it).
+  int best = -1;
+  double best_distance = -1.0;
+  for (std::size_t f = 0; f < mesh.boundary_faces.size(); ++f) {
+    if (mesh.boundary_face_tag[f] != mesh::BoundaryTag::wall_bottom) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int node = mesh.master(mesh.boundary_faces[f][k]);
+      const double r = mesh.nodes[node].norm();
+      if (r > best_distance || (r == best_distance && node < best)) {
+        best_distance = r;
+        best = node;
+      }
+    }
+  }
+  if (best < 0) {
+    // No walls (test boxes): any matrix vertex will do; take the first.
+    for (int t = 0; t < mesh.n_tets() && best < 0; ++t)
+      if (mesh.tet_region[t] == 0) best = mesh.tets[t][0];
+  }
+  return best;
+}
+
+}  // namespace softflow::physics

@@ -1,0 +1,72 @@
+// Assembly and solution of the two-phase Taylor-Hood Stokes system with PETSc.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "softflow/fem/dof_map.hpp"
+#include "softflow/fem/tabulation.hpp"
+#include "softflow/la/petsc.hpp"
+#include "softflow/la/saddle_point_solver.hpp"
+#include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/stokes/stokes_problem.hpp"
+
+namespace softflow::physics {
+
+struct StokesResult {
+  /// Every dof of fem::StokesDofMap, gathered on every rank.
+  std::vector<double> solution;
+  la::SolveReport solve;
+  double assembly_seconds = 0.0;
+};
+
+/// The two-phase Stokes solve of thesis §2.3.1 (Newtonian phases):
+///
+///   find u (P2, continuous), p (P1 per region) such that for all v, q
+///   (1) sum_r (2 eta_r D(v), D(u))_r
+///   (2)   - sum_r (div v, p)_r
+///   (3)   + sum_k Gamma_k integral_{S_k} (grad_s v)^T : (I - n n) ds   = (v, f)
+///   (4) - sum_r (q, div u)_r                                          = 0
+///
+/// with u = g on the walls and pressure fixed at one matrix vertex. Mesh and
+/// dof map are replicated on every rank; each rank assembles the elements
+/// whose first unknown it owns into distributed PETSc matrices.
+class StokesSystem {
+ public:
+  StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings& settings,
+               bool double_interface_velocity = false);
+  ~StokesSystem();
+  StokesSystem(const StokesSystem&) = delete;
+  StokesSystem& operator=(const StokesSystem&) = delete;
+
+  [[nodiscard]] const fem::StokesDofMap& dofs() const { return dofs_; }
+  [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
+  [[nodiscard]] la::OwnershipRange ownership() const { return range_; }
+
+  /// Assembles the problem on the current mesh and solves it.
+  StokesResult solve(const StokesProblem& problem);
+
+ private:
+  void partition();
+  void create_matrices();
+  void assemble(const StokesProblem& problem, Vec rhs);
+  void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
+
+  const mesh::Mesh& mesh_;
+  la::SaddlePointSettings settings_;
+  fem::StokesDofMap dofs_;
+  fem::TetTabulation tabulation_;
+  la::OwnershipRange range_;
+  std::vector<int> owned_tets_;
+  std::vector<int> owned_interface_faces_;
+  la::Matrix a_;
+  la::Matrix pmat_;  // only for the iterative method
+  la::IndexSet velocity_is_, pressure_is_;
+  std::unique_ptr<la::SaddlePointSolver> solver_;
+};
+
+/// A matrix vertex on the bottom wall, far from the objects: where the
+/// pressure level is fixed by default.
+int default_pressure_gauge_node(const mesh::Mesh& mesh);
+
+}  // namespace softflow::physics
