@@ -16,27 +16,38 @@ void set_default_option(const std::string& name, const std::string& value) {
 
 namespace {
 
-void configure_direct(const SaddlePointSettings& s, KSP ksp) {
-  const std::string p = "-" + s.prefix;
-  set_default_option(p + "ksp_type", "preonly");
-  set_default_option(p + "pc_type", "lu");
-  set_default_option(p + "pc_factor_mat_solver_type", "mumps");
+// Outer choices are set through the API (so two solvers in one process
+// never see each other's choice); KSPSetFromOptions still lets the user
+// override them with -<prefix>ksp_type etc.
+void configure_direct(KSP ksp) {
+  check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+  PC pc = nullptr;
+  check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  check(PCSetType(pc, PCLU), "PCSetType");
+  check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   // Saddle-point LU pivots off the diagonal; give MUMPS room to do so.
   set_default_option("-mat_mumps_icntl_14", "80");
 }
 
-void configure_iterative(const SaddlePointSettings& s, KSP ksp) {
+void configure_iterative(const SaddlePointSettings& s, KSP ksp, IS velocity, IS pressure) {
   // Settings measured best on this machine (PLATFORM.md): lower-triangular
   // Schur factorisation, Schur complement approximated by the scaled
-  // pressure mass matrix, BoomerAMG tuned for 3D P2 elasticity-like blocks.
-  const std::string p = "-" + s.prefix;
-  set_default_option(p + "ksp_type", "fgmres");
-  set_default_option(p + "ksp_gmres_restart", "200");
-  set_default_option(p + "pc_type", "fieldsplit");
-  set_default_option(p + "pc_fieldsplit_type", "schur");
-  set_default_option(p + "pc_fieldsplit_schur_fact_type", "lower");
-  set_default_option(p + "pc_fieldsplit_schur_precondition", "a11");
-  const std::string v = p + "fieldsplit_velocity_";
+  // pressure mass matrix (the A11 block of the preconditioning matrix),
+  // BoomerAMG tuned for 3D P2 velocity blocks, Jacobi on the pressure mass.
+  check(KSPSetType(ksp, KSPFGMRES), "KSPSetType");
+  check(KSPGMRESSetRestart(ksp, 200), "KSPGMRESSetRestart");
+  PC pc = nullptr;
+  check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  check(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
+  // Named fields, so every split can be tuned from the command line.
+  check(PCFieldSplitSetIS(pc, "velocity", velocity), "PCFieldSplitSetIS(velocity)");
+  check(PCFieldSplitSetIS(pc, "pressure", pressure), "PCFieldSplitSetIS(pressure)");
+  check(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR), "PCFieldSplitSetType");
+  check(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_LOWER), "SchurFactType");
+  check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_A11, nullptr), "SchurPre");
+  // The sub-solvers exist only after setup, so their defaults go through the
+  // options database (only fieldsplit solvers with this prefix read them).
+  const std::string v = "-" + s.prefix + "fieldsplit_velocity_";
   set_default_option(v + "ksp_type", "preonly");
   set_default_option(v + "pc_type", "hypre");
   set_default_option(v + "pc_hypre_type", "boomeramg");
@@ -45,7 +56,7 @@ void configure_iterative(const SaddlePointSettings& s, KSP ksp) {
   set_default_option(v + "pc_hypre_boomeramg_interp_type", "ext+i");
   set_default_option(v + "pc_hypre_boomeramg_P_max", "4");
   set_default_option(v + "pc_hypre_boomeramg_agg_nl", "1");
-  const std::string q = p + "fieldsplit_pressure_";
+  const std::string q = "-" + s.prefix + "fieldsplit_pressure_";
   set_default_option(q + "ksp_type", "preonly");
   set_default_option(q + "pc_type", "jacobi");
 }
@@ -61,17 +72,9 @@ SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings, IS vel
                          settings.max_iterations),
         "KSPSetTolerances");
   if (settings.method == SaddlePointMethod::direct) {
-    configure_direct(settings, ksp_.get());
+    configure_direct(ksp_.get());
   } else {
-    configure_iterative(settings, ksp_.get());
-  }
-  PC pc = nullptr;
-  check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
-  // Named fields, so every split can be tuned from the command line.
-  if (settings.method == SaddlePointMethod::iterative) {
-    check(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
-    check(PCFieldSplitSetIS(pc, "velocity", velocity_dofs), "PCFieldSplitSetIS(velocity)");
-    check(PCFieldSplitSetIS(pc, "pressure", pressure_dofs), "PCFieldSplitSetIS(pressure)");
+    configure_iterative(settings, ksp_.get(), velocity_dofs, pressure_dofs);
   }
   check(KSPSetFromOptions(ksp_.get()), "KSPSetFromOptions");
 }

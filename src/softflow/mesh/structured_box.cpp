@@ -15,9 +15,9 @@ constexpr int kKuhn[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
 
 class EdgeNodes {
  public:
-  explicit EdgeNodes(Mesh& mesh) : mesh_(mesh) {}
+  explicit EdgeNodes(Mesh& mesh) : mesh_(mesh), n_vertices_(mesh.n_nodes()) {}
   int get(int a, int b) {
-    const long key = static_cast<long>(std::min(a, b)) * mesh_.n_nodes() * 8L + std::max(a, b);
+    const long key = static_cast<long>(std::min(a, b)) * n_vertices_ + std::max(a, b);
     auto [it, inserted] = map_.try_emplace(key, -1);
     if (inserted) {
       it->second = static_cast<int>(mesh_.nodes.size());
@@ -29,6 +29,7 @@ class EdgeNodes {
 
  private:
   Mesh& mesh_;
+  long n_vertices_;  // keys are built from vertex indices only
   std::unordered_map<long, int> map_;
 };
 

@@ -91,7 +91,9 @@ void StokesSystem::create_matrices() {
     check(MatSetOption(m.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
   };
   make(a_);
-  if (settings_.method == la::SaddlePointMethod::iterative) make(pmat_);
+  // A preallocator sizes one matrix only; the preconditioning matrix has the same pattern.
+  if (settings_.method == la::SaddlePointMethod::iterative)
+    check(MatDuplicate(a_.get(), MAT_DO_NOT_COPY_VALUES, pmat_.out()), "MatDuplicate");
 }
 
 void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {

@@ -1,0 +1,47 @@
+#include "softflow/fem/norms.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "softflow/fem/tabulation.hpp"
+
+namespace softflow::fem {
+
+StokesErrors stokes_errors(const mesh::Mesh& mesh, const StokesDofMap& dofs,
+                           const std::vector<double>& solution, const VectorField& velocity,
+                           const ScalarField& pressure) {
+  static const TetTabulation tab(8);
+  StokesErrors e;
+  double eu2 = 0.0, ep2 = 0.0;
+  for (int t = 0; t < mesh.n_tets(); ++t) {
+    const int region = mesh.tet_region[t];
+    const auto x = tet_nodes(mesh, t);
+    const auto& d = dofs.tet_dofs(t);
+    for (int q = 0; q < tab.rule.size(); ++q) {
+      const auto map = element::tet_map(x, tab.p2_grad[q]);
+      const double w = tab.rule.weights[q] * map.det_jacobian;
+      Eigen::Vector3d xq = Eigen::Vector3d::Zero(), uh = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 10; ++k) {
+        xq += tab.p2[q][k] * x.col(k);
+        for (int c = 0; c < 3; ++c) uh(c) += tab.p2[q][k] * solution[d[3 * k + c]];
+      }
+      double ph = 0.0;
+      for (int i = 0; i < 4; ++i) ph += tab.p1[q][i] * solution[d[30 + i]];
+      eu2 += w * (uh - velocity(xq, region)).squaredNorm();
+      ep2 += w * std::pow(ph - pressure(xq, region), 2);
+    }
+    for (int k = 0; k < 10; ++k) {
+      Eigen::Vector3d uh(solution[d[3 * k]], solution[d[3 * k + 1]], solution[d[3 * k + 2]]);
+      const auto& xk = mesh.nodes[mesh.tets[t][k]];
+      e.velocity_max_nodal = std::max(e.velocity_max_nodal, (uh - velocity(xk, region)).norm());
+      if (k < 4)
+        e.pressure_max_nodal =
+            std::max(e.pressure_max_nodal, std::abs(solution[d[30 + k]] - pressure(xk, region)));
+    }
+  }
+  e.velocity_l2 = std::sqrt(eu2);
+  e.pressure_l2 = std::sqrt(ep2);
+  return e;
+}
+
+}  // namespace softflow::fem
