@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <map>
+#include <tuple>
 #include <unordered_map>
 
 namespace softflow::mesh {
@@ -35,10 +38,27 @@ class EdgeNodes {
 
 }  // namespace
 
+namespace {
+
+// Identifies nodes on the max face of `axis` with their images on the min face.
+void identify_periodic(Mesh& mesh, int axis, double length, double tol) {
+  auto key = [&](const Point& x) {
+    std::array<long, 3> k{};
+    for (int d = 0; d < 3; ++d) k[d] = d == axis ? 0 : std::lround(x[d] / tol);
+    return k;
+  };
+  std::map<std::array<long, 3>, int> min_face;
+  for (int i = 0; i < mesh.n_nodes(); ++i)
+    if (std::abs(mesh.nodes[i][axis] + length / 2) < tol) min_face[key(mesh.nodes[i])] = i;
+  for (int i = 0; i < mesh.n_nodes(); ++i)
+    if (std::abs(mesh.nodes[i][axis] - length / 2) < tol) mesh.periodic_master[i] = min_face.at(key(mesh.nodes[i]));
+}
+
+}  // namespace
+
 Mesh structured_box(const Box& box, int nx, int ny, int nz) {
   Mesh mesh;
   mesh.box = box;
-  mesh.box.periodic_x = mesh.box.periodic_z = false;
   const Point lo(-box.length / 2, -box.height / 2, -box.width / 2);
   const Point h(box.length / nx, box.height / ny, box.width / nz);
   auto vertex = [&](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
@@ -90,6 +110,7 @@ Mesh structured_box(const Box& box, int nx, int ny, int nz) {
           };
           for (int e = 0; e < 3; ++e)
             tri[3 + e] = edge_node(tri[kTriangleEdges[e][0]], tri[kTriangleEdges[e][1]]);
+          if ((axis == 0 && box.periodic_x) || (axis == 2 && box.periodic_z)) continue;
           static constexpr BoundaryTag kTag[3][2] = {{BoundaryTag::x_min, BoundaryTag::x_max},
                                                      {BoundaryTag::wall_bottom, BoundaryTag::wall_top},
                                                      {BoundaryTag::z_min, BoundaryTag::z_max}};
@@ -97,6 +118,16 @@ Mesh structured_box(const Box& box, int nx, int ny, int nz) {
           mesh.boundary_face_tag.push_back(kTag[axis][side]);
         }
     }
+  if (box.periodic_x || box.periodic_z) {
+    mesh.periodic_master.resize(mesh.n_nodes());
+    for (int i = 0; i < mesh.n_nodes(); ++i) mesh.periodic_master[i] = i;
+    const double tol = 1e-6 * std::min({h.x(), h.y(), h.z()});
+    if (box.periodic_x) identify_periodic(mesh, 0, box.length, tol);
+    if (box.periodic_z) identify_periodic(mesh, 2, box.width, tol);
+    // Close the map: a corner node maps through x then z to its representative.
+    for (int& m : mesh.periodic_master)
+      while (mesh.periodic_master[m] != m) m = mesh.periodic_master[m];
+  }
   return mesh;
 }
 

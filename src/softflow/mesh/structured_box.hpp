@@ -8,8 +8,9 @@
 namespace softflow::mesh {
 
 /// A box split into nx * ny * nz cubes of 6 tetrahedra each (Kuhn
-/// triangulation, conforming across cubes), P2 with straight edges, all
-/// six faces tagged as boundary (no periodicity), one region (the matrix).
+/// triangulation, conforming across cubes), P2 with straight edges, one
+/// region (the matrix). Faces normal to x (z) are periodic if
+/// box.periodic_x (periodic_z), otherwise tagged boundary faces.
 /// The box is [-L/2, L/2] x [-H/2, H/2] x [-W/2, W/2].
 Mesh structured_box(const Box& box, int nx, int ny, int nz);
 

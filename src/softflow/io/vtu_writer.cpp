@@ -1,0 +1,125 @@
+#include "softflow/io/vtu_writer.hpp"
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+
+namespace softflow::io {
+
+std::string base64_encode(const unsigned char* data, std::size_t n) {
+  static constexpr char kTable[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve(4 * ((n + 2) / 3));
+  for (std::size_t i = 0; i < n; i += 3) {
+    const std::uint32_t b0 = data[i];
+    const std::uint32_t b1 = i + 1 < n ? data[i + 1] : 0;
+    const std::uint32_t b2 = i + 2 < n ? data[i + 2] : 0;
+    const std::uint32_t triple = (b0 << 16) | (b1 << 8) | b2;
+    out += kTable[(triple >> 18) & 63];
+    out += kTable[(triple >> 12) & 63];
+    out += i + 1 < n ? kTable[(triple >> 6) & 63] : '=';
+    out += i + 2 < n ? kTable[triple & 63] : '=';
+  }
+  return out;
+}
+
+namespace {
+
+// VTK inline binary: base64 of a UInt32 byte count followed by the bytes.
+template <class T>
+std::string encode_array(const std::vector<T>& values) {
+  const std::uint32_t bytes = static_cast<std::uint32_t>(values.size() * sizeof(T));
+  std::vector<unsigned char> buffer(sizeof(bytes) + bytes);
+  std::memcpy(buffer.data(), &bytes, sizeof(bytes));
+  if (bytes) std::memcpy(buffer.data() + sizeof(bytes), values.data(), bytes);
+  return base64_encode(buffer.data(), buffer.size());
+}
+
+template <class T>
+void write_data_array(std::ofstream& out, const char* type, const char* name, int components,
+                      const std::vector<T>& values) {
+  out << fmt::format("<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"binary\">\n",
+                     type, name, components)
+      << encode_array(values) << "\n</DataArray>\n";
+}
+
+}  // namespace
+
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+                                 const std::vector<double>& solution, int region) {
+  SubdomainPiece piece;
+  piece.region = region;
+  std::vector<int> local(mesh.n_nodes(), -1);
+  for (int t = 0; t < mesh.n_tets(); ++t) {
+    if (mesh.tet_region[t] != region) continue;
+    const auto& d = dofs.tet_dofs(t);
+    mesh::Tet10 cell{};
+    double vertex_pressure[4];
+    for (int i = 0; i < 4; ++i) vertex_pressure[i] = solution[d[30 + i]];
+    for (int k = 0; k < 10; ++k) {
+      const int node = mesh.tets[t][k];
+      if (local[node] < 0) {
+        local[node] = static_cast<int>(piece.points.size());
+        piece.points.push_back(mesh.nodes[node]);
+        for (int c = 0; c < 3; ++c) piece.velocity.push_back(solution[d[3 * k + c]]);
+        piece.pressure.push_back(k < 4 ? vertex_pressure[k]
+                                       : 0.5 * (vertex_pressure[mesh::kTetEdges[k - 4][0]] +
+                                                vertex_pressure[mesh::kTetEdges[k - 4][1]]));
+      }
+      cell[k] = local[node];
+    }
+    piece.cells.push_back(cell);
+  }
+  return piece;
+}
+
+void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece) {
+  std::ofstream out(path);
+  if (!out) throw Error(fmt::format("cannot write {}", path.string()));
+  out << "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt32\">\n<UnstructuredGrid>\n";
+  out << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", piece.points.size(),
+                     piece.cells.size());
+  std::vector<double> xyz;
+  xyz.reserve(3 * piece.points.size());
+  for (const auto& p : piece.points) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+  out << "<Points>\n";
+  write_data_array(out, "Float64", "Points", 3, xyz);
+  out << "</Points>\n<Cells>\n";
+  std::vector<std::int32_t> connectivity, offsets;
+  std::vector<std::uint8_t> types(piece.cells.size(), 24);  // VTK_QUADRATIC_TETRA
+  for (const auto& c : piece.cells) {
+    connectivity.insert(connectivity.end(), c.begin(), c.end());
+    offsets.push_back(static_cast<std::int32_t>(connectivity.size()));
+  }
+  write_data_array(out, "Int32", "connectivity", 1, connectivity);
+  write_data_array(out, "Int32", "offsets", 1, offsets);
+  write_data_array(out, "UInt8", "types", 1, types);
+  out << "</Cells>\n<PointData Vectors=\"velocity\" Scalars=\"pressure\">\n";
+  write_data_array(out, "Float64", "velocity", 3, piece.velocity);
+  write_data_array(out, "Float64", "pressure", 1, piece.pressure);
+  out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  if (!out) throw Error(fmt::format("error while writing {}", path.string()));
+}
+
+void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mesh& mesh,
+                         const fem::StokesDofMap& dofs, const std::vector<double>& solution,
+                         double time) {
+  std::ofstream pvd(directory / "fields.pvd");
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (int region = 0; region <= mesh.n_objects; ++region) {
+    const std::string name = region == 0 ? "matrix.vtu" : fmt::format("object_{}.vtu", region);
+    write_vtu(directory / name, extract_subdomain(mesh, dofs, solution, region));
+    pvd << fmt::format("<DataSet timestep=\"{}\" part=\"{}\" file=\"{}\"/>\n", time, region, name);
+  }
+  pvd << "</Collection>\n</VTKFile>\n";
+}
+
+}  // namespace softflow::io

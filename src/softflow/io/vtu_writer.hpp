@@ -1,0 +1,40 @@
+// ParaView output: one VTU per subdomain on quadratic tetrahedra, collected by a PVD file.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "softflow/fem/dof_map.hpp"
+#include "softflow/mesh/mesh.hpp"
+
+namespace softflow::io {
+
+/// One subdomain's piece of a Stokes solution on its own copy of the nodes,
+/// so that the pressure (and later the velocity with slip) may jump at the
+/// interface. Cells are VTK_QUADRATIC_TETRA; P1 pressure is interpolated
+/// linearly to the edge nodes so that ParaView shows the P1 field.
+struct SubdomainPiece {
+  int region = 0;
+  std::vector<mesh::Point> points;
+  std::vector<mesh::Tet10> cells;        ///< indices into points
+  std::vector<double> velocity;          ///< 3 per point
+  std::vector<double> pressure;          ///< 1 per point
+};
+
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+                                 const std::vector<double>& solution, int region);
+
+/// Writes `piece` as a binary (base64) XML UnstructuredGrid file.
+void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece);
+
+/// Writes matrix.vtu, object_1.vtu, ... into `directory` and fields.pvd
+/// listing them as parts of one time step (ParaView opens the PVD).
+void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mesh& mesh,
+                         const fem::StokesDofMap& dofs, const std::vector<double>& solution,
+                         double time = 0.0);
+
+/// Standard base64 of raw bytes (VTK's inline binary encoding).
+std::string base64_encode(const unsigned char* data, std::size_t n);
+
+}  // namespace softflow::io
