@@ -52,6 +52,15 @@ struct MeshReport {
   double seconds = 0.0;
 };
 
+/// Body orientation of an object: R = Rz * Ry * Rx (rotation_deg, degrees);
+/// the body axes are the columns of R.
+Eigen::Matrix3d rotation_matrix(const ObjectSpec& object);
+
+/// Interface element size h0 = 2 pi r / (equator_nodes / 2), r the object's
+/// smallest semi-axis: the mesh size on the object's surface, and the
+/// minimum gap validate() demands between the object and anything else.
+double interface_element_size(const ObjectSpec& object, const MeshSizing& sizing);
+
 /// Checks the spec (objects inside the box, away from walls and periodic
 /// faces, not overlapping). Throws InputError naming the offending object
 /// (1-based index, as in the case file) and what is wrong.

@@ -1,0 +1,784 @@
+#include "softflow/geometry/shear_cell.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+#include <gmsh.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/mesh/quality.hpp"
+
+namespace softflow::geometry {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using mesh::BoundaryTag;
+
+Matrix3d rotation_matrix(const ObjectSpec& object) {
+  const Vector3d a = object.rotation_deg * (M_PI / 180.0);
+  return (Eigen::AngleAxisd(a.z(), Vector3d::UnitZ()) * Eigen::AngleAxisd(a.y(), Vector3d::UnitY()) *
+          Eigen::AngleAxisd(a.x(), Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+double interface_element_size(const ObjectSpec& object, const MeshSizing& sizing) {
+  return 2.0 * M_PI * object.semi_axes.minCoeff() / (0.5 * sizing.equator_nodes);
+}
+
+// ---------------------------------------------------------------------------
+// Validation
+// ---------------------------------------------------------------------------
+
+namespace {
+
+std::string num(double v) { return fmt::format("{:.6g}", v); }
+std::string vec(const Vector3d& v) { return fmt::format("({}, {}, {})", num(v.x()), num(v.y()), num(v.z())); }
+std::string label(int k) { return fmt::format("objects[{}]", k + 1); }  // 1-based, as in the case file
+
+std::string describe(const ObjectSpec& o) {
+  if (o.shape == ObjectShape::sphere)
+    return fmt::format("sphere at {} with radius {}", vec(o.centre), num(o.semi_axes.x()));
+  return fmt::format("ellipsoid at {} with semi-axes {}", vec(o.centre), vec(o.semi_axes));
+}
+
+bool positive(double v) { return std::isfinite(v) && v > 0.0; }
+
+void validate_box(const mesh::Box& box) {
+  const std::array<std::pair<const char*, double>, 3> fields{
+      {{"length", box.length}, {"height", box.height}, {"width", box.width}}};
+  for (const auto& [name, value] : fields)
+    if (!positive(value)) throw InputError(fmt::format("box.{} = {}: must be > 0", name, num(value)));
+}
+
+void validate_sizing(const MeshSizing& s) {
+  if (s.equator_nodes < 8)
+    throw InputError(fmt::format("mesh.equator_nodes = {}: must be an integer ≥ 8", s.equator_nodes));
+  if (!positive(s.far_size)) throw InputError(fmt::format("mesh.far_size = {}: must be > 0", num(s.far_size)));
+  if (!positive(s.growth)) throw InputError(fmt::format("mesh.growth = {}: must be > 0", num(s.growth)));
+}
+
+void validate_shape(int k, const ObjectSpec& o) {
+  if (!o.centre.allFinite())
+    throw InputError(fmt::format("{}.centre = {}: must be finite", label(k), vec(o.centre)));
+  if (!positive(o.semi_axes.minCoeff()) || !o.semi_axes.allFinite())
+    throw InputError(fmt::format("{}.semi_axes = {}: every semi-axis must be > 0", label(k), vec(o.semi_axes)));
+  if (!o.rotation_deg.allFinite())
+    throw InputError(fmt::format("{}.rotation = {}: must be finite", label(k), vec(o.rotation_deg)));
+  if (o.shape == ObjectShape::sphere && o.semi_axes.maxCoeff() != o.semi_axes.minCoeff())
+    throw InputError(fmt::format("{}.semi_axes = {}: a sphere has three equal semi-axes; use an ellipsoid",
+                                 label(k), vec(o.semi_axes)));
+}
+
+// Half-widths of the object's axis-aligned bounding box: the ellipsoid
+// x = c + R A u, |u| = 1, reaches sqrt(sum_j (R_ij a_j)^2) along axis i.
+Vector3d half_extents(const ObjectSpec& o) {
+  const Matrix3d m = rotation_matrix(o) * o.semi_axes.asDiagonal();
+  return m.rowwise().norm();
+}
+
+// The object must stay at least one interface element away from the faces
+// normal to `axis`: closer, gmsh would need elements smaller than h there,
+// and an object cut by a periodic face cannot be meshed as one region.
+void check_axis(int k, const ObjectSpec& o, const mesh::Box& box, int axis, double h) {
+  const double half = 0.5 * std::array{box.length, box.height, box.width}[axis];
+  const bool periodic = (axis == 0 && box.periodic_x) || (axis == 2 && box.periodic_z);
+  const char x = "xyz"[axis];
+  const char* half_name = std::array{"L/2", "H/2", "W/2"}[axis];
+  const double c = o.centre[axis], extent = half_extents(o)[axis];
+  const double allowed = half - h;
+  if (std::abs(c) + extent <= allowed) return;
+
+  const bool upper = c >= 0.0;
+  const double face = upper ? half : -half, reach = upper ? c + extent : c - extent;
+  const std::string what = axis == 1 ? "the wall" : periodic ? "the periodic face" : "the face";
+  const std::string rule = fmt::format("allowed: |{}_c| + extent ≤ {} − h = {} (h = {}, the interface element size)",
+                                       x, half_name, num(allowed), num(h));
+  if (std::abs(reach) >= half)
+    throw InputError(fmt::format("{}: {} crosses {} {} = {} (it reaches {} = {}); {}; move it or make it smaller",
+                                 label(k), describe(o), what, x, num(face), x, num(reach), rule));
+  throw InputError(fmt::format("{}: {} is too close to {} {} = {} (gap {} < h = {}); {}; move it or make it smaller",
+                               label(k), describe(o), what, x, num(face), num(half - std::abs(reach)), num(h),
+                               rule));
+}
+
+// Distance from q (body coordinates, centred) to the ellipsoid with
+// semi-axes a, for q outside; -1 if q is inside or on it. The closest point
+// is x_i = a_i^2 q_i / (t + a_i^2) with t > 0 the root of
+// F(t) = sum (a_i q_i / (t + a_i^2))^2 - 1, decreasing on (0, inf).
+double outside_distance(const Vector3d& q, const Vector3d& a) {
+  const Vector3d y = q.cwiseAbs();
+  if (y.cwiseQuotient(a).squaredNorm() <= 1.0) return -1.0;
+  auto f = [&](double t) {
+    double s = 0.0;
+    for (int i = 0; i < 3; ++i) s += std::pow(a[i] * y[i] / (t + a[i] * a[i]), 2);
+    return s - 1.0;
+  };
+  double lo = 0.0, hi = a.maxCoeff() * y.norm();  // F(hi) <= 0
+  for (int it = 0; it < 100 && hi - lo > 1e-14 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (f(mid) > 0.0 ? lo : hi) = mid;
+  }
+  const double t = 0.5 * (lo + hi);
+  Vector3d x;
+  for (int i = 0; i < 3; ++i) x[i] = a[i] * a[i] * y[i] / (t + a[i] * a[i]);
+  return (y - x).norm();
+}
+
+// Smallest distance from points sampled on `from`'s surface to `to`;
+// negative if a sample lies inside `to`. The samples (a Fibonacci lattice
+// on the unit sphere, mapped to the ellipsoid) are spaced well below h, so a
+// sampled gap >= h guarantees a true gap > h/2 (distance is 1-Lipschitz).
+double sampled_gap(const ObjectSpec& from, const ObjectSpec& to, double h) {
+  const double ratio = 4.0 * from.semi_axes.maxCoeff() / h;
+  const int n = static_cast<int>(std::clamp(4.0 * M_PI * ratio * ratio, 2000.0, 50000.0));
+  const Matrix3d map_from = rotation_matrix(from) * from.semi_axes.asDiagonal();
+  const Matrix3d to_body = rotation_matrix(to).transpose();
+  const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+  double gap = INFINITY;
+  for (int m = 0; m < n; ++m) {
+    const double z = 1.0 - (2.0 * m + 1.0) / n, r = std::sqrt(1.0 - z * z), phi = m * golden_angle;
+    const Vector3d p = from.centre + map_from * Vector3d(r * std::cos(phi), r * std::sin(phi), z);
+    const double d = outside_distance(to_body * (p - to.centre), to.semi_axes);
+    if (d < 0.0) return -1.0;
+    gap = std::min(gap, d);
+  }
+  return gap;
+}
+
+void check_pair(int i, int j, const ShearCellSpec& spec) {
+  const ObjectSpec &a = spec.objects[i], &b = spec.objects[j];
+  const double h = std::max(interface_element_size(a, spec.sizing), interface_element_size(b, spec.sizing));
+  const double distance = (a.centre - b.centre).norm();
+  if (distance >= a.semi_axes.maxCoeff() + b.semi_axes.maxCoeff() + h) return;  // bounding spheres apart
+
+  if (a.shape == ObjectShape::sphere && b.shape == ObjectShape::sphere) {
+    const double minimum = a.semi_axes.x() + b.semi_axes.x() + h;
+    if (distance >= minimum) return;
+    const char* verb = distance <= a.semi_axes.x() + b.semi_axes.x() ? "overlaps" : "is too close to";
+    throw InputError(fmt::format(
+        "{}: {} {} {} (centres {} apart, minimum {} = radii + one interface element); move it or make it smaller",
+        label(j), describe(b), verb, label(i), num(distance), num(minimum)));
+  }
+  const double gap = std::min(sampled_gap(a, b, h), sampled_gap(b, a, h));
+  if (gap >= h) return;
+  if (gap < 0.0)
+    throw InputError(fmt::format("{}: {} overlaps {} (the surfaces intersect); move it or make it smaller",
+                                 label(j), describe(b), label(i)));
+  throw InputError(fmt::format(
+      "{}: {} is too close to {} (gap about {}, minimum one interface element h = {}); move it or make it smaller",
+      label(j), describe(b), label(i), num(gap), num(h)));
+}
+
+}  // namespace
+
+void validate(const ShearCellSpec& spec) {
+  validate_box(spec.box);
+  validate_sizing(spec.sizing);
+  for (int k = 0; k < static_cast<int>(spec.objects.size()); ++k) {
+    validate_shape(k, spec.objects[k]);
+    const double h = interface_element_size(spec.objects[k], spec.sizing);
+    for (int axis : {1, 0, 2}) check_axis(k, spec.objects[k], spec.box, axis, h);
+  }
+  for (int j = 1; j < static_cast<int>(spec.objects.size()); ++j)
+    for (int i = 0; i < j; ++i) check_pair(i, j, spec);
+}
+
+// ---------------------------------------------------------------------------
+// gmsh session
+// ---------------------------------------------------------------------------
+
+namespace {
+
+// One gmsh API lifetime. gmsh 4.8 throws from inside OpenMP loops (e.g. a
+// bad mesh size while meshing curves), where nothing can catch it and the
+// process terminates. So errors are made non-fatal (AbortOnError = 0) and
+// the session polls gmsh's log for them after every stage instead.
+class GmshSession {
+ public:
+  GmshSession() {
+    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.AbortOnError", 0);
+    gmsh::option::setNumber("General.Verbosity", 2);  // keep only errors and warnings in the log
+    gmsh::logger::start();
+    gmsh::model::add("shear_cell");
+  }
+  ~GmshSession() {
+    try {
+      gmsh::logger::stop();
+      gmsh::finalize();
+    } catch (...) {  // a destructor must not throw; nothing useful to do
+    }
+  }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+
+  // Runs one stage; gmsh's exceptions (std::string, const char*, int or
+  // std::exception in 4.8) and logged errors become MeshError.
+  void run(const std::string& stage, const std::function<void()>& body) {
+    try {
+      body();
+    } catch (const Error&) {
+      throw;
+    } catch (const std::string& e) {
+      fail(stage, e);
+    } catch (const char* e) {
+      fail(stage, e ? e : "");
+    } catch (const std::exception& e) {
+      fail(stage, e.what());
+    } catch (int code) {
+      fail(stage, fmt::format("error code {}", code));
+    } catch (...) {
+      fail(stage, "unknown exception");
+    }
+    const std::string errors = new_errors();
+    if (!errors.empty()) throw MeshError(fmt::format("gmsh failed while {}: {}", stage, errors));
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& stage, const std::string& what) {
+    const std::string errors = new_errors();
+    throw MeshError(fmt::format("gmsh failed while {}: {}{}{}", stage, what, errors.empty() ? "" : "; ", errors));
+  }
+
+  // Distinct error lines logged since the last call (at most three: a
+  // failing size field repeats the same error thousands of times).
+  std::string new_errors() {
+    std::vector<std::string> log;
+    try {
+      gmsh::logger::get(log);
+    } catch (...) {
+      return {};
+    }
+    std::vector<std::string> errors;
+    for (std::size_t i = seen_; i < log.size() && errors.size() < 3; ++i)
+      if (log[i].rfind("Error", 0) == 0 && std::find(errors.begin(), errors.end(), log[i]) == errors.end())
+        errors.push_back(log[i]);
+    seen_ = log.size();
+    return fmt::format("{}", fmt::join(errors, "; "));
+  }
+
+  std::size_t seen_ = 0;
+};
+
+// ---------------------------------------------------------------------------
+// Geometry
+// ---------------------------------------------------------------------------
+
+// Model entities after the fragment (which renumbers everything).
+struct CellEntities {
+  int matrix = -1;                                // volume tag
+  std::vector<int> object_volume;                 // volume tag of object k (0-based)
+  std::vector<std::vector<int>> object_surfaces;  // interface surfaces of object k
+  std::array<std::vector<int>, 6> box_faces;      // indexed by BoundaryTag
+};
+
+// Unit sphere (pole on z) dilated, rotated (Rx, then Ry, then Rz, so that
+// R = Rz Ry Rx) and moved to the centre. Spheres skip the transformations:
+// an exact OCC sphere with its poles on z, where a drop deforms least.
+int add_object(const ObjectSpec& o) {
+  const Vector3d& c = o.centre;
+  if (o.shape == ObjectShape::sphere) return gmsh::model::occ::addSphere(c.x(), c.y(), c.z(), o.semi_axes.x());
+  const int tag = gmsh::model::occ::addSphere(0, 0, 0, 1);
+  const gmsh::vectorpair v{{3, tag}};
+  const Vector3d& a = o.semi_axes;
+  gmsh::model::occ::dilate(v, 0, 0, 0, a.x(), a.y(), a.z());
+  const Vector3d angle = o.rotation_deg * (M_PI / 180.0);
+  for (int axis = 0; axis < 3; ++axis)
+    if (angle[axis] != 0.0)
+      gmsh::model::occ::rotate(v, 0, 0, 0, axis == 0, axis == 1, axis == 2, angle[axis]);
+  gmsh::model::occ::translate(v, c.x(), c.y(), c.z());
+  return tag;
+}
+
+std::vector<int> boundary_surfaces(int volume) {
+  gmsh::vectorpair out;
+  gmsh::model::getBoundary({{3, volume}}, out, /*combined=*/false, /*oriented=*/false);
+  std::vector<int> tags;
+  for (const auto& [dim, tag] : out) tags.push_back(std::abs(tag));
+  return tags;
+}
+
+// Which box face a flat surface lies on, or -1 for an interface.
+int box_face_of(int surface, const mesh::Box& box) {
+  double lo[3], hi[3];
+  gmsh::model::getBoundingBox(2, surface, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+  const std::array<double, 3> half{box.length / 2, box.height / 2, box.width / 2};
+  const double tol = 1e-6 * std::max({box.length, box.height, box.width});
+  constexpr std::array<std::array<BoundaryTag, 2>, 3> tags{{{BoundaryTag::x_min, BoundaryTag::x_max},
+                                                            {BoundaryTag::wall_bottom, BoundaryTag::wall_top},
+                                                            {BoundaryTag::z_min, BoundaryTag::z_max}}};
+  for (int axis = 0; axis < 3; ++axis) {
+    if (hi[axis] - lo[axis] > tol) continue;
+    if (std::abs(lo[axis] + half[axis]) < tol) return static_cast<int>(tags[axis][0]);
+    if (std::abs(lo[axis] - half[axis]) < tol) return static_cast<int>(tags[axis][1]);
+  }
+  return -1;
+}
+
+// Box fragmented with the objects: conforming interfaces, one volume per
+// object and one for the matrix. fragment() reports which output volumes
+// come from which input, so no geometric matching is needed for that.
+CellEntities build_geometry(const ShearCellSpec& spec) {
+  const mesh::Box& b = spec.box;
+  const int box = gmsh::model::occ::addBox(-b.length / 2, -b.height / 2, -b.width / 2, b.length, b.height, b.width);
+  gmsh::vectorpair objects;
+  for (const auto& o : spec.objects) objects.push_back({3, add_object(o)});
+
+  CellEntities e;
+  std::vector<int> matrix_pieces{box};
+  if (!objects.empty()) {
+    gmsh::vectorpair out;
+    std::vector<gmsh::vectorpair> pieces;
+    gmsh::model::occ::fragment({{3, box}}, objects, out, pieces);
+    if (pieces.size() != objects.size() + 1) throw MeshError("gmsh fragment returned an unexpected piece map");
+    matrix_pieces.clear();
+    for (std::size_t k = 0; k < objects.size(); ++k) {
+      if (pieces[k + 1].size() != 1)
+        throw MeshError(fmt::format("{}: the fragment split it into {} volumes", label(static_cast<int>(k)),
+                                    pieces[k + 1].size()));
+      e.object_volume.push_back(pieces[k + 1][0].second);
+    }
+    for (const auto& [dim, tag] : pieces[0])
+      if (std::find(e.object_volume.begin(), e.object_volume.end(), tag) == e.object_volume.end())
+        matrix_pieces.push_back(tag);
+  }
+  gmsh::model::occ::synchronize();
+  if (matrix_pieces.size() != 1)
+    throw MeshError(fmt::format("the matrix came out of the fragment as {} volumes", matrix_pieces.size()));
+  e.matrix = matrix_pieces[0];
+
+  for (int surface : boundary_surfaces(e.matrix)) {
+    const int face = box_face_of(surface, b);
+    if (face >= 0) e.box_faces[face].push_back(surface);
+  }
+  for (std::size_t f = 0; f < e.box_faces.size(); ++f)
+    if (e.box_faces[f].size() != 1)
+      throw MeshError(fmt::format("box face {} has {} surfaces after the fragment", f, e.box_faces[f].size()));
+  for (int volume : e.object_volume) e.object_surfaces.push_back(boundary_surfaces(volume));
+  return e;
+}
+
+std::vector<double> translation(double dx, double dy, double dz) {
+  return {1, 0, 0, dx, 0, 1, 0, dy, 0, 0, 1, dz, 0, 0, 0, 1};  // 4x4 affine, by rows
+}
+
+// Slave = max face, master = min face; the affine map takes master to slave.
+void set_periodicity(const mesh::Box& box, const CellEntities& e) {
+  auto faces = [&](BoundaryTag t) { return e.box_faces[static_cast<int>(t)]; };
+  if (box.periodic_x)
+    gmsh::model::mesh::setPeriodic(2, faces(BoundaryTag::x_max), faces(BoundaryTag::x_min),
+                                   translation(box.length, 0, 0));
+  if (box.periodic_z)
+    gmsh::model::mesh::setPeriodic(2, faces(BoundaryTag::z_max), faces(BoundaryTag::z_min),
+                                   translation(0, 0, box.width));
+}
+
+// ---------------------------------------------------------------------------
+// Size field
+// ---------------------------------------------------------------------------
+
+// "(c0*x + c1*y + c2*z + c3)" with explicit signs, so the parser never sees "+ -".
+std::string linear(const Vector3d& coefficient, double constant) {
+  std::string s;
+  auto term = [&](double c, const char* var) {
+    if (c == 0.0) return;
+    const char* sign = s.empty() ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + ");
+    s += fmt::format("{}{:.17g}{}{}", sign, std::abs(c), *var ? "*" : "", var);
+  };
+  term(coefficient.x(), "x");
+  term(coefficient.y(), "y");
+  term(coefficient.z(), "z");
+  term(constant, "");
+  return fmt::format("({})", s.empty() ? "0" : s);
+}
+
+// Approximate distance to the object's surface: |r - a| for a sphere,
+// |rho - 1| * min semi-axis for an ellipsoid, rho the normalised radius in
+// body coordinates u = A^-1 R^T (x - c).
+std::string distance_expression(const ObjectSpec& o) {
+  if (o.shape == ObjectShape::sphere) {
+    std::string r2;
+    for (int d = 0; d < 3; ++d)
+      r2 += (d ? " + " : "") + linear(Vector3d::Unit(d), -o.centre[d]) + "^2";
+    return fmt::format("Abs(Sqrt({}) - {:.17g})", r2, o.semi_axes.x());
+  }
+  const Matrix3d to_body = rotation_matrix(o).transpose();
+  std::string rho2;
+  for (int i = 0; i < 3; ++i) {
+    const Vector3d row = to_body.row(i).transpose() / o.semi_axes[i];
+    rho2 += (i ? " + " : "") + linear(row, -row.dot(o.centre)) + "^2";
+  }
+  return fmt::format("Abs(Sqrt({}) - 1)*{:.17g}", rho2, o.semi_axes.minCoeff());
+}
+
+// Min(far_size, min_k (h0_k + growth d_k)).
+std::string size_expression(const ShearCellSpec& spec) {
+  std::string expr = fmt::format("{:.17g}", spec.sizing.far_size);
+  for (const auto& o : spec.objects)
+    expr = fmt::format("Min({}, {:.17g} + {:.17g}*{})", expr, interface_element_size(o, spec.sizing),
+                       spec.sizing.growth, distance_expression(o));
+  return expr;
+}
+
+void set_size_and_order(const ShearCellSpec& spec) {
+  const int field = gmsh::model::mesh::field::add("MathEval");
+  gmsh::model::mesh::field::setString(field, "F", size_expression(spec));
+  gmsh::model::mesh::field::setAsBackgroundMesh(field);
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeMax", spec.sizing.far_size);
+  // Order and optimisation go through generate(): in 4.8 the high-order
+  // optimiser only runs there (model::mesh::setOrder() never calls it).
+  // Level 2 (elastic + optimisation) may throw; level 1 suffices.
+  gmsh::option::setNumber("Mesh.ElementOrder", 2);
+  gmsh::option::setNumber("Mesh.HighOrderOptimize", spec.sizing.optimize_high_order ? 1 : 0);
+}
+
+// ---------------------------------------------------------------------------
+// Mesh extraction
+// ---------------------------------------------------------------------------
+
+constexpr int kGmshTet10 = 11;
+constexpr int kGmshTriangle6 = 9;
+
+// perm[ours] = gmsh's local index, found from gmsh's reference coordinates
+// (gmsh's Tet10 puts (2,3) before (1,3); ours is VTK's order).
+template <std::size_t n_edges>
+std::vector<int> node_permutation(int type, const std::array<std::array<int, 2>, n_edges>& edges) {
+  std::string name;
+  int dim = 0, order = 0, n_nodes = 0, n_primary = 0;
+  std::vector<double> ref;
+  gmsh::model::mesh::getElementProperties(type, name, dim, order, n_nodes, ref, n_primary);
+  const int n_vertices = dim + 1;
+  if (n_nodes != n_vertices + static_cast<int>(n_edges) || n_primary != n_vertices)
+    throw MeshError(fmt::format("gmsh element type {} ({}) is not the expected P2 element", type, name));
+  auto at = [&](int node) {
+    Vector3d x = Vector3d::Zero();
+    for (int d = 0; d < dim; ++d) x[d] = ref[dim * node + d];
+    return x;
+  };
+  std::vector<int> perm(n_nodes);
+  for (int v = 0; v < n_vertices; ++v) perm[v] = v;
+  for (std::size_t e = 0; e < n_edges; ++e) {
+    const Vector3d mid = 0.5 * (at(edges[e][0]) + at(edges[e][1]));
+    int found = -1;
+    for (int node = n_vertices; node < n_nodes; ++node)
+      if ((at(node) - mid).norm() < 1e-12) found = node;
+    if (found < 0) throw MeshError(fmt::format("gmsh element {} has no node at an edge midpoint", name));
+    perm[n_vertices + e] = found;
+  }
+  return perm;
+}
+
+// gmsh node tags -> compact 0-based indices of the nodes the tetrahedra use.
+class NodeTable {
+ public:
+  void mark(std::size_t tag) {
+    if (tag >= index_.size()) index_.resize(tag + 1, -1);
+    index_[tag] = 0;
+  }
+  // Numbers the marked nodes in increasing tag order and copies their coordinates.
+  void number(mesh::Mesh& m) {
+    std::vector<std::size_t> tags;
+    std::vector<double> coord, param;
+    gmsh::model::mesh::getNodes(tags, coord, param, -1, -1, false, false);
+    std::vector<int> position(index_.size(), -1);
+    for (std::size_t i = 0; i < tags.size(); ++i)
+      if (tags[i] < position.size()) position[tags[i]] = static_cast<int>(i);
+    for (std::size_t tag = 0; tag < index_.size(); ++tag) {
+      if (index_[tag] < 0) continue;
+      const int p = position[tag];
+      if (p < 0) throw MeshError(fmt::format("gmsh node {} has no coordinates", tag));
+      index_[tag] = m.n_nodes();
+      m.nodes.emplace_back(coord[3 * p], coord[3 * p + 1], coord[3 * p + 2]);
+      m.is_vertex.push_back(0);
+    }
+  }
+  // Compact index of a tag, -1 if no tetrahedron uses it.
+  [[nodiscard]] int operator()(std::size_t tag) const { return tag < index_.size() ? index_[tag] : -1; }
+
+ private:
+  std::vector<int> index_;
+};
+
+// Swaps vertices 1 and 2 and the edge nodes with them.
+mesh::Tet10 flipped(const mesh::Tet10& t) { return {t[0], t[2], t[1], t[3], t[6], t[5], t[4], t[7], t[9], t[8]}; }
+mesh::Triangle6 flipped(const mesh::Triangle6& t) { return {t[0], t[2], t[1], t[5], t[4], t[3]}; }
+
+double vertex_volume6(const mesh::Mesh& m, const mesh::Tet10& t) {
+  const auto& x = m.nodes;
+  return (x[t[1]] - x[t[0]]).dot((x[t[2]] - x[t[0]]).cross(x[t[3]] - x[t[0]]));
+}
+
+// Tetrahedra of every volume, in our node order and positively oriented.
+void read_tets(mesh::Mesh& m, const CellEntities& e, NodeTable& nodes) {
+  const std::vector<int> perm = node_permutation(kGmshTet10, mesh::kTetEdges);
+  std::vector<std::pair<int, std::vector<std::size_t>>> blocks;  // (region, gmsh node tags)
+  for (int region = 0; region <= static_cast<int>(e.object_volume.size()); ++region) {
+    std::vector<std::size_t> element_tags, node_tags;
+    const int volume = region == 0 ? e.matrix : e.object_volume[region - 1];
+    gmsh::model::mesh::getElementsByType(kGmshTet10, element_tags, node_tags, volume);
+    if (element_tags.empty()) throw MeshError(fmt::format("gmsh produced no tetrahedra in region {}", region));
+    for (std::size_t tag : node_tags) nodes.mark(tag);
+    blocks.emplace_back(region, std::move(node_tags));
+  }
+  nodes.number(m);
+  for (const auto& [region, tags] : blocks)
+    for (std::size_t first = 0; first < tags.size(); first += 10) {
+      mesh::Tet10 t{};
+      for (int k = 0; k < 10; ++k) t[k] = nodes(tags[first + perm[k]]);
+      if (vertex_volume6(m, t) < 0.0) t = flipped(t);
+      for (int k = 0; k < 4; ++k) m.is_vertex[t[k]] = 1;
+      m.tets.push_back(t);
+      m.tet_region.push_back(region);
+    }
+}
+
+std::vector<mesh::Triangle6> read_triangles(int surface, const std::vector<int>& perm, const NodeTable& nodes) {
+  std::vector<std::size_t> element_tags, node_tags;
+  gmsh::model::mesh::getElementsByType(kGmshTriangle6, element_tags, node_tags, surface);
+  std::vector<mesh::Triangle6> out(element_tags.size());
+  for (std::size_t f = 0; f < out.size(); ++f)
+    for (int k = 0; k < 6; ++k) {
+      out[f][k] = nodes(node_tags[6 * f + perm[k]]);
+      if (out[f][k] < 0) throw MeshError(fmt::format("surface {} has a node no tetrahedron uses", surface));
+    }
+  return out;
+}
+
+void read_faces(mesh::Mesh& m, const CellEntities& e, const mesh::Box& box, const NodeTable& nodes) {
+  const std::vector<int> perm = node_permutation(kGmshTriangle6, mesh::kTriangleEdges);
+  for (int tag = 0; tag < 6; ++tag) {
+    const auto t = static_cast<BoundaryTag>(tag);
+    if ((box.periodic_x && (t == BoundaryTag::x_min || t == BoundaryTag::x_max)) ||
+        (box.periodic_z && (t == BoundaryTag::z_min || t == BoundaryTag::z_max)))
+      continue;  // periodic faces are interior to the periodic domain
+    for (int surface : e.box_faces[tag])
+      for (const auto& f : read_triangles(surface, perm, nodes)) {
+        m.boundary_faces.push_back(f);
+        m.boundary_face_tag.push_back(t);
+      }
+  }
+  for (std::size_t k = 0; k < e.object_surfaces.size(); ++k)
+    for (int surface : e.object_surfaces[k])
+      for (const auto& f : read_triangles(surface, perm, nodes)) {
+        m.interface_faces.push_back(f);
+        m.interface_object.push_back(static_cast<int>(k) + 1);
+      }
+}
+
+struct FaceKeyHash {
+  std::size_t operator()(const std::array<int, 3>& k) const {
+    std::size_t h = 0;
+    for (int v : k) h = h * 1000003u ^ static_cast<std::size_t>(v);
+    return h;
+  }
+};
+
+std::array<int, 3> face_key(int a, int b, int c) {
+  std::array<int, 3> k{a, b, c};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+// Orients each face so that its right-hand normal points away from its
+// adjacent tetrahedron of region `inside(face)`: out of the object for
+// interfaces, out of the domain for the box. The opposite vertex of a
+// positively oriented tetrahedron decides, which works for any shape.
+void orient_faces(const mesh::Mesh& m, std::vector<mesh::Triangle6>& faces,
+                  const std::function<int(std::size_t)>& inside) {
+  std::unordered_map<std::array<int, 3>, std::size_t, FaceKeyHash> index;
+  index.reserve(2 * faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) index.emplace(face_key(faces[f][0], faces[f][1], faces[f][2]), f);
+  std::vector<int> opposite(faces.size(), -1);
+  constexpr int kFaces[4][4] = {{1, 2, 3, 0}, {0, 2, 3, 1}, {0, 1, 3, 2}, {0, 1, 2, 3}};  // 3 on the face, 1 off
+  for (int t = 0; t < m.n_tets(); ++t)
+    for (const auto& lf : kFaces) {
+      const auto& tet = m.tets[t];
+      const auto it = index.find(face_key(tet[lf[0]], tet[lf[1]], tet[lf[2]]));
+      if (it != index.end() && m.tet_region[t] == inside(it->second)) opposite[it->second] = tet[lf[3]];
+    }
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (opposite[f] < 0) throw MeshError("a surface triangle has no adjacent tetrahedron on its inner side");
+    const auto& x = m.nodes;
+    const auto& tri = faces[f];
+    const Vector3d normal = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+    if (normal.dot(x[opposite[f]] - x[tri[0]]) > 0.0) faces[f] = flipped(tri);
+  }
+}
+
+// Union-find whose representative is the smallest index of its class.
+class SmallestRepresentative {
+ public:
+  explicit SmallestRepresentative(int n) : parent_(n) {
+    for (int i = 0; i < n; ++i) parent_[i] = i;
+  }
+  int find(int i) {
+    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+    return i;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+// Periodic node classes from gmsh's slave -> master pairs on points, curves
+// and surfaces (high-order nodes included). Corner edges of a doubly
+// periodic box have 4 copies, linked by pairs through different entities:
+// the union-find collapses them. Must run before any write/read of the mesh.
+void read_periodic(mesh::Mesh& m, const NodeTable& nodes) {
+  if (!m.box.periodic_x && !m.box.periodic_z) return;
+  SmallestRepresentative classes(m.n_nodes());
+  for (int dim = 0; dim <= 2; ++dim) {
+    gmsh::vectorpair entities;
+    gmsh::model::getEntities(entities, dim);
+    for (const auto& [d, tag] : entities) {
+      int master_entity = tag;
+      std::vector<std::size_t> slaves, masters;
+      std::vector<double> affine;
+      gmsh::model::mesh::getPeriodicNodes(dim, tag, master_entity, slaves, masters, affine, true);
+      for (std::size_t i = 0; i < slaves.size(); ++i) {
+        const int a = nodes(slaves[i]), b = nodes(masters[i]);
+        if (a < 0 || b < 0) throw MeshError("a periodic node pair refers to a node no tetrahedron uses");
+        classes.unite(a, b);
+      }
+    }
+  }
+  m.periodic_master.resize(m.n_nodes());
+  for (int i = 0; i < m.n_nodes(); ++i) m.periodic_master[i] = classes.find(i);
+}
+
+mesh::Mesh read_mesh(const ShearCellSpec& spec, const CellEntities& e) {
+  mesh::Mesh m;
+  m.box = spec.box;
+  m.n_objects = static_cast<int>(spec.objects.size());
+  NodeTable nodes;
+  read_tets(m, e, nodes);
+  read_faces(m, e, spec.box, nodes);
+  orient_faces(m, m.boundary_faces, [](std::size_t) { return 0; });
+  orient_faces(m, m.interface_faces, [&m](std::size_t f) { return m.interface_object[f]; });
+  read_periodic(m, nodes);
+  return m;
+}
+
+// ---------------------------------------------------------------------------
+// Checks and report
+// ---------------------------------------------------------------------------
+
+// Every node must differ from its representative by a lattice vector
+// (k L, 0, k' W), and every node on a periodic max face must share its class
+// with its image on the min face: anything else would silently break the
+// periodic dof identification.
+void verify_periodic(const mesh::Mesh& m) {
+  if (m.periodic_master.empty()) return;
+  const mesh::Box& b = m.box;
+  const double tol = 1e-9 * std::max({b.length, b.height, b.width});
+  auto off_lattice = [](double d, double period, bool periodic) {
+    return periodic ? std::abs(d - period * std::round(d / period)) : std::abs(d);
+  };
+  std::unordered_map<int, std::vector<int>> members;
+  for (int i = 0; i < m.n_nodes(); ++i) {
+    const int j = m.periodic_master[i];
+    const Vector3d d = m.nodes[i] - m.nodes[j];
+    const double error = std::max({off_lattice(d.x(), b.length, b.periodic_x), std::abs(d.y()),
+                                   off_lattice(d.z(), b.width, b.periodic_z)});
+    if (error > tol)
+      throw MeshError(fmt::format("periodic nodes {} at {} and {} at {} do not differ by a lattice vector (error {})",
+                                  i, vec(m.nodes[i]), j, vec(m.nodes[j]), num(error)));
+    if (j != i) members[j].push_back(i);
+  }
+  auto has_image = [&](int i, const Vector3d& shift) {
+    const Vector3d image = m.nodes[i] - shift;
+    const int rep = m.periodic_master[i];
+    if ((m.nodes[rep] - image).norm() < tol) return true;
+    const auto it = members.find(rep);
+    return it != members.end() && std::any_of(it->second.begin(), it->second.end(), [&](int j) {
+             return (m.nodes[j] - image).norm() < tol;
+           });
+  };
+  for (int i = 0; i < m.n_nodes(); ++i) {
+    const bool x_ok = !b.periodic_x || std::abs(m.nodes[i].x() - b.length / 2) >= tol ||
+                      has_image(i, Vector3d(b.length, 0, 0));
+    const bool z_ok = !b.periodic_z || std::abs(m.nodes[i].z() - b.width / 2) >= tol ||
+                      has_image(i, Vector3d(0, 0, b.width));
+    if (!x_ok || !z_ok)
+      throw MeshError(fmt::format("node {} at {} on a periodic face is not identified with its image", i,
+                                  vec(m.nodes[i])));
+  }
+}
+
+// Throws if a curved element folds (non-positive Jacobian at a sample point).
+double check_quality(const mesh::Mesh& m) {
+  const int worst = mesh::worst_tet(m);
+  if (worst < 0) return 1.0;
+  const double q = mesh::tet_quality(m, worst);
+  if (q <= 0.0) {
+    Vector3d centroid = Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) centroid += 0.25 * m.nodes[m.tets[worst][k]];
+    throw MeshError(fmt::format(
+        "gmsh produced an inverted curved tetrahedron near {} (quality {}); set mesh.optimize_high_order = true "
+        "or refine the interface (mesh.equator_nodes)",
+        vec(centroid), num(q)));
+  }
+  return q;
+}
+
+MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double min_quality, double seconds) {
+  MeshReport r;
+  r.n_nodes = m.n_nodes();
+  r.n_tets = m.n_tets();
+  std::vector<char> on_interface(m.n_nodes(), 0), on_equator(m.n_nodes(), 0);
+  const double z_c = spec.objects.empty() ? 0.0 : spec.objects[0].centre.z();
+  const double band = spec.objects.empty() ? 0.0 : interface_element_size(spec.objects[0], spec.sizing) / 4;
+  for (std::size_t f = 0; f < m.interface_faces.size(); ++f)
+    for (int node : m.interface_faces[f]) {
+      on_interface[node] = 1;
+      if (m.interface_object[f] == 1 && std::abs(m.nodes[node].z() - z_c) < band) on_equator[node] = 1;
+    }
+  r.n_interface_nodes = static_cast<int>(std::count(on_interface.begin(), on_interface.end(), 1));
+  r.n_equator_nodes = static_cast<int>(std::count(on_equator.begin(), on_equator.end(), 1));
+  r.min_quality = min_quality;
+  r.seconds = seconds;
+  return r;
+}
+
+}  // namespace
+
+mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  validate(spec);
+  mesh::Mesh m;
+  {
+    GmshSession session;
+    CellEntities entities;
+    session.run("building the geometry", [&] { entities = build_geometry(spec); });
+    session.run("setting periodicity and mesh size", [&] {
+      set_periodicity(spec.box, entities);
+      set_size_and_order(spec);
+    });
+    session.run("meshing", [] { gmsh::model::mesh::generate(3); });
+    session.run("reading the mesh", [&] { m = read_mesh(spec, entities); });
+  }
+  verify_periodic(m);
+  const double q = check_quality(m);
+  if (report)
+    *report = make_report(m, spec, q, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return m;
+}
+
+}  // namespace softflow::geometry

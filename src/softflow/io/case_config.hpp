@@ -1,0 +1,89 @@
+// Case files: TOML text -> validated CaseConfig, the resolved case back to TOML, and the
+// dimensionless groups of a case.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "softflow/geometry/shear_cell.hpp"
+#include "softflow/mesh/mesh.hpp"
+
+namespace softflow::io {
+
+enum class SolverType { direct, iterative };
+
+/// One suspended object of the case file ([[objects]]).
+struct ObjectConfig {
+  geometry::ObjectSpec geometry;
+  /// lambda = eta_d / eta_m.
+  double viscosity_ratio = 1.0;
+  /// Gamma, always resolved: from the file, or Gamma = eta_m gamma_dot R / Ca.
+  double interfacial_tension = 0.0;
+  /// The capillary number as the user gave it (or the default 0.1); empty
+  /// when the file gives interfacial_tension instead. Kept so that the
+  /// resolved case says what the user asked for, not a rounded Gamma.
+  std::optional<double> capillary_number;
+};
+
+/// A validated case. Every field holds a usable value: defaults are filled in.
+struct CaseConfig {
+  std::string name;                             ///< [case] name; default: the file stem
+  mesh::Box box{30.0, 30.0, 30.0, true, true};  ///< [cell]
+  double matrix_viscosity = 1.0;                ///< [matrix] viscosity, eta_m
+  /// [flow] shear_rate, gamma_dot >= 0 (0: a static case, e.g. drop relaxation).
+  double shear_rate = 1.0;
+  std::vector<ObjectConfig> objects;       ///< [[objects]], in file order (object k = objects[k-1])
+  geometry::MeshSizing sizing;             ///< [mesh]
+  SolverType solver = SolverType::direct;  ///< [solver] type
+  double rtol = 1e-8;                      ///< [solver] rtol (iterative solver)
+  int max_iterations = 500;                ///< [solver] max_iterations (iterative solver)
+  std::string petsc_options;               ///< [solver] petsc_options, passed to PETSc as is
+  /// [output] directory; default "output/<name>". Relative paths are taken
+  /// from the working directory, not from the case file's folder.
+  std::string output_directory;
+  bool write_fields = true;  ///< [output] fields: write VTU/PVD fields
+
+  /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
+  [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;
+  /// u_w = gamma_dot H / 2: the walls y = +-H/2 move with (+-u_w, 0, 0).
+  [[nodiscard]] double wall_velocity() const { return shear_rate * box.height / 2.0; }
+};
+
+/// R = (abc)^(1/3): the radius of the sphere of equal volume, the length
+/// scale of every dimensionless group of an object.
+[[nodiscard]] double mean_radius(const geometry::ObjectSpec& object);
+
+/// Reads and validates a case file. Throws InputError with one line per
+/// problem found ("case.toml: objects[2].radius = -1: must be > 0").
+CaseConfig read_case_file(const std::filesystem::path& path);
+
+/// The same from text; `source_name` is used in messages and its stem is the
+/// default case name.
+CaseConfig parse_case(const std::string& toml_text, const std::string& source_name);
+
+/// The resolved case as TOML: every key, defaults filled in. Reading it back
+/// gives the same CaseConfig, bit for bit.
+std::string to_toml(const CaseConfig& config);
+
+/// One dimensionless number of a run, as reported in the summary.
+struct DimensionlessGroup {
+  std::string symbol;      ///< short ASCII symbol, e.g. "Ca", "lambda"
+  std::string name;        ///< e.g. "capillary number"
+  double value = 0.0;      ///< may be +inf (e.g. Ca without interfacial tension)
+  std::string definition;  ///< e.g. "eta_m gamma_dot R / Gamma"
+  int object = 0;          ///< object it belongs to (1-based); 0 = the whole case
+};
+
+/// The groups of a case, case-wide ones first, then per object: Ca, lambda,
+/// blockage beta = 2R/H, and the box size in diameters L/2R, H/2R, W/2R.
+std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& config);
+
+/// [{"symbol", "name", "object" (omitted for case-wide groups), "value"
+/// (null when infinite), "definition"}, ...]
+nlohmann::json to_json(const std::vector<DimensionlessGroup>& groups);
+
+}  // namespace softflow::io

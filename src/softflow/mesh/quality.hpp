@@ -1,0 +1,22 @@
+// Shape quality of curved P2 tetrahedra: straight-shape measure times curving distortion.
+#pragma once
+
+#include "softflow/mesh/mesh.hpp"
+
+namespace softflow::mesh {
+
+/// Quality of one tetrahedron in (-1, 1]: the mean-ratio shape measure of its
+/// straight (vertex) tetrahedron, 12 (3|V|)^{2/3} / sum of squared edge
+/// lengths (1 for the regular tetrahedron, -> 0 when degenerate), times the
+/// distortion min det J / max det J of the P2 map sampled at the 4 vertices,
+/// the 6 edge nodes and the centroid. A non-positive Jacobian at any sample
+/// gives a quality <= 0 (min det J / max |det J|), so "> 0" means "valid".
+double tet_quality(const Mesh& mesh, int tet);
+
+/// Smallest tet_quality over the mesh; 1 for a mesh without tetrahedra.
+double min_quality(const Mesh& mesh);
+
+/// Index of a tetrahedron of smallest quality; -1 for a mesh without tetrahedra.
+int worst_tet(const Mesh& mesh);
+
+}  // namespace softflow::mesh

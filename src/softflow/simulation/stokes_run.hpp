@@ -1,0 +1,30 @@
+// One instantaneous two-phase Stokes solve from a case file: mesh, solve, analyse, write.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "softflow/io/case_config.hpp"
+
+namespace softflow::simulation {
+
+struct RunOptions {
+  /// Overrides [output] directory.
+  std::optional<std::filesystem::path> output_directory;
+  bool quiet = false;
+};
+
+/// Meshes the case (rank 0; replicated to all ranks), reports the mesh.
+nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet);
+
+/// Runs the case: steps of the thesis's algorithm that exist so far —
+///   1. mesh the shear cell (geometry::build_shear_cell),
+///   2. assemble and solve the two-phase Stokes system (physics::StokesSystem),
+///   3. measure each object (analysis::object_measures),
+///   4. write case.toml, summary.json and fields.pvd atomically.
+/// Returns the summary written to summary.json.
+nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options);
+
+}  // namespace softflow::simulation

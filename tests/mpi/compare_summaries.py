@@ -1,0 +1,40 @@
+#!/usr/bin/env python3
+"""Compares two summary.json files of the same case: same unknowns, same
+solution quantities to solver tolerance. Exit 1 (and say what) if not."""
+import json
+import sys
+
+RELATIVE_TOLERANCE = 1e-7
+
+
+def close(a, b):
+    return abs(a - b) <= RELATIVE_TOLERANCE * max(1.0, abs(a), abs(b))
+
+
+def main(serial_path, parallel_path):
+    serial = json.load(open(serial_path))
+    parallel = json.load(open(parallel_path))
+    failures = []
+    if serial["unknowns"] != parallel["unknowns"]:
+        failures.append(f"unknowns {serial['unknowns']} vs {parallel['unknowns']}")
+    if parallel["mpi_ranks"] != 2:
+        failures.append(f"parallel run used {parallel['mpi_ranks']} ranks")
+    pairs = [("max_velocity", serial["max_velocity"], parallel["max_velocity"])]
+    for s, p in zip(serial["objects"], parallel["objects"]):
+        pairs.append(("pressure_jump", s["pressure_jump"], p["pressure_jump"]))
+        for k in range(3):
+            pairs.append((f"mean_interface_velocity[{k}]", s["mean_interface_velocity"][k],
+                          p["mean_interface_velocity"][k]))
+    for name, a, b in pairs:
+        status = "ok" if close(a, b) else "DIFFERS"
+        print(f"{name:28s} serial {a:+.12e}  2 ranks {b:+.12e}  {status}")
+        if not close(a, b):
+            failures.append(name)
+    if failures:
+        print("mismatch:", ", ".join(failures))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1], sys.argv[2]))

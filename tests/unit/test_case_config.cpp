@@ -1,0 +1,356 @@
+// Case files: defaults, round trip through to_toml, one test per kind of error message,
+// dimensionless groups.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/io/case_config.hpp"
+
+namespace softflow::io {
+namespace {
+
+/// The InputError message of parsing `text` as "case.toml" ("" if it parsed).
+std::string error_of(const std::string& text) {
+  try {
+    parse_case(text, "case.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+#define EXPECT_ERROR(text, expected_substring) \
+  EXPECT_NE(error_of(text).find(expected_substring), std::string::npos) << error_of(text)
+
+void expect_same(const ObjectConfig& a, const ObjectConfig& b) {
+  EXPECT_EQ(a.geometry.shape, b.geometry.shape);
+  EXPECT_EQ(a.geometry.centre, b.geometry.centre);
+  EXPECT_EQ(a.geometry.semi_axes, b.geometry.semi_axes);
+  EXPECT_EQ(a.geometry.rotation_deg, b.geometry.rotation_deg);
+  EXPECT_EQ(a.viscosity_ratio, b.viscosity_ratio);
+  EXPECT_EQ(a.interfacial_tension, b.interfacial_tension);
+  EXPECT_EQ(a.capillary_number, b.capillary_number);
+}
+
+void expect_same(const CaseConfig& a, const CaseConfig& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.box.length, b.box.length);
+  EXPECT_EQ(a.box.height, b.box.height);
+  EXPECT_EQ(a.box.width, b.box.width);
+  EXPECT_EQ(a.box.periodic_x, b.box.periodic_x);
+  EXPECT_EQ(a.box.periodic_z, b.box.periodic_z);
+  EXPECT_EQ(a.matrix_viscosity, b.matrix_viscosity);
+  EXPECT_EQ(a.shear_rate, b.shear_rate);
+  ASSERT_EQ(a.objects.size(), b.objects.size());
+  for (std::size_t i = 0; i < a.objects.size(); ++i) expect_same(a.objects[i], b.objects[i]);
+  EXPECT_EQ(a.sizing.equator_nodes, b.sizing.equator_nodes);
+  EXPECT_EQ(a.sizing.far_size, b.sizing.far_size);
+  EXPECT_EQ(a.sizing.growth, b.sizing.growth);
+  EXPECT_EQ(a.sizing.optimize_high_order, b.sizing.optimize_high_order);
+  EXPECT_EQ(a.solver, b.solver);
+  EXPECT_EQ(a.rtol, b.rtol);
+  EXPECT_EQ(a.max_iterations, b.max_iterations);
+  EXPECT_EQ(a.petsc_options, b.petsc_options);
+  EXPECT_EQ(a.output_directory, b.output_directory);
+  EXPECT_EQ(a.write_fields, b.write_fields);
+}
+
+// ---- defaults ----
+
+TEST(CaseConfig, EmptyFileIsTheUndisturbedShearFlow) {
+  const CaseConfig c = parse_case("", "cases/plain_shear.toml");
+  EXPECT_EQ(c.name, "plain_shear");
+  EXPECT_EQ(c.output_directory, "output/plain_shear");
+  EXPECT_TRUE(c.objects.empty());
+  EXPECT_EQ(c.box.length, 30.0);
+  EXPECT_EQ(c.box.height, 30.0);
+  EXPECT_EQ(c.box.width, 30.0);
+  EXPECT_TRUE(c.box.periodic_x);
+  EXPECT_TRUE(c.box.periodic_z);
+  EXPECT_EQ(c.matrix_viscosity, 1.0);
+  EXPECT_EQ(c.shear_rate, 1.0);
+  EXPECT_EQ(c.wall_velocity(), 15.0);
+  EXPECT_EQ(c.sizing.equator_nodes, 40);
+  EXPECT_EQ(c.sizing.far_size, 3.0);
+  EXPECT_EQ(c.sizing.growth, 0.4);
+  EXPECT_TRUE(c.sizing.optimize_high_order);
+  EXPECT_EQ(c.solver, SolverType::direct);
+  EXPECT_EQ(c.rtol, 1e-8);
+  EXPECT_EQ(c.max_iterations, 500);
+  EXPECT_EQ(c.petsc_options, "");
+  EXPECT_TRUE(c.write_fields);
+}
+
+TEST(CaseConfig, OneSphereNeedsOnlyItsShape) {
+  const CaseConfig c = parse_case("[[objects]]\nshape = \"sphere\"\n", "drop.toml");
+  ASSERT_EQ(c.objects.size(), 1u);
+  const ObjectConfig& o = c.objects[0];
+  EXPECT_EQ(o.geometry.shape, geometry::ObjectShape::sphere);
+  EXPECT_EQ(o.geometry.centre, Eigen::Vector3d::Zero());
+  EXPECT_EQ(o.geometry.semi_axes, Eigen::Vector3d::Ones());
+  EXPECT_EQ(o.viscosity_ratio, 1.0);
+  ASSERT_TRUE(o.capillary_number.has_value());
+  EXPECT_EQ(*o.capillary_number, 0.1);
+  EXPECT_DOUBLE_EQ(o.interfacial_tension, 10.0);  // eta_m gamma_dot R / Ca = 1 * 1 * 1 / 0.1
+}
+
+TEST(CaseConfig, ShearCellSpecCarriesGeometryAndSizing) {
+  const CaseConfig c = parse_case(
+      "[cell]\nlength = 20\nheight = 10\nwidth = 12\nperiodic_z = false\n"
+      "[[objects]]\nshape = \"ellipsoid\"\ncentre = [1, 2, 3]\nsemi_axes = [2, 1, 0.5]\n"
+      "rotation_deg = [0, 0, 45]\n[mesh]\nequator_nodes = 28\n",
+      "c.toml");
+  const auto spec = c.shear_cell_spec();
+  EXPECT_EQ(spec.box.length, 20.0);
+  EXPECT_EQ(spec.box.height, 10.0);
+  EXPECT_EQ(spec.box.width, 12.0);
+  EXPECT_FALSE(spec.box.periodic_z);
+  ASSERT_EQ(spec.objects.size(), 1u);
+  EXPECT_EQ(spec.objects[0].shape, geometry::ObjectShape::ellipsoid);
+  EXPECT_EQ(spec.objects[0].centre, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(spec.objects[0].semi_axes, Eigen::Vector3d(2, 1, 0.5));
+  EXPECT_EQ(spec.objects[0].rotation_deg, Eigen::Vector3d(0, 0, 45));
+  EXPECT_EQ(spec.sizing.equator_nodes, 28);
+}
+
+TEST(CaseConfig, IntegerIsAcceptedForAFloat) {
+  const CaseConfig c = parse_case("[flow]\nshear_rate = 2\n", "c.toml");
+  EXPECT_EQ(c.shear_rate, 2.0);
+}
+
+TEST(CaseConfig, ZeroShearRateIsAllowedWithInterfacialTension) {
+  const CaseConfig c =
+      parse_case("[flow]\nshear_rate = 0\n[[objects]]\ninterfacial_tension = 1.5\n", "c.toml");
+  EXPECT_EQ(c.shear_rate, 0.0);
+  EXPECT_EQ(c.objects[0].interfacial_tension, 1.5);
+  EXPECT_FALSE(c.objects[0].capillary_number.has_value());
+}
+
+// ---- Gamma from Ca ----
+
+TEST(CaseConfig, InterfacialTensionFromCapillaryNumberUsesTheMeanRadius) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 2.0\n[flow]\nshear_rate = 3.0\n"
+      "[[objects]]\nshape = \"ellipsoid\"\nsemi_axes = [4.0, 2.0, 1.0]\ncapillary_number = 0.25\n",
+      "c.toml");
+  // R = (4 * 2 * 1)^(1/3) = 2; Gamma = 2 * 3 * 2 / 0.25.
+  EXPECT_NEAR(c.objects[0].interfacial_tension, 48.0, 1e-12);
+  EXPECT_EQ(*c.objects[0].capillary_number, 0.25);
+}
+
+// ---- round trip ----
+
+TEST(CaseConfig, ToTomlRoundTripsEveryKey) {
+  const std::string text = R"(
+[case]
+name = "two \"drops\""
+[cell]
+length = 40.5
+height = 20
+width = 25.25
+periodic_x = false
+periodic_z = true
+[matrix]
+viscosity = 0.7
+[flow]
+shear_rate = 0.3
+[[objects]]
+shape = "sphere"
+centre = [-3, 0.1, 0]
+radius = 1.1
+viscosity_ratio = 6.4
+capillary_number = 0.07
+[[objects]]
+shape = "ellipsoid"
+centre = [3, -0.1, 0.2]
+semi_axes = [1.3, 0.9, 0.7]
+rotation_deg = [10, 20, 30.5]
+viscosity_ratio = 0.1
+interfacial_tension = 2.75
+[mesh]
+equator_nodes = 50
+far_size = 2.5
+growth = 0.3
+optimize_high_order = false
+[solver]
+type = "iterative"
+rtol = 1e-6
+max_iterations = 80
+petsc_options = "-ksp_monitor -pc_type lu"
+[output]
+directory = "/tmp/some where/out"
+fields = false
+)";
+  const CaseConfig first = parse_case(text, "c.toml");
+  const CaseConfig second = parse_case(to_toml(first), "another_name.toml");
+  expect_same(first, second);
+  EXPECT_EQ(to_toml(first), to_toml(second));
+}
+
+TEST(CaseConfig, ToTomlOfDefaultsRoundTrips) {
+  const CaseConfig first = parse_case("[[objects]]\n[[objects]]\ncentre = [5, 0, 0]\n", "d.toml");
+  const CaseConfig second = parse_case(to_toml(first), "other.toml");
+  expect_same(first, second);
+  EXPECT_NE(to_toml(first).find("equator_nodes = 40"), std::string::npos);
+}
+
+// ---- error messages, one kind each ----
+
+TEST(CaseConfigErrors, UnknownKeySuggestsTheClosest) {
+  EXPECT_ERROR("[mesh]\nequator_node = 40\n",
+               "case.toml: unknown key 'mesh.equator_node' (did you mean 'mesh.equator_nodes'?)");
+  EXPECT_ERROR("[[objects]]\n[[objects]]\nradus = 2\n",
+               "case.toml: unknown key 'objects[2].radus' (did you mean 'objects[2].radius'?)");
+  EXPECT_ERROR("[[objects]]\ncenter = [0, 0, 0]\n", "(did you mean 'objects[1].centre'?)");
+  EXPECT_ERROR("[meshes]\n", "unknown key 'meshes' (did you mean 'mesh'?)");
+  EXPECT_ERROR("shear_rate = 1\n", "unknown key 'shear_rate' (did you mean 'flow.shear_rate'?)");
+}
+
+TEST(CaseConfigErrors, UnknownKeyWithoutAnyLikelyMeaning) {
+  const std::string e = error_of("[cell]\ntemperature = 300\n");
+  EXPECT_NE(e.find("unknown key 'cell.temperature'"), std::string::npos) << e;
+  EXPECT_EQ(e.find("did you mean"), std::string::npos) << e;
+}
+
+TEST(CaseConfigErrors, WrongType) {
+  EXPECT_ERROR("[cell]\nlength = \"30\"\n",
+               "case.toml: cell.length = \"30\": must be a number (remove the quotes)");
+  EXPECT_ERROR("[cell]\nperiodic_x = 1\n", "cell.periodic_x = 1: must be true or false");
+  EXPECT_ERROR("[mesh]\nequator_nodes = 40.0\n",
+               "mesh.equator_nodes = 40.0: must be an integer (write 40, not 40.0)");
+  EXPECT_ERROR("[solver]\npetsc_options = 3\n", "solver.petsc_options = 3: must be a string");
+  EXPECT_ERROR("[[objects]]\ncentre = [0, \"a\", 0]\n",
+               "objects[1].centre[2] = \"a\": must be a number");
+  EXPECT_ERROR("mesh = 3\n", "mesh = 3: must be a table");
+  EXPECT_ERROR("[objects]\nshape = \"sphere\"\n", "write [[objects]] (double brackets)");
+}
+
+TEST(CaseConfigErrors, OutOfRange) {
+  EXPECT_ERROR("[[objects]]\n[[objects]]\nradius = -1\n",
+               "case.toml: objects[2].radius = -1: must be > 0");
+  EXPECT_ERROR("[matrix]\nviscosity = 0\n", "matrix.viscosity = 0: must be > 0");
+  EXPECT_ERROR("[flow]\nshear_rate = -0.5\n", "flow.shear_rate = -0.5: must be >= 0");
+  EXPECT_ERROR("[solver]\nrtol = 1.0\n", "solver.rtol = 1.0: must be in (0, 1)");
+  EXPECT_ERROR("[mesh]\nequator_nodes = 6\n", "mesh.equator_nodes = 6: must be an integer >= 8");
+  EXPECT_ERROR("[[objects]]\nviscosity_ratio = 0\n", "objects[1].viscosity_ratio = 0: must be > 0");
+  EXPECT_ERROR("[[objects]]\nshape = \"ellipsoid\"\nsemi_axes = [1, 0, 1]\n",
+               "objects[1].semi_axes[2] = 0: must be > 0");
+  EXPECT_ERROR("[cell]\nwidth = inf\n", "cell.width = inf: must be a finite number");
+}
+
+TEST(CaseConfigErrors, BothCapillaryNumberAndInterfacialTension) {
+  EXPECT_ERROR(
+      "[[objects]]\ncapillary_number = 0.1\ninterfacial_tension = 2\n",
+      "objects[1] gives both capillary_number = 0.1 and interfacial_tension = 2: give only one");
+}
+
+TEST(CaseConfigErrors, CapillaryNumberNeedsShear) {
+  EXPECT_ERROR("[flow]\nshear_rate = 0\n[[objects]]\ncapillary_number = 0.2\n",
+               "objects[1].capillary_number = 0.2: needs flow.shear_rate > 0");
+  EXPECT_ERROR("[flow]\nshear_rate = 0\n[[objects]]\n", "give objects[1].interfacial_tension");
+}
+
+TEST(CaseConfigErrors, BadEnumString) {
+  EXPECT_ERROR("[[objects]]\nshape = \"cube\"\n",
+               "objects[1].shape = \"cube\": must be one of \"sphere\", \"ellipsoid\"");
+  EXPECT_ERROR("[[objects]]\nshape = \"sphre\"\n", "(did you mean \"sphere\"?)");
+  EXPECT_ERROR("[solver]\ntype = \"lu\"\n",
+               "solver.type = \"lu\": must be one of \"direct\", \"iterative\"");
+}
+
+TEST(CaseConfigErrors, WrongArrayLength) {
+  EXPECT_ERROR("[[objects]]\ncentre = [0, 0]\n",
+               "objects[1].centre = [0, 0]: must be an array of exactly 3 numbers (got 2)");
+  EXPECT_ERROR("[[objects]]\ncentre = 0\n",
+               "objects[1].centre = 0: must be an array of exactly 3 numbers");
+}
+
+TEST(CaseConfigErrors, KeysOfTheOtherShape) {
+  EXPECT_ERROR("[[objects]]\nsemi_axes = [1, 1, 2]\n",
+               "objects[1].semi_axes = [1, 1, 2]: only for shape = \"ellipsoid\"");
+  EXPECT_ERROR("[[objects]]\nshape = \"ellipsoid\"\nsemi_axes = [1, 1, 2]\nradius = 1\n",
+               "objects[1].radius = 1: only for shape = \"sphere\"");
+  EXPECT_ERROR("[[objects]]\nshape = \"ellipsoid\"\n", "objects[1].semi_axes: missing");
+}
+
+TEST(CaseConfigErrors, BadCaseName) {
+  EXPECT_ERROR("[case]\nname = \"a/b\"\n", "case.name = \"a/b\": must be a non-empty name");
+}
+
+TEST(CaseConfigErrors, EveryProblemIsReportedOncePerLine) {
+  const std::string e = error_of("[mesh]\nfar_size = -1\ngrowth = 0\n[solver]\nrtol = 2\n");
+  EXPECT_NE(e.find("mesh.far_size = -1"), std::string::npos) << e;
+  EXPECT_NE(e.find("\ncase.toml: mesh.growth = 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("\ncase.toml: solver.rtol = 2"), std::string::npos) << e;
+}
+
+TEST(CaseConfigErrors, SyntaxErrorNamesFileAndLine) {
+  const std::string e = error_of("[mesh]\nequator_nodes = 40\nfar_size = = 3\n");
+  EXPECT_EQ(e.rfind("case.toml:3: TOML syntax error", 0), 0u) << e;
+  EXPECT_NE(e.find("far_size = = 3"), std::string::npos) << e;  // the offending line is shown
+}
+
+TEST(CaseConfigErrors, MissingFile) {
+  EXPECT_THROW(read_case_file("/nonexistent/case.toml"), InputError);
+}
+
+// ---- dimensionless groups ----
+
+const DimensionlessGroup& find_group(const std::vector<DimensionlessGroup>& groups,
+                                     const std::string& symbol, int object) {
+  for (const auto& g : groups)
+    if (g.symbol == symbol && g.object == object) return g;
+  throw std::runtime_error("no group " + symbol);
+}
+
+TEST(DimensionlessGroups, ValuesPerObject) {
+  const CaseConfig c = parse_case(
+      "[cell]\nlength = 30\nheight = 20\nwidth = 10\n[matrix]\nviscosity = 2\n[flow]\nshear_rate = "
+      "0.5\n"
+      "[[objects]]\nradius = 2\nviscosity_ratio = 3\ninterfacial_tension = 4\n"
+      "[[objects]]\nshape = \"ellipsoid\"\ncentre = [8, 0, 0]\nsemi_axes = [2, 1, 0.5]\n"
+      "capillary_number = 0.3\n",
+      "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Ca", 1).value, 2.0 * 0.5 * 2.0 / 4.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "lambda", 1).value, 3.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "beta", 1).value, 4.0 / 20.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "L/D", 1).value, 30.0 / 4.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "H/D", 1).value, 20.0 / 4.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "W/D", 1).value, 10.0 / 4.0);
+  // Object 2: R = (2 * 1 * 0.5)^(1/3) = 1; Ca reported as given.
+  EXPECT_EQ(find_group(groups, "Ca", 2).value, 0.3);
+  EXPECT_DOUBLE_EQ(find_group(groups, "beta", 2).value, 2.0 / 20.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "lambda", 2).value, 1.0);
+}
+
+TEST(DimensionlessGroups, CapillaryNumberWithoutTensionIsInfiniteAndNullInJson) {
+  const CaseConfig c = parse_case("[[objects]]\ninterfacial_tension = 0\n", "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_TRUE(std::isinf(find_group(groups, "Ca", 1).value));
+  const auto json = to_json(groups);
+  ASSERT_TRUE(json.is_array());
+  bool seen = false;
+  for (const auto& g : json) {
+    if (g["symbol"] == "Ca") {
+      EXPECT_TRUE(g["value"].is_null());
+      EXPECT_EQ(g["object"], 1);
+      seen = true;
+    } else {
+      EXPECT_TRUE(g["value"].is_number());
+    }
+    EXPECT_TRUE(g.contains("name"));
+    EXPECT_TRUE(g.contains("definition"));
+  }
+  EXPECT_TRUE(seen);
+}
+
+TEST(DimensionlessGroups, NoObjectsNoObjectGroups) {
+  EXPECT_TRUE(dimensionless_groups(parse_case("", "g.toml")).empty());
+}
+
+}  // namespace
+}  // namespace softflow::io

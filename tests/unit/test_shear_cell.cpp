@@ -1,0 +1,334 @@
+// gmsh shear cell: node order, volumes, interfaces, periodicity and input validation.
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/element/quadrature.hpp"
+#include "softflow/element/shape_functions.hpp"
+#include "softflow/geometry/shear_cell.hpp"
+#include "softflow/mesh/quality.hpp"
+
+using namespace softflow;
+using Eigen::Vector3d;
+using geometry::ObjectShape;
+using geometry::ObjectSpec;
+using geometry::ShearCellSpec;
+
+namespace {
+
+ObjectSpec sphere(const Vector3d& centre, double radius) {
+  ObjectSpec o;
+  o.shape = ObjectShape::sphere;
+  o.centre = centre;
+  o.semi_axes = Vector3d::Constant(radius);
+  return o;
+}
+
+ObjectSpec ellipsoid(const Vector3d& centre, const Vector3d& semi_axes, const Vector3d& rotation_deg) {
+  ObjectSpec o;
+  o.shape = ObjectShape::ellipsoid;
+  o.centre = centre;
+  o.semi_axes = semi_axes;
+  o.rotation_deg = rotation_deg;
+  return o;
+}
+
+// A small, coarse cell: meshes in a fraction of a second.
+ShearCellSpec small_cell(double l, double h, double w, std::vector<ObjectSpec> objects = {}) {
+  ShearCellSpec s;
+  s.box = {l, h, w, true, true};
+  s.objects = std::move(objects);
+  s.sizing.equator_nodes = 20;
+  s.sizing.far_size = 1.0;
+  s.sizing.growth = 0.4;
+  return s;
+}
+
+// Volume of each region (index = region) from the P2 map, det J of degree 3.
+std::vector<double> region_volumes(const mesh::Mesh& m) {
+  const auto rule = element::tetrahedron_rule(3);
+  std::vector<double> volume(m.n_objects + 1, 0.0);
+  for (int t = 0; t < m.n_tets(); ++t) {
+    Eigen::Matrix<double, 3, 10> x;
+    for (int k = 0; k < 10; ++k) x.col(k) = m.nodes[m.tets[t][k]];
+    for (int q = 0; q < rule.size(); ++q)
+      volume[m.tet_region[t]] += rule.weights[q] * (x * element::p2_tet_gradients(rule.points[q])).determinant();
+  }
+  return volume;
+}
+
+double straight_edge_length(const mesh::Mesh& m, const mesh::Tet10& t, int e) {
+  return (m.nodes[t[mesh::kTetEdges[e][0]]] - m.nodes[t[mesh::kTetEdges[e][1]]]).norm();
+}
+
+// Largest distance of an edge node from its edge's midpoint, relative to the edge length.
+double max_edge_node_offset(const mesh::Mesh& m) {
+  double worst = 0.0;
+  for (const auto& t : m.tets)
+    for (int e = 0; e < 6; ++e) {
+      const auto [a, b] = mesh::kTetEdges[e];
+      const Vector3d mid = 0.5 * (m.nodes[t[a]] + m.nodes[t[b]]);
+      worst = std::max(worst, (m.nodes[t[4 + e]] - mid).norm() / straight_edge_length(m, t, e));
+    }
+  return worst;
+}
+
+std::string input_error_message(const ShearCellSpec& spec) {
+  try {
+    geometry::validate(spec);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(ShearCell, WithoutObjectsEdgeNodesAreAtEdgeMidpoints) {
+  const auto spec = small_cell(4, 2, 3);
+  geometry::MeshReport report;
+  const auto m = geometry::build_shear_cell(spec, &report);
+  ASSERT_GT(m.n_tets(), 20);
+  EXPECT_EQ(report.n_tets, m.n_tets());
+  EXPECT_EQ(report.n_nodes, m.n_nodes());
+  EXPECT_EQ(report.n_interface_nodes, 0);
+  EXPECT_LT(max_edge_node_offset(m), 1e-12);
+
+  // Straight elements: vertex volumes are the P2 volumes and fill the box.
+  double volume = 0.0;
+  for (const auto& t : m.tets) {
+    const double v = (m.nodes[t[1]] - m.nodes[t[0]]).dot((m.nodes[t[2]] - m.nodes[t[0]]).cross(m.nodes[t[3]] - m.nodes[t[0]])) / 6;
+    EXPECT_GT(v, 0.0);
+    volume += v;
+  }
+  EXPECT_NEAR(volume, 4.0 * 2.0 * 3.0, 1e-10);
+  EXPECT_NEAR(region_volumes(m)[0], 24.0, 1e-10);
+
+  // Compact numbering, every node used, vertex flags consistent.
+  std::vector<int> used(m.n_nodes(), 0);
+  for (const auto& t : m.tets)
+    for (int k = 0; k < 10; ++k) {
+      ASSERT_GE(t[k], 0);
+      ASSERT_LT(t[k], m.n_nodes());
+      EXPECT_EQ(m.is_vertex[t[k]], k < 4 ? 1 : 0);
+      used[t[k]] = 1;
+    }
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
+}
+
+TEST(ShearCell, OnlyWallsAreBoundaryWhenPeriodicAndAllFacesOtherwise) {
+  auto spec = small_cell(3, 2, 2);
+  const auto periodic = geometry::build_shear_cell(spec);
+  std::set<mesh::BoundaryTag> tags(periodic.boundary_face_tag.begin(), periodic.boundary_face_tag.end());
+  EXPECT_EQ(tags, (std::set{mesh::BoundaryTag::wall_bottom, mesh::BoundaryTag::wall_top}));
+  EXPECT_FALSE(periodic.periodic_master.empty());
+
+  spec.box.periodic_x = spec.box.periodic_z = false;
+  const auto closed = geometry::build_shear_cell(spec);
+  EXPECT_TRUE(closed.periodic_master.empty());
+  std::map<mesh::BoundaryTag, double> area;
+  for (std::size_t f = 0; f < closed.boundary_faces.size(); ++f) {
+    const auto& t = closed.boundary_faces[f];
+    const Vector3d n = (closed.nodes[t[1]] - closed.nodes[t[0]]).cross(closed.nodes[t[2]] - closed.nodes[t[0]]);
+    area[closed.boundary_face_tag[f]] += 0.5 * n.norm();
+    // Outward: the normal points away from the box centre, along the face's axis.
+    const Vector3d centre = (closed.nodes[t[0]] + closed.nodes[t[1]] + closed.nodes[t[2]]) / 3;
+    EXPECT_GT(n.dot(centre), 0.0);
+  }
+  EXPECT_NEAR(area[mesh::BoundaryTag::wall_bottom], 6.0, 1e-10);
+  EXPECT_NEAR(area[mesh::BoundaryTag::wall_top], 6.0, 1e-10);
+  EXPECT_NEAR(area[mesh::BoundaryTag::x_min], 4.0, 1e-10);
+  EXPECT_NEAR(area[mesh::BoundaryTag::x_max], 4.0, 1e-10);
+  EXPECT_NEAR(area[mesh::BoundaryTag::z_min], 6.0, 1e-10);
+  EXPECT_NEAR(area[mesh::BoundaryTag::z_max], 6.0, 1e-10);
+}
+
+TEST(ShearCell, SphereVolumesNodeOrderAndOutwardInterface) {
+  const Vector3d c(0.3, -0.2, 0.1);
+  const auto spec = small_cell(5, 5, 5, {sphere(c, 1.0)});
+  geometry::MeshReport report;
+  const auto m = geometry::build_shear_cell(spec, &report);
+  EXPECT_EQ(m.n_objects, 1);
+  EXPECT_GT(report.min_quality, 0.0);
+  EXPECT_DOUBLE_EQ(report.min_quality, mesh::min_quality(m));
+
+  // Curved elements: edge nodes near, not at, the midpoints.
+  const double offset = max_edge_node_offset(m);
+  EXPECT_GT(offset, 1e-6);
+  EXPECT_LT(offset, 0.15);
+
+  const auto volume = region_volumes(m);
+  EXPECT_NEAR(volume[0] + volume[1], 125.0, 1e-9);
+  EXPECT_NEAR(volume[1], 4.0 / 3.0 * M_PI, 0.01 * 4.0 / 3.0 * M_PI);
+
+  // Interface nodes lie on the sphere; faces point out of it.
+  ASSERT_FALSE(m.interface_faces.empty());
+  double flux = 0.0;
+  for (std::size_t f = 0; f < m.interface_faces.size(); ++f) {
+    const auto& t = m.interface_faces[f];
+    EXPECT_EQ(m.interface_object[f], 1);
+    for (int node : t) EXPECT_NEAR((m.nodes[node] - c).norm(), 1.0, 1e-6);
+    const Vector3d n = 0.5 * (m.nodes[t[1]] - m.nodes[t[0]]).cross(m.nodes[t[2]] - m.nodes[t[0]]);
+    EXPECT_GT(n.dot(m.nodes[t[0]] - c), 0.0);
+    flux += n.dot(m.nodes[t[0]] - c) / 3;  // volume of the inscribed polyhedron
+  }
+  EXPECT_NEAR(flux, 4.0 / 3.0 * M_PI, 0.05 * 4.0 / 3.0 * M_PI);
+  for (int region = 0; region <= 1; ++region)
+    EXPECT_GT(std::count(m.tet_region.begin(), m.tet_region.end(), region), 0);
+}
+
+TEST(ShearCell, RotatedEllipsoidVolumeAndInterface) {
+  const Vector3d c(0.2, 0.1, -0.3), a(1.5, 1.0, 0.7);
+  const auto object = ellipsoid(c, a, Vector3d(30, 20, 40));
+  const auto spec = small_cell(6, 5, 5, {object});
+  const auto m = geometry::build_shear_cell(spec);
+  const auto volume = region_volumes(m);
+  const double exact = 4.0 / 3.0 * M_PI * a.prod();
+  EXPECT_NEAR(volume[1], exact, 0.01 * exact);
+  EXPECT_NEAR(volume[0] + volume[1], 150.0, 1e-9);
+
+  // Interface nodes on the rotated ellipsoid |A^-1 R^T (x - c)| = 1.
+  const Eigen::Matrix3d to_body = geometry::rotation_matrix(object).transpose();
+  double flux = 0.0;
+  for (const auto& t : m.interface_faces) {
+    for (int node : t) EXPECT_NEAR((to_body * (m.nodes[node] - c)).cwiseQuotient(a).norm(), 1.0, 1e-5);
+    const Vector3d n = 0.5 * (m.nodes[t[1]] - m.nodes[t[0]]).cross(m.nodes[t[2]] - m.nodes[t[0]]);
+    flux += n.dot(m.nodes[t[0]] - c) / 3;
+  }
+  EXPECT_GT(flux, 0.0);
+  EXPECT_NEAR(flux, exact, 0.05 * exact);
+}
+
+TEST(ShearCell, PeriodicMastersDifferByLatticeVectors) {
+  const double l = 4, h = 3, w = 3;
+  const auto m = geometry::build_shear_cell(small_cell(l, h, w, {sphere(Vector3d(0.5, 0, -0.1), 0.8)}));
+  ASSERT_EQ(static_cast<int>(m.periodic_master.size()), m.n_nodes());
+  std::map<int, std::vector<int>> classes;
+  for (int i = 0; i < m.n_nodes(); ++i) {
+    const int j = m.periodic_master[i];
+    EXPECT_LE(j, i);                          // smallest index represents
+    EXPECT_EQ(m.periodic_master[j], j);       // closed
+    EXPECT_EQ(m.is_vertex[i], m.is_vertex[j]);
+    const Vector3d d = m.nodes[i] - m.nodes[j];
+    EXPECT_NEAR(d.x(), l * std::round(d.x() / l), 1e-9);
+    EXPECT_NEAR(d.y(), 0.0, 1e-9);
+    EXPECT_NEAR(d.z(), w * std::round(d.z() / w), 1e-9);
+    classes[j].push_back(i);
+  }
+  // Every node on x_max (z_max) is identified with its image on x_min (z_min).
+  int on_x_max = 0, corner_classes = 0;
+  for (int i = 0; i < m.n_nodes(); ++i)
+    for (int axis : {0, 2}) {
+      const double half = axis == 0 ? l / 2 : w / 2;
+      if (std::abs(m.nodes[i][axis] - half) > 1e-9) continue;
+      on_x_max += axis == 0;
+      Vector3d image = m.nodes[i];
+      image[axis] -= 2 * half;
+      const auto& members = classes[m.periodic_master[i]];
+      EXPECT_TRUE(std::any_of(members.begin(), members.end(),
+                              [&](int j) { return (m.nodes[j] - image).norm() < 1e-9; }))
+          << "node " << i << " at " << m.nodes[i].transpose();
+    }
+  for (const auto& [rep, members] : classes) {
+    EXPECT_LE(members.size(), 4u);
+    corner_classes += members.size() == 4;
+  }
+  EXPECT_GT(on_x_max, 10);
+  EXPECT_GT(corner_classes, 2);  // the 4 copies of nodes on edges parallel to y
+}
+
+TEST(ShearCell, UnitSphereInterfaceResolution) {
+  auto spec = small_cell(8, 8, 8, {sphere(Vector3d::Zero(), 1.0)});
+  spec.sizing.equator_nodes = 40;
+  spec.sizing.far_size = 2.0;
+  spec.sizing.growth = 0.3;
+  geometry::MeshReport report;
+  const auto m = geometry::build_shear_cell(spec, &report);
+  EXPECT_GE(report.n_interface_nodes, 300);
+  EXPECT_LE(report.n_interface_nodes, 1200);
+  // Roughly equator_nodes P2 nodes along the equator.
+  EXPECT_GE(report.n_equator_nodes, 30);
+  EXPECT_LE(report.n_equator_nodes, 60);
+  EXPECT_GT(report.min_quality, 0.0);
+  EXPECT_GT(report.seconds, 0.0);
+}
+
+TEST(ShearCell, TwoObjectsGetTheirOwnRegionsAndInterfaces) {
+  const auto m = geometry::build_shear_cell(small_cell(
+      8, 4, 4, {sphere(Vector3d(-2, 0, 0), 0.8), ellipsoid(Vector3d(2, 0, 0), Vector3d(1.2, 0.8, 0.8), Vector3d(0, 0, 30))}));
+  EXPECT_EQ(m.n_objects, 2);
+  std::set<int> regions(m.tet_region.begin(), m.tet_region.end());
+  EXPECT_EQ(regions, (std::set{0, 1, 2}));
+  std::set<int> objects(m.interface_object.begin(), m.interface_object.end());
+  EXPECT_EQ(objects, (std::set{1, 2}));
+  for (std::size_t f = 0; f < m.interface_faces.size(); ++f) {
+    const double x_c = m.interface_object[f] == 1 ? -2.0 : 2.0;
+    EXPECT_LT(std::abs(m.nodes[m.interface_faces[f][0]].x() - x_c), 1.3);
+  }
+}
+
+TEST(ShearCellValidation, RejectsOverlappingSpheres) {
+  const auto msg = input_error_message(
+      small_cell(10, 6, 6, {sphere(Vector3d(-3, 0, 0), 1.0), sphere(Vector3d(0, 0, 0), 1.0), sphere(Vector3d(1, 0, 0), 1.0)}));
+  EXPECT_NE(msg.find("objects[3]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("overlaps objects[2]"), std::string::npos) << msg;
+}
+
+TEST(ShearCellValidation, RejectsSpheresCloserThanOneInterfaceElement) {
+  // h = 2 pi / 10 = 0.63: a gap of 0.3 is too small.
+  const auto msg = input_error_message(
+      small_cell(10, 6, 6, {sphere(Vector3d(-1.15, 0, 0), 1.0), sphere(Vector3d(1.15, 0, 0), 1.0)}));
+  EXPECT_NE(msg.find("objects[2]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("too close to objects[1]"), std::string::npos) << msg;
+}
+
+TEST(ShearCellValidation, RejectsASphereCrossingAWall) {
+  const auto msg = input_error_message(small_cell(10, 6, 6, {sphere(Vector3d(0, 2.5, 0), 1.0)}));
+  EXPECT_NE(msg.find("objects[1]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("crosses the wall y = 3"), std::string::npos) << msg;
+}
+
+TEST(ShearCellValidation, RejectsASphereCrossingAPeriodicFace) {
+  const auto msg = input_error_message(
+      small_cell(10, 6, 6, {sphere(Vector3d(-2, 0, 0), 1.0), sphere(Vector3d(0, 0, 2.6), 1.0)}));
+  EXPECT_NE(msg.find("objects[2]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("crosses the periodic face z = 3"), std::string::npos) << msg;
+}
+
+TEST(ShearCellValidation, EllipsoidsAreTestedByShapeNotBoundingSphere) {
+  // Two long, thin ellipsoids side by side: their bounding spheres overlap.
+  const auto a = ellipsoid(Vector3d(0, -1, 0), Vector3d(3, 0.4, 0.4), Vector3d::Zero());
+  const auto b = ellipsoid(Vector3d(0, 1, 0), Vector3d(3, 0.4, 0.4), Vector3d::Zero());
+  auto spec = small_cell(10, 6, 6, {a, b});
+  spec.sizing.equator_nodes = 40;  // h = 2 pi 0.4 / 20 = 0.13 < gap 1.2
+  EXPECT_EQ(input_error_message(spec), "");
+
+  // Tilted towards each other by 30 degrees about z, they intersect.
+  spec.objects[0].rotation_deg = Vector3d(0, 0, 30);
+  spec.objects[1].rotation_deg = Vector3d(0, 0, -30);
+  const auto msg = input_error_message(spec);
+  EXPECT_NE(msg.find("objects[2]: ellipsoid"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("overlaps objects[1]"), std::string::npos) << msg;
+}
+
+TEST(ShearCellValidation, RejectsBadSizesNamingTheField) {
+  auto spec = small_cell(4, 4, 4);
+  spec.sizing.equator_nodes = 4;
+  EXPECT_NE(input_error_message(spec).find("mesh.equator_nodes = 4"), std::string::npos);
+  spec = small_cell(4, 4, 4);
+  spec.sizing.far_size = 0;
+  EXPECT_NE(input_error_message(spec).find("mesh.far_size"), std::string::npos);
+  spec = small_cell(4, 4, 4);
+  spec.sizing.growth = -1;
+  EXPECT_NE(input_error_message(spec).find("mesh.growth"), std::string::npos);
+  spec = small_cell(4, -1, 4);
+  EXPECT_NE(input_error_message(spec).find("box.height"), std::string::npos);
+  spec = small_cell(4, 4, 4, {ellipsoid(Vector3d::Zero(), Vector3d(1, 0, 1), Vector3d::Zero())});
+  EXPECT_NE(input_error_message(spec).find("objects[1].semi_axes"), std::string::npos);
+  // build_shear_cell validates too.
+  EXPECT_THROW(geometry::build_shear_cell(spec), InputError);
+}
