@@ -116,3 +116,24 @@ TEST(StokesExactness, PeriodicShearCellReproducesLinearShear) {
     EXPECT_LT(run.errors.pressure_max_nodal, 1e-10);
   }
 }
+
+TEST(StokesExactness, TwoPhaseShearAcrossAPlaneInterfaceWithViscosityContrast) {
+  // Region 1 (y > 0, viscosity 4) over region 0 (viscosity 1): piecewise
+  // linear shear u = (a_r y, 0, 0) with equal shear stress eta_r a_r, p = 0.
+  mesh::Box box = cube(2.0);
+  box.periodic_x = box.periodic_z = true;
+  auto mesh = mesh::structured_box(box, 4, 4, 4);
+  mesh.n_objects = 1;
+  for (int t = 0; t < mesh.n_tets(); ++t) {
+    double yc = 0;
+    for (int k = 0; k < 4; ++k) yc += mesh.nodes[mesh.tets[t][k]].y() / 4;
+    if (yc > 0) mesh.tet_region[t] = 1;
+  }
+  const double eta1 = 4.0, a0 = 1.0, a1 = a0 / eta1;
+  const test_support::ExactStokes shear{
+      [=](const Vector3d& x, int) { return Vector3d(x[1] < 0 ? a0 * x[1] : a1 * x[1], 0, 0); },
+      [](const Vector3d&, int) { return 0.0; }, [](const Vector3d&, int) { return Vector3d::Zero(); }};
+  const auto run = test_support::solve_against_exact(mesh, shear, {1.0, eta1}, {0.0});
+  EXPECT_LT(run.errors.velocity_max_nodal, 1e-11);
+  EXPECT_LT(run.errors.pressure_max_nodal, 1e-10);
+}

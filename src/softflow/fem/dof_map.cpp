@@ -89,6 +89,11 @@ int StokesDofMap::velocity_dof(int node, int region) const {
   return -1;
 }
 
+int StokesDofMap::first_velocity_dof(int node) const {
+  const auto& c = copies(node);
+  return c.empty() ? -1 : c.front().velocity;
+}
+
 int StokesDofMap::pressure_dof(int node, int region) const {
   for (const Copy& c : copies(node))
     if (c.region == region) return c.pressure;

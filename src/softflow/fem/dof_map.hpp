@@ -45,6 +45,9 @@ class StokesDofMap {
   /// First velocity dof (x component) of `node` as seen from `region`, -1 if
   /// the node does not touch that region.
   [[nodiscard]] int velocity_dof(int node, int region) const;
+  /// First velocity dof of `node` in the lowest region touching it (the
+  /// only one for nodes off the interfaces), -1 if the node is unused.
+  [[nodiscard]] int first_velocity_dof(int node) const;
   /// Pressure dof of vertex `node` as seen from `region`, -1 if none.
   [[nodiscard]] int pressure_dof(int node, int region) const;
 

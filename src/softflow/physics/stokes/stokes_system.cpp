@@ -169,7 +169,8 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
     for (int node : face) {
       const Vec3 g = problem.boundary_velocity ? problem.boundary_velocity(mesh_.nodes[node])
                                                : Vec3::Zero();
-      const int v = dofs_.velocity_dof(node, 0);
+      // Outer boundary nodes lie in one region (objects never touch the box).
+      const int v = dofs_.first_velocity_dof(node);
       for (int c = 0; c < 3; ++c) constrain(v + c, g(c));
     }
   if (problem.pressure_gauge_node >= 0) {
