@@ -11,7 +11,8 @@ foreach(solver direct iterative)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "serial ${solver} run failed (${rc})")
   endif()
-  separate_arguments(flags UNIX_COMMAND "${MPIEXEC_FLAGS}")
+  string(REPLACE ";" " " flags_text "${MPIEXEC_FLAGS}")
+  separate_arguments(flags UNIX_COMMAND "${flags_text}")
   execute_process(COMMAND ${MPIEXEC} -n 2 ${flags} ${SOFTFLOW} run ${WORK}/${solver}.toml
                           -o ${WORK}/${solver}_mpi2 -q
                   RESULT_VARIABLE rc)

@@ -5,7 +5,7 @@
 namespace softflow::physics {
 
 double add_stokes_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
-                             double eta, bool pressure_mass, TetMatrix& out) {
+                             double eta, TetMatrix& out, PressureMass* scaled_pressure_mass) {
   double volume = 0.0;
   for (int q = 0; q < tab.rule.size(); ++q) {
     const auto map = element::tet_map(x, tab.p2_grad[q]);
@@ -33,9 +33,9 @@ double add_stokes_tet_matrix(const element::TetNodes& x, const fem::TetTabulatio
           out(3 * l + d, 30 + i) += b;
         }
     // (3) -(1/eta)(psi_i, psi_j)
-    if (pressure_mass)
+    if (scaled_pressure_mass)
       for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) out(30 + i, 30 + j) -= w * psi[i] * psi[j] / eta;
+        for (int j = 0; j < 4; ++j) (*scaled_pressure_mass)(i, j) -= w * psi[i] * psi[j] / eta;
   }
   return volume;
 }

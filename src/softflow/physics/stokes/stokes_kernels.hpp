@@ -12,14 +12,18 @@ using TetMatrix = Eigen::Matrix<double, 34, 34>;
 using TetVector = Eigen::Matrix<double, 34, 1>;
 using TriangleVelocityVector = Eigen::Matrix<double, 18, 1>;
 
+using PressureMass = Eigen::Matrix<double, 4, 4>;
+
 /// Adds on one tetrahedron, with eta the region's viscosity:
 ///   (1) a(v, u) = (2 eta D(v), D(u))        velocity-velocity,
 ///   (2) b(q, u) = -(q, div u) and its transpose  pressure-velocity,
-///   (3) if pressure_mass: -(1/eta)(q, p)      pressure-pressure, used only in
-///       the preconditioning matrix as the Schur-complement approximation.
+/// and, if `scaled_pressure_mass` is given,
+///   (3) -(1/eta)(q, p)  into it: the Schur-complement approximation that
+///       the preconditioning matrix carries in its pressure block.
 /// Returns the element volume.
 double add_stokes_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
-                             double eta, bool pressure_mass, TetMatrix& out);
+                             double eta, TetMatrix& out,
+                             PressureMass* scaled_pressure_mass = nullptr);
 
 /// (v, f) on one tetrahedron: body force loading of the velocity rows.
 template <class Force>

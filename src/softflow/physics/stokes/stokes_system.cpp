@@ -108,17 +108,14 @@ void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
     const auto x = fem::tet_nodes(mesh_, t);
     const auto& d = dofs_.tet_dofs(t);
     ke.setZero();
-    add_stokes_tet_matrix(x, tabulation_, eta, false, ke);
+    PressureMass mass = PressureMass::Zero();
+    add_stokes_tet_matrix(x, tabulation_, eta, ke, iterative ? &mass : nullptr);
     // Eigen is column-major; the element matrix is symmetric, so the
     // row-major view PETSc expects is the same data.
     check(MatSetValues(a_.get(), 34, d.data(), 34, d.data(), ke.data(), ADD_VALUES),
           "MatSetValues(A)");
     if (iterative) {
-      for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) ke(30 + i, 30 + j) = 0.0;
-      TetMatrix mass = TetMatrix::Zero();
-      add_stokes_tet_matrix(x, tabulation_, eta, true, mass);
-      ke.bottomRightCorner<4, 4>() = mass.bottomRightCorner<4, 4>();
+      ke.bottomRightCorner<4, 4>() = mass;
       check(MatSetValues(pmat_.get(), 34, d.data(), 34, d.data(), ke.data(), ADD_VALUES),
             "MatSetValues(P)");
     }
