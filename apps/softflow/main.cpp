@@ -19,6 +19,7 @@
 #include <petscsys.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/simulation/stokes_run.hpp"
 
@@ -110,6 +111,7 @@ int main(int argc, char** argv) {
       const auto config = softflow::io::read_case_file(case_file);
       insert_case_petsc_options(config);
       if (*check) {
+        softflow::geometry::validate(config.shear_cell_spec());
         if (is_root()) std::cout << softflow::io::to_toml(config);
       } else if (*mesh) {
         softflow::simulation::mesh_case(config, false);

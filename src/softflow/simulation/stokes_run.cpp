@@ -151,11 +151,10 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
   const bool root = is_root();
   const std::filesystem::path directory =
       options.output_directory.value_or(std::filesystem::path(config.output_directory));
+  const auto meshed = build_mesh(config);  // step 1 (rejects bad geometry before any file is made)
   // Staged output: nothing appears under `directory` until the run succeeds.
   std::unique_ptr<io::OutputDirectory> output;
   on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });
-
-  const auto meshed = build_mesh(config);  // step 1
   const mesh::Mesh& mesh = meshed.mesh;
   if (!options.quiet && root)
     fmt::print("mesh: {} nodes, {} tetrahedra, {} interface nodes, min quality {:.3f}\n",

@@ -1,0 +1,35 @@
+# Bad input gets one clear message, a non-zero exit and no output directory.
+# Each case: file content, expected exit code, a substring of the message.
+set(cases
+  "unknown_key|[mesh]\nequator_node = 40\n|1|did you mean 'mesh.equator_nodes'"
+  "wrong_type|[cell]\nheight = \"tall\"\n|1|cell.height"
+  "out_of_range|[[objects]]\nradius = -1\n|1|objects[1].radius = -1"
+  "overlap|[[objects]]\n[[objects]]\ncentre = [1.0, 0.0, 0.0]\n|1|objects[2]"
+  "crosses_wall|[[objects]]\ncentre = [0.0, 14.5, 0.0]\n|1|crosses the wall"
+  "crosses_periodic_face|[[objects]]\ncentre = [14.6, 0.0, 0.0]\n|1|objects[1]"
+  "syntax|equator_nodes = = 4\n|1|syntax")
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+foreach(entry ${cases})
+  string(REPLACE "|" ";" parts "${entry}")
+  list(GET parts 0 name)
+  list(GET parts 1 content)
+  list(GET parts 2 expected_rc)
+  list(GET parts 3 expected_text)
+  string(REPLACE "\\n" "\n" content "${content}")
+  file(WRITE ${WORK}/${name}.toml "${content}")
+  execute_process(COMMAND ${SOFTFLOW} run ${name}.toml -o out_${name} WORKING_DIRECTORY ${WORK}
+                  RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
+  if(NOT rc EQUAL expected_rc)
+    message(FATAL_ERROR "${name}: exit code ${rc}, expected ${expected_rc}\n${err}")
+  endif()
+  string(FIND "${err}" "${expected_text}" found)
+  if(found EQUAL -1)
+    message(FATAL_ERROR "${name}: message lacks '${expected_text}':\n${err}")
+  endif()
+  file(GLOB leftovers ${WORK}/out_${name}*)
+  if(leftovers)
+    message(FATAL_ERROR "${name}: output left behind: ${leftovers}")
+  endif()
+  message(STATUS "${name}: exit ${rc}: ${err}")
+endforeach()
