@@ -15,6 +15,7 @@
 #include "softflow/mesh/quality.hpp"
 #include "softflow/parallel/mesh_broadcast.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/physics/stokes/wall_motion.hpp"
 
 namespace softflow::simulation {
 
@@ -93,8 +94,9 @@ physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::
     p.viscosity.push_back(o.viscosity_ratio * config.matrix_viscosity);
     p.interfacial_tension.push_back(o.interfacial_tension);
   }
-  const double rate = config.shear_rate;
-  p.boundary_velocity = [rate](const Eigen::Vector3d& x) { return Eigen::Vector3d(rate * x.y(), 0, 0); };
+  const auto walls = physics::WallMotion::steady(config.box.height, config.shear_rate);
+  const double t = 0.0;  // the instantaneous solve of the initial state
+  p.boundary_velocity = [walls, t](const Eigen::Vector3d& x) { return walls.velocity(x, t); };
   p.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
   p.pressure_gauge_value = 0.0;
   return p;

@@ -1,0 +1,37 @@
+// Velocity of the shear cell's walls as a function of time.
+#pragma once
+
+#include <functional>
+
+#include <Eigen/Core>
+
+namespace softflow::physics {
+
+/// The walls y = +-H/2 move with u = (+-u_w(t), 0, 0) (thesis eqs. 2.11-2.12);
+/// box faces that are not periodic carry the undisturbed flow (u_w(t) 2y/H, 0, 0).
+class WallMotion {
+ public:
+  /// Any wall speed history u_w(t).
+  explicit WallMotion(double height, std::function<double(double)> wall_speed);
+
+  /// Steady shear: u_w = shear_rate H / 2.
+  static WallMotion steady(double height, double shear_rate);
+  /// Start-up at t = 0 (u_w = 0 before), then steady.
+  static WallMotion start_up(double height, double shear_rate);
+  /// Oscillatory shear (SPEC §1): u_w = (H/2) gamma0 omega sin(omega t), i.e.
+  /// shear rate gamma0 omega sin(omega t) and strain gamma0 (1 - cos(omega t)).
+  static WallMotion oscillatory(double height, double strain_amplitude, double frequency);
+
+  [[nodiscard]] double wall_speed(double t) const { return wall_speed_(t); }
+  [[nodiscard]] double shear_rate(double t) const { return 2.0 * wall_speed_(t) / height_; }
+  /// Velocity imposed at boundary point x at time t.
+  [[nodiscard]] Eigen::Vector3d velocity(const Eigen::Vector3d& x, double t) const {
+    return Eigen::Vector3d(shear_rate(t) * x.y(), 0.0, 0.0);
+  }
+
+ private:
+  double height_;
+  std::function<double(double)> wall_speed_;
+};
+
+}  // namespace softflow::physics
