@@ -26,3 +26,10 @@ execute_process(COMMAND ${SOFTFLOW} check ${WORK}/out/case.toml RESULT_VARIABLE 
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the resolved case.toml does not validate")
 endif()
+# ParaView can read what was written (structure and sizes checked without ParaView).
+execute_process(COMMAND python3 ${CMAKE_CURRENT_LIST_DIR}/check_vtu.py ${WORK}/out RESULT_VARIABLE rc
+                OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "fields are malformed: ${out}${err}")
+endif()
+message(STATUS "${out}")
