@@ -1,6 +1,7 @@
 #include "softflow/geometry/shear_cell.hpp"
 
 #include <algorithm>
+#include <set>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -766,20 +767,35 @@ double check_quality(const mesh::Mesh& m) {
   return q;
 }
 
+// Effective P2 nodes around the first object's equator: 2 pi r / (mean
+// interface edge length) edges, two P2 nodes per edge. An unstructured
+// surface mesh has no equator line; this is the number the mesh would put on
+// a great circle of radius r (the smallest semi-axis), comparable with
+// mesh.equator_nodes and with the thesis's 28/40/50.
+int count_equator_nodes(const mesh::Mesh& m, const ObjectSpec& object) {
+  std::set<std::pair<int, int>> edges;
+  for (std::size_t f = 0; f < m.interface_faces.size(); ++f) {
+    if (m.interface_object[f] != 1) continue;
+    const auto& tri = m.interface_faces[f];
+    for (const auto& e : mesh::kTriangleEdges)
+      edges.emplace(std::min(tri[e[0]], tri[e[1]]), std::max(tri[e[0]], tri[e[1]]));
+  }
+  if (edges.empty()) return 0;
+  double total = 0.0;
+  for (const auto& [a, b] : edges) total += (m.nodes[a] - m.nodes[b]).norm();
+  const double mean_edge = total / static_cast<double>(edges.size());
+  return static_cast<int>(std::lround(2.0 * 2.0 * M_PI * object.semi_axes.minCoeff() / mean_edge));
+}
+
 MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double min_quality, double seconds) {
   MeshReport r;
   r.n_nodes = m.n_nodes();
   r.n_tets = m.n_tets();
-  std::vector<char> on_interface(m.n_nodes(), 0), on_equator(m.n_nodes(), 0);
-  const double z_c = spec.objects.empty() ? 0.0 : spec.objects[0].centre.z();
-  const double band = spec.objects.empty() ? 0.0 : interface_element_size(spec.objects[0], spec.sizing) / 4;
-  for (std::size_t f = 0; f < m.interface_faces.size(); ++f)
-    for (int node : m.interface_faces[f]) {
-      on_interface[node] = 1;
-      if (m.interface_object[f] == 1 && std::abs(m.nodes[node].z() - z_c) < band) on_equator[node] = 1;
-    }
+  std::vector<char> on_interface(m.n_nodes(), 0);
+  for (const auto& face : m.interface_faces)
+    for (int node : face) on_interface[node] = 1;
   r.n_interface_nodes = static_cast<int>(std::count(on_interface.begin(), on_interface.end(), 1));
-  r.n_equator_nodes = static_cast<int>(std::count(on_equator.begin(), on_equator.end(), 1));
+  r.n_equator_nodes = spec.objects.empty() ? 0 : count_equator_nodes(m, spec.objects[0]);
   r.min_quality = min_quality;
   r.seconds = seconds;
   return r;

@@ -47,7 +47,7 @@ struct MeshReport {
   int n_nodes = 0;
   int n_tets = 0;
   int n_interface_nodes = 0;  ///< P2 nodes on all interfaces
-  int n_equator_nodes = 0;    ///< P2 nodes within h/4 of the first object's z-equator plane
+  int n_equator_nodes = 0;    ///< effective P2 nodes on the first object's equator: 2 x 2 pi r / mean edge
   double min_quality = 0.0;   ///< mesh::min_quality of the result
   double seconds = 0.0;
 };
