@@ -18,14 +18,15 @@ using Eigen::Vector3d;
 namespace {
 
 // A unit sphere in a box of side `side`; all box faces Dirichlet when not periodic.
-geometry::ShearCellSpec drop_cell(double side, int equator_nodes, double far_size, bool periodic) {
+geometry::ShearCellSpec drop_cell(double side, int equator_nodes, double far_size, bool periodic,
+                                  double growth = 0.3) {
   geometry::ShearCellSpec spec;
   spec.box.length = spec.box.height = spec.box.width = side;
   spec.box.periodic_x = spec.box.periodic_z = periodic;
   spec.objects.push_back(geometry::ObjectSpec{});
   spec.sizing.equator_nodes = equator_nodes;
   spec.sizing.far_size = far_size;
-  spec.sizing.growth = 0.3;
+  spec.sizing.growth = growth;
   return spec;
 }
 
@@ -40,6 +41,17 @@ class DropInShear : public ::testing::TestWithParam<double> {};
 TEST_P(DropInShear, InstantaneousExactFieldConvergesUnderRefinement) {
   // One Stokes solve on a spherical interface in simple shear, the exact
   // velocity on the box faces, Gamma = 0.5 (Laplace jump 1 on R = 1).
+  //
+  // The refinement is uniform in shape (growth scaled with h0): with a fixed
+  // growth the elements a little away from the drop barely shrink, and the
+  // exterior disturbance (~ r^-2 .. r^-4, steep at r = 1) stays
+  // pre-asymptotic; even its P2 interpolant then converges at only ~h^2.2.
+  // At these resolutions (N = 24..48) the interpolant itself reaches slopes
+  // ~2.75 (velocity L2) and ~2 (pressure L2); the finite-element error stays
+  // within ~10 % of it (measured, docs/validation/stokes_drop.md). Pressure
+  // is compared up to a constant: with velocity given on the whole boundary
+  // it is determined only up to one, and pinning it at a vertex shifts the
+  // discrete field by that vertex's own error.
   const double lambda = GetParam(), gamma = 0.5;
   const auto exact = DropInLinearFlow::simple_shear(DropInLinearFlow::Kind::instantaneous, lambda,
                                                     1.0, gamma);
@@ -47,11 +59,10 @@ TEST_P(DropInShear, InstantaneousExactFieldConvergesUnderRefinement) {
       [&](const Vector3d& x, int region) { return exact.velocity(x, region == 1); },
       [&](const Vector3d& x, int region) { return exact.pressure(x, region == 1); }, nullptr};
   std::vector<double> h, eu, ep, jump_error;
-  for (int n : {16, 24, 32}) {
+  for (int n : {24, 36, 48}) {
     const double h0 = 2 * M_PI / (n / 2.0);
-    const auto mesh = geometry::build_shear_cell(drop_cell(6.0, n, 1.5 * h0, false));
-    la::SaddlePointSettings settings;
-    physics::StokesSystem system(mesh, settings);
+    const auto mesh = geometry::build_shear_cell(drop_cell(6.0, n, 2.5 * h0, false, 0.3 * 24 / n));
+    physics::StokesSystem system(mesh, la::SaddlePointSettings{});
     physics::StokesProblem problem;
     problem.viscosity = {1.0, lambda};
     problem.interfacial_tension = {gamma};
@@ -64,18 +75,18 @@ TEST_P(DropInShear, InstantaneousExactFieldConvergesUnderRefinement) {
     const auto measures = analysis::object_measures(mesh, system.dofs(), result.solution);
     h.push_back(h0);
     eu.push_back(errors.velocity_l2);
-    ep.push_back(errors.pressure_l2);
-    // Exact jump averaged over the sphere: 2 Gamma minus the mean outer pressure (zero for h).
+    ep.push_back(errors.pressure_l2_mean_free);
+    // Exact jump averaged over the sphere: 2 Gamma (the outer pressure averages to zero).
     jump_error.push_back(std::abs(measures[0].pressure_jump - 2 * gamma));
-    std::printf("lambda %.1f  N %2d  unknowns %7d  |u-u_h| %.3e  |p-p_h| %.3e  jump %.6f (exact %.1f)\n",
-                lambda, n, system.dofs().n_dofs(), errors.velocity_l2, errors.pressure_l2,
+    std::printf("lambda %.1f  N %2d  unknowns %7d  |u-u_h| %.3e  |p-p_h|/const %.3e  jump %.6f (exact %.1f)\n",
+                lambda, n, system.dofs().n_dofs(), errors.velocity_l2, errors.pressure_l2_mean_free,
                 measures[0].pressure_jump, 2 * gamma);
   }
   const double su = slope(eu[1], eu[2], h[1], h[2]), sp = slope(ep[1], ep[2], h[1], h[2]);
-  std::printf("lambda %.1f slopes: velocity %.2f  pressure %.2f\n", lambda, su, sp);
+  std::printf("lambda %.1f slopes (N 36 -> 48): velocity %.2f  pressure %.2f\n", lambda, su, sp);
+  EXPECT_GT(slope(eu[0], eu[1], h[0], h[1]), 2.0);
   EXPECT_GT(su, 2.5);
-  EXPECT_GT(sp, 1.5);
-  EXPECT_LT(jump_error[2], jump_error[0]);
+  EXPECT_GT(sp, 1.7);
   EXPECT_LT(jump_error[2], 0.01 * 2 * gamma);
 }
 

@@ -14,6 +14,10 @@ namespace softflow::fem {
 struct StokesErrors {
   double velocity_l2 = 0.0;  ///< ||u_h - u||_{L2(Omega)}
   double pressure_l2 = 0.0;  ///< ||p_h - p||_{L2(Omega)}, pressure compared per region
+  /// min_c ||p_h - p - c||_{L2(Omega)}: the pressure error free of the gauge.
+  /// With velocity prescribed on the whole boundary, p is fixed only up to a
+  /// constant, and pinning it at one vertex shifts p_h by that vertex's own error.
+  double pressure_l2_mean_free = 0.0;
   double velocity_max_nodal = 0.0;  ///< max over nodes of |u_h - u|
   double pressure_max_nodal = 0.0;  ///< max over vertices (each region's copy) of |p_h - p|
 };

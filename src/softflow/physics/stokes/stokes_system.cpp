@@ -210,16 +210,19 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
 }
 
 int default_pressure_gauge_node(const mesh::Mesh& mesh) {
-  // The bottom-wall vertex farthest from the origin (the objects sit near it).
+  // The bottom-wall vertex nearest the wall's centre (0, -H/2, 0): away from
+  // the box corners, where the P1 pressure is least well determined, and far
+  // from objects placed in the cell's interior.
+  const mesh::Point target(0.0, -mesh.box.height / 2, 0.0);
   int best = -1;
-  double best_distance = -1.0;
+  double best_distance = 0.0;
   for (std::size_t f = 0; f < mesh.boundary_faces.size(); ++f) {
     if (mesh.boundary_face_tag[f] != mesh::BoundaryTag::wall_bottom) continue;
     for (int k = 0; k < 3; ++k) {
       const int node = mesh.master(mesh.boundary_faces[f][k]);
-      const double r = mesh.nodes[node].norm();
-      if (r > best_distance || (r == best_distance && node < best)) {
-        best_distance = r;
+      const double d = (mesh.nodes[node] - target).norm();
+      if (best < 0 || d < best_distance || (d == best_distance && node < best)) {
+        best_distance = d;
         best = node;
       }
     }

@@ -65,7 +65,7 @@ class StokesSystem {
   std::unique_ptr<la::SaddlePointSolver> solver_;
 };
 
-/// A matrix vertex on the bottom wall, far from the objects: where the
+/// The matrix vertex on the bottom wall nearest its centre: where the
 /// pressure level is fixed by default.
 int default_pressure_gauge_node(const mesh::Mesh& mesh);
 
