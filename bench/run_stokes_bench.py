@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Stokes-solve benchmark: direct (MUMPS) and iterative (Schur fieldsplit +
 BoomerAMG) solvers on 1 and 2 MPI ranks, on the 'unbounded' cell (box 15
 drop diameters, unit drop, lambda = 1, Ca = 0.1).

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Regenerates docs/validation/stokes_drop.{csv,md,png}: convergence of one
 two-phase Stokes solve around a spherical drop (exact instantaneous field in
 shear for lambda = 0.5, 1, 5) and the static drop (Laplace jump, spurious
