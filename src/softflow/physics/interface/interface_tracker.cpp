@@ -1,0 +1,182 @@
+#include "softflow/physics/interface/interface_tracker.hpp"
+
+#include <cmath>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+
+#include "softflow/common/error.hpp"
+#include "softflow/element/isoparametric.hpp"
+#include "softflow/element/quadrature.hpp"
+#include "softflow/element/shape_functions.hpp"
+
+namespace softflow::physics {
+
+namespace {
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+const element::QuadratureRule& surface_rule() {
+  static const element::QuadratureRule rule = element::triangle_rule(5);
+  return rule;
+}
+
+element::TriangleNodes triangle_at(const std::array<int, 6>& tri, const std::vector<Vec3>& x) {
+  element::TriangleNodes nodes;
+  for (int k = 0; k < 6; ++k) nodes.col(k) = x[tri[k]];
+  return nodes;
+}
+
+// Gear (BDF) coefficients: x' ~ (a0 x_{n+1} + a1 x_n + a2 x_{n-1}) / dt.
+struct Bdf {
+  double a0, a1, a2;
+};
+Bdf bdf(bool second_order) {
+  return second_order ? Bdf{1.5, -2.0, 0.5} : Bdf{1.0, -1.0, 0.0};
+}
+
+}  // namespace
+
+InterfaceTracker::InterfaceTracker(InterfaceMesh surface, std::vector<Vec3> initial_positions,
+                                   const InterfaceTrackerSettings& settings)
+    : surface_(std::move(surface)),
+      settings_(settings),
+      x_(std::move(initial_positions)),
+      x_previous_(x_) {
+  initial_areas_ = triangle_areas(surface_, x_);
+  for (double a : initial_areas_) initial_area_ += a;
+  centre_ = centre_previous_ = surface_integrals(surface_, x_).centre_of_volume();
+}
+
+std::vector<Vec3> InterfaceTracker::predict() const {
+  if (steps_ == 0) return x_;  // eq. 2.47
+  std::vector<Vec3> x_hat(x_.size());
+  for (std::size_t i = 0; i < x_.size(); ++i) x_hat[i] = 2.0 * x_[i] - x_previous_[i];  // eq. 2.49
+  return x_hat;
+}
+
+Vec3 InterfaceTracker::centre_velocity(const std::vector<Vec3>& predicted, double dt) {
+  const Vec3 x_next = surface_integrals(surface_, predicted).centre_of_volume();
+  const Bdf c = bdf(centre_steps_ > 0);
+  const Vec3 u = (c.a0 * x_next + c.a1 * centre_ + c.a2 * centre_previous_) / dt;  // eqs. 2.51-2.52
+  centre_previous_ = centre_;
+  centre_ = x_next;
+  ++centre_steps_;
+  return u;
+}
+
+std::vector<double> InterfaceTracker::redistribution_potential(const std::vector<Vec3>& x) const {
+  // -lap_s c = 1 - 1/g (eq. 2.31) in weak form: (grad_s w, grad_s c) = (w, 1 - 1/g).
+  // g_e = (A_e / A_e0) / (A / A0) so that int_S 1/g ds = A (eq. 2.32); the
+  // right side then integrates to zero and the pure-Neumann problem is
+  // solvable; its constant is fixed by pinning one node, then removed.
+  const int n = surface_.n_nodes();
+  const auto areas = triangle_areas(surface_, x);
+  double area = 0.0;
+  for (double a : areas) area += a;
+  const auto& rule = surface_rule();
+  Triplets k;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  for (std::size_t e = 0; e < surface_.triangles.size(); ++e) {
+    const auto& tri = surface_.triangles[e];
+    const double g = (areas[e] / initial_areas_[e]) / (area / initial_area_);
+    const auto nodes = triangle_at(tri, x);
+    Eigen::Matrix<double, 6, 6> ke = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> be = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int q = 0; q < rule.size(); ++q) {
+      const auto p = element::surface_point(nodes, rule.points[q]);
+      const double w = rule.weights[q] * p.area_scale;
+      ke += w * p.surface_gradients * p.surface_gradients.transpose();
+      const auto phi = element::p2_triangle_values(rule.points[q]);
+      for (int i = 0; i < 6; ++i) be(i) += w * phi[i] * (1.0 - 1.0 / g);
+    }
+    for (int i = 0; i < 6; ++i) {
+      b(tri[i]) += be(i);
+      for (int j = 0; j < 6; ++j) k.emplace_back(tri[i], tri[j], ke(i, j));
+    }
+  }
+  // Pin node 0: replace its row and column by the identity.
+  Triplets pinned;
+  pinned.reserve(k.size());
+  for (const auto& t : k)
+    if (t.row() != 0 && t.col() != 0) pinned.push_back(t);
+  pinned.emplace_back(0, 0, 1.0);
+  b(0) = 0.0;
+  Eigen::SparseMatrix<double> matrix(n, n);
+  matrix.setFromTriplets(pinned.begin(), pinned.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(matrix);
+  if (solver.info() != Eigen::Success)
+    throw SolverError("interface redistribution: the surface Laplacian could not be factored");
+  Eigen::VectorXd c = solver.solve(b);
+  c.array() -= c.mean();
+  return {c.data(), c.data() + n};
+}
+
+void InterfaceTracker::correct(const std::vector<Vec3>& predicted,
+                               const std::vector<Vec3>& fluid_velocity, const Vec3& u_centre,
+                               double dt) {
+  // (w + tau a.grad_s w, (a0 x_{n+1} + a1 x_n + a2 x_{n-1})/dt + a.grad_s x_{n+1} - u - u_t) = 0
+  // with a = u - U, grad_s on the predicted surface (eq. 2.48 / 2.50). The
+  // operator is the same for the three components of x.
+  const int n = surface_.n_nodes();
+  const Bdf c = bdf(steps_ > 0);
+  const bool redistribute = settings_.redistribution_factor != 0.0;
+  const std::vector<double> potential =
+      redistribute ? redistribution_potential(predicted) : std::vector<double>(n, 0.0);
+  const auto& rule = surface_rule();
+  Triplets triplets;
+  triplets.reserve(surface_.triangles.size() * 36);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3);
+  for (const auto& tri : surface_.triangles) {
+    const auto nodes = triangle_at(tri, predicted);
+    double element_area = 0.0;
+    std::vector<element::SurfacePoint> points;
+    points.reserve(rule.size());
+    for (int q = 0; q < rule.size(); ++q) {
+      points.push_back(element::surface_point(nodes, rule.points[q]));
+      element_area += rule.weights[q] * points.back().area_scale;
+    }
+    const double h = std::sqrt(element_area);
+    Eigen::Matrix<double, 6, 6> ke = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 3> fe = Eigen::Matrix<double, 6, 3>::Zero();
+    for (int q = 0; q < rule.size(); ++q) {
+      const auto& p = points[q];
+      const double w = rule.weights[q] * p.area_scale;
+      const auto phi = element::p2_triangle_values(rule.points[q]);
+      Vec3 u = Vec3::Zero(), history = Vec3::Zero(), u_t = Vec3::Zero();
+      for (int k = 0; k < 6; ++k) {
+        u += phi[k] * fluid_velocity[tri[k]];
+        history += phi[k] * (c.a1 * x_[tri[k]] + c.a2 * x_previous_[tri[k]]);
+        if (redistribute)
+          u_t += settings_.redistribution_factor * potential[tri[k]] * p.surface_gradients.row(k).transpose();
+      }
+      const Vec3 a = u - u_centre;
+      const Vec3 a_t = a - a.dot(p.normal) * p.normal;  // only the tangential part convects
+      const double speed = a_t.norm();
+      const double tau = speed > 1e-12 ? settings_.supg_beta * h / (2.0 * speed) : 0.0;
+      const Eigen::Matrix<double, 6, 1> a_grad = p.surface_gradients * a;  // a.grad_s phi_k
+      Eigen::Matrix<double, 6, 1> test;
+      for (int i = 0; i < 6; ++i) test(i) = phi[i] + tau * a_grad(i);
+      for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) ke(i, j) += w * test(i) * (c.a0 / dt * phi[j] + a_grad(j));
+        fe.row(i) += w * test(i) * (u + u_t - history / dt).transpose();
+      }
+    }
+    for (int i = 0; i < 6; ++i) {
+      rhs.row(tri[i]) += fe.row(i);
+      for (int j = 0; j < 6; ++j) triplets.emplace_back(tri[i], tri[j], ke(i, j));
+    }
+  }
+  Eigen::SparseMatrix<double> matrix(n, n);
+  matrix.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
+  solver.compute(matrix);
+  if (solver.info() != Eigen::Success)
+    throw SolverError("interface tracking: the SUPG surface convection system is singular");
+  const Eigen::MatrixXd x_next = solver.solve(rhs);
+  x_previous_ = x_;
+  for (int i = 0; i < n; ++i) x_[i] = x_next.row(i).transpose();
+  ++steps_;
+}
+
+}  // namespace softflow::physics
