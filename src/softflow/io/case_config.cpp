@@ -42,6 +42,8 @@ const std::vector<Section>& schema() {
       {"mesh", {"equator_nodes", "far_size", "growth", "optimize_high_order"}},
       {"solver", {"type", "rtol", "max_iterations", "petsc_options"}},
       {"output", {"directory", "fields"}},
+      {"time", {"step", "end", "fields_interval", "min_quality"}},
+      {"interface", {"redistribution_factor", "supg_beta"}},
   };
   return sections;
 }
@@ -566,6 +568,19 @@ void read_output(const toml::table& root, CaseConfig& c, Diagnostics& diag) {
   t.boolean("fields", c.write_fields);
 }
 
+void read_time_and_interface(const toml::table& root, CaseConfig& c, Diagnostics& diag) {
+  TableReader t(section_table(root, "time", diag), "time", "time", diag);
+  t.check_keys();
+  t.number("step", c.time.step, Bound::positive);
+  t.number("end", c.time.end, Bound::non_negative);
+  t.integer("fields_interval", c.time.fields_interval, 0);
+  t.number("min_quality", c.time.min_quality, Bound::open_unit);
+  TableReader i(section_table(root, "interface", diag), "interface", "interface", diag);
+  i.check_keys();
+  i.number("redistribution_factor", c.interface.redistribution_factor, Bound::non_negative);
+  i.number("supg_beta", c.interface.supg_beta, Bound::non_negative);
+}
+
 // ---- one object ----
 
 /// Sphere: `radius`; ellipsoid: `semi_axes` (required) and `rotation_deg`.
@@ -742,6 +757,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   read_mesh(root, c, diag);
   read_solver(root, c, diag);
   read_output(root, c, diag);
+  read_time_and_interface(root, c, diag);
   diag.throw_if_any();
   return c;
 }
@@ -810,8 +826,13 @@ std::string to_toml(const CaseConfig& c) {
       fmt::format("[solver]\ntype = \"{}\"\nrtol = {}\nmax_iterations = {}\npetsc_options = {}\n\n",
                   c.solver == SolverType::direct ? "direct" : "iterative", toml_float(c.rtol),
                   c.max_iterations, toml_string(c.petsc_options));
-  s += fmt::format("[output]\ndirectory = {}\nfields = {}\n", toml_string(c.output_directory),
+  s += fmt::format("[output]\ndirectory = {}\nfields = {}\n\n", toml_string(c.output_directory),
                    c.write_fields);
+  s += fmt::format("[time]\nstep = {}\nend = {}\nfields_interval = {}\nmin_quality = {}\n\n",
+                   toml_float(c.time.step), toml_float(c.time.end), c.time.fields_interval,
+                   toml_float(c.time.min_quality));
+  s += fmt::format("[interface]\nredistribution_factor = {}\nsupg_beta = {}\n",
+                   toml_float(c.interface.redistribution_factor), toml_float(c.interface.supg_beta));
   return s;
 }
 

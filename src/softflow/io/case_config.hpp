@@ -29,6 +29,22 @@ struct ObjectConfig {
   std::optional<double> capillary_number;
 };
 
+/// [time]: the time loop (thesis §2.3.3). end = 0 means one Stokes solve of
+/// the initial state and no time stepping.
+struct TimeConfig {
+  double step = 0.005;          ///< dt, in the case's time unit (1/gamma_dot when gamma_dot = 1)
+  double end = 0.0;             ///< t_end >= 0
+  int fields_interval = 0;      ///< write fields every this many steps (0: at the end only)
+  double min_quality = 0.02;    ///< stop with a diagnosis if an element's quality falls below
+};
+
+/// [interface]: interface tracking (thesis §2.2.3, §2.3.2).
+struct InterfaceConfig {
+  /// k / gamma_dot of eq. 2.30 (thesis: 10); with gamma_dot = 0, k itself.
+  double redistribution_factor = 10.0;
+  double supg_beta = 0.5;  ///< beta of tau = beta h / (2 U_t); 0.5 for P2
+};
+
 /// A validated case. Every field holds a usable value: defaults are filled in.
 struct CaseConfig {
   std::string name;                             ///< [case] name; default: the file stem
@@ -46,6 +62,8 @@ struct CaseConfig {
   /// from the working directory, not from the case file's folder.
   std::string output_directory;
   bool write_fields = true;  ///< [output] fields: write VTU/PVD fields
+  TimeConfig time;            ///< [time]
+  InterfaceConfig interface;  ///< [interface]
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;
