@@ -16,6 +16,8 @@
 #include "softflow/parallel/mesh_broadcast.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
+#include "softflow/simulation/drop_run.hpp"
+#include "softflow/simulation/run_support.hpp"
 
 namespace softflow::simulation {
 
@@ -24,65 +26,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-bool is_root() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank == 0;
-}
-
-struct MeshedCase {
-  mesh::Mesh mesh;
-  nlohmann::json report;
-};
-
-// Runs `work` on rank 0 only; a failure there is rethrown on every rank with
-// the same type (input / mesh / other) and message, so no rank waits forever.
-template <class Work>
-void on_root_sharing_failure(Work&& work) {
-  std::string error;
-  int failed = 0;  // 1 input, 2 mesh, 3 other
-  if (is_root()) {
-    try {
-      work();
-    } catch (const InputError& e) {
-      error = e.what();
-      failed = 1;
-    } catch (const MeshError& e) {
-      error = e.what();
-      failed = 2;
-    } catch (const std::exception& e) {
-      error = e.what();
-      failed = 3;
-    }
-  }
-  MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (!failed) return;
-  int n = static_cast<int>(error.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  error.resize(n);
-  MPI_Bcast(error.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
-  if (failed == 1) throw InputError(error);
-  if (failed == 2) throw MeshError(error);
-  throw Error(error);
-}
-
-// Step 1: rank 0 meshes (gmsh is serial), every rank receives the mesh.
-MeshedCase build_mesh(const io::CaseConfig& config) {
-  MeshedCase out;
-  on_root_sharing_failure([&] {
-    geometry::MeshReport r;
-    out.mesh = geometry::build_shear_cell(config.shear_cell_spec(), &r);
-    out.report = {{"nodes", r.n_nodes},
-                  {"tetrahedra", r.n_tets},
-                  {"interface_nodes", r.n_interface_nodes},
-                  {"equator_nodes", r.n_equator_nodes},
-                  {"min_quality", r.min_quality},
-                  {"seconds", r.seconds}};
-  });
-  parallel::broadcast_mesh(out.mesh, MPI_COMM_WORLD);
-  return out;
 }
 
 // The walls move with u = (+-gamma_dot H/2, 0, 0); box faces that are not
@@ -100,15 +43,6 @@ physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::
   p.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
   p.pressure_gauge_value = 0.0;
   return p;
-}
-
-la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
-  la::SaddlePointSettings s;
-  s.method = config.solver == io::SolverType::direct ? la::SaddlePointMethod::direct
-                                                     : la::SaddlePointMethod::iterative;
-  s.rtol = config.rtol;
-  s.max_iterations = config.max_iterations;
-  return s;
 }
 
 nlohmann::json object_summary(const io::CaseConfig& config,
@@ -153,7 +87,8 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
   const bool root = is_root();
   const std::filesystem::path directory =
       options.output_directory.value_or(std::filesystem::path(config.output_directory));
-  const auto meshed = build_mesh(config);  // step 1 (rejects bad geometry before any file is made)
+  auto meshed = build_mesh(config);  // step 1 (rejects bad geometry before any file is made)
+  if (config.time.end > 0.0) return run_drop_case(config, options, std::move(meshed));
   // Staged output: nothing appears under `directory` until the run succeeds.
   std::unique_ptr<io::OutputDirectory> output;
   on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });

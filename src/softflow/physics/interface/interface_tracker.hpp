@@ -50,6 +50,8 @@ class InterfaceTracker {
   [[nodiscard]] const std::vector<Vec3>& positions() const { return x_; }
   [[nodiscard]] const std::vector<Vec3>& previous_positions() const { return x_previous_; }
   [[nodiscard]] int steps() const { return steps_; }
+  /// X of the latest recorded centre (from the predicted surface; initially x_0's).
+  [[nodiscard]] const Vec3& centre() const { return centre_; }
 
   /// The redistribution potential c on the surface x (eq. 2.31), mean zero.
   [[nodiscard]] std::vector<double> redistribution_potential(const std::vector<Vec3>& x) const;

@@ -1,0 +1,112 @@
+#include "softflow/analysis/theory/small_deformation.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+
+namespace softflow::analysis::theory {
+
+namespace {
+
+constexpr double kQuarterPi = std::numbers::pi / 4.0;
+
+double degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
+
+/// Theory inputs are ratios of viscosities, times and moduli: finite, >= 0.
+void require_non_negative(const char* name, double value) {
+  if (!std::isfinite(value) || value < 0.0) {
+    throw InputError(fmt::format("theory: {} = {} must be a finite number >= 0", name, value));
+  }
+}
+
+/// Slope dtheta/dCa of eq. 2.59 (radians), the first term of eq. 2.60 too.
+double chaffey_brenner_slope(double lambda) {
+  return (19.0 * lambda + 16.0) * (2.0 * lambda + 3.0) / (80.0 * (1.0 + lambda));
+}
+
+/// Coefficient of p Ca in eq. 2.60 (matrix elasticity), radians.
+double greco_matrix_coefficient(double lambda) {
+  return (176.0 + 436.0 * lambda + 323.0 * lambda * lambda) /
+         (30.0 * (1.0 + lambda) * (16.0 + 19.0 * lambda));
+}
+
+/// Coefficient of p_d Ca in eq. 2.60 (drop elasticity), radians.
+double greco_drop_coefficient(double lambda) {
+  return (9.0 * lambda * lambda + 6.0 * lambda * lambda * lambda) /
+         (8.0 * (1.0 + lambda) * (16.0 + 19.0 * lambda));
+}
+
+}  // namespace
+
+double taylor_deformation(double lambda, double ca) {
+  require_non_negative("lambda", lambda);
+  require_non_negative("Ca", ca);
+  return (19.0 * lambda + 16.0) / (16.0 * lambda + 16.0) * ca;  // eq. 1.1
+}
+
+double chaffey_brenner_angle_deg(double lambda, double ca) {
+  require_non_negative("lambda", lambda);
+  require_non_negative("Ca", ca);
+  return degrees(kQuarterPi - chaffey_brenner_slope(lambda) * ca);  // eq. 2.59
+}
+
+double greco_angle_deg(double lambda, double ca, double p, double p_d) {
+  require_non_negative("lambda", lambda);
+  require_non_negative("Ca", ca);
+  require_non_negative("p", p);
+  require_non_negative("p_d", p_d);
+  // eq. 2.60: the thesis breaks the line after "+" and starts the next with
+  // "- Ca[...]"; the bracket is subtracted (elasticity lowers theta, §1.2).
+  const double elastic =
+      p * greco_matrix_coefficient(lambda) + p_d * greco_drop_coefficient(lambda);
+  return degrees(kQuarterPi - chaffey_brenner_slope(lambda) * ca - elastic * ca);
+}
+
+double slip_taylor_deformation(double lambda, double ca, double alpha) {
+  require_non_negative("lambda", lambda);
+  require_non_negative("Ca", ca);
+  require_non_negative("alpha", alpha);
+  // SPEC §10, from the O(Ca) normal-stress imbalance of the slip field.
+  return (19.0 * lambda + 16.0 + 80.0 * alpha * lambda) /
+         (16.0 * (1.0 + lambda + 5.0 * alpha * lambda)) * ca;
+}
+
+double roscoe_small_ca_deformation(double ca_e) {
+  require_non_negative("Ca_e", ca_e);
+  return 1.25 * ca_e;
+}
+
+double roscoe_small_ca_angle_deg(double ca_e) {
+  require_non_negative("Ca_e", ca_e);
+  return degrees(kQuarterPi - 0.75 * ca_e);
+}
+
+std::string theory_table(double lambda, double ca) {
+  // Every line goes through the public functions, which validate lambda, Ca.
+  const double cb = chaffey_brenner_angle_deg(lambda, ca);
+  const double per_p = degrees(greco_matrix_coefficient(lambda) * ca);
+  const double per_p_d = degrees(greco_drop_coefficient(lambda) * ca);
+  std::string out = fmt::format(
+      "Small-deformation theory, unbounded simple shear, lambda = {:g}, Ca = {:g}\n"
+      "(first order in Ca; theta is the long axis against the flow direction)\n",
+      lambda, ca);
+  out += fmt::format("  Taylor D (eq. 1.1)                    {:.6g}\n",
+                     taylor_deformation(lambda, ca));
+  out += fmt::format("  Chaffey-Brenner theta (eq. 2.59)      {:.6g} deg\n", cb);
+  out +=
+      fmt::format("  Greco theta (eq. 2.60)                {:.6g} - ({:.4g} p + {:.4g} p_d) deg\n",
+                  cb, per_p, per_p_d);
+  out += "    (p = Psi_1 Gamma / (2 R eta^2) of the matrix, p_d the same for the drop)\n";
+  for (const double alpha : {0.1, 1.0}) {
+    out += fmt::format("  Slip drop D, slip alpha = {:<4g}        {:.6g}\n", alpha,
+                       slip_taylor_deformation(lambda, ca, alpha));
+  }
+  out += fmt::format("  Neo-Hookean sphere, Ca_e = {:g} (Roscoe): D {:.6g}, theta {:.6g} deg\n", ca,
+                     roscoe_small_ca_deformation(ca), roscoe_small_ca_angle_deg(ca));
+  return out;
+}
+
+}  // namespace softflow::analysis::theory

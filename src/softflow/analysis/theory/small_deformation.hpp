@@ -1,0 +1,55 @@
+// Small-deformation theory of drops and elastic particles in unbounded simple shear: D and theta.
+#pragma once
+
+#include <string>
+
+namespace softflow::analysis::theory {
+
+// All results are steady values, first order in the capillary number, for an
+// initially spherical object of radius R in unbounded simple shear
+// u_x = shear rate * y. lambda = eta_d / eta_m, Ca = eta_m shear_rate R / Gamma.
+// Angles are those of EllipsoidFit::theta_deg: the long axis against the flow
+// direction x, positive towards +y, 45 degrees at Ca -> 0. Negative or
+// non-finite arguments throw softflow::InputError naming the argument.
+
+/// Taylor (1932), eq. 1.1: D = (19 lambda + 16) / (16 lambda + 16) Ca.
+/// Newtonian drop in a Newtonian matrix, no slip; valid for Ca << 1 (the
+/// thesis sees agreement up to Ca ~ 0.3 at lambda = 1.4, Fig. 2.10a).
+double taylor_deformation(double lambda, double ca);
+
+/// Chaffey & Brenner (1967), eq. 2.59, in degrees:
+/// theta = pi/4 - (19 lambda + 16)(2 lambda + 3) / (80 (1 + lambda)) Ca [rad].
+/// Same system and range as taylor_deformation (Fig. 2.10b).
+double chaffey_brenner_angle_deg(double lambda, double ca);
+
+/// Greco (2002), eq. 2.60, in degrees: drop and matrix both second-order
+/// fluids, p = Psi_1m Gamma / (2 R eta_m^2), p_d = Psi_1d Gamma / (2 R eta_d^2):
+/// theta = [eq. 2.59] - Ca [p (176 + 436 lambda + 323 lambda^2) / (30 (1 + lambda)(16 + 19 lambda))
+///                         + p_d (9 lambda^2 + 6 lambda^3) / (8 (1 + lambda)(16 + 19 lambda))].
+/// The first term is Chaffey-Brenner's, so p = p_d = 0 gives eq. 2.59;
+/// viscoelasticity on either side lowers theta. D is Taylor's at this order.
+/// The thesis finds agreement for Ca <= 0.1 (UCM drop, lambda = 2, p_d = 0.5,
+/// Fig. 2.12b).
+double greco_angle_deg(double lambda, double ca, double p, double p_d);
+
+/// Drop with Navier slip alpha (made dimensionless with R / eta_m) on its
+/// interface, SPEC §10 (Ramachandran & Leal, thesis Fig. 2.11):
+/// D = (19 lambda + 16 + 80 alpha lambda) / (16 (1 + lambda + 5 alpha lambda)) Ca.
+/// alpha = 0 is Taylor's eq. 1.1; thesis range Ca <= 0.1 at lambda = 1.
+double slip_taylor_deformation(double lambda, double ca, double alpha);
+
+/// Roscoe (1967), small-Ca_e limit for a neo-Hookean sphere in a Newtonian
+/// fluid (SPEC §3): D = 5/4 Ca_e, Ca_e = eta_m shear_rate / G. Linear regime
+/// Ca_e <= 0.2 (thesis Fig. 2.14a).
+double roscoe_small_ca_deformation(double ca_e);
+
+/// Roscoe (1967), small-Ca_e limit (SPEC §3), in degrees:
+/// theta = pi/4 - 3/4 Ca_e [rad]. Same range as roscoe_small_ca_deformation.
+double roscoe_small_ca_angle_deg(double ca_e);
+
+/// A few lines for `softflow theory --lambda L --ca C`: Taylor D, Chaffey-
+/// Brenner theta, the slip-drop D at alpha = 0.1 and 1, the Greco correction
+/// as coefficients of p and p_d, and Roscoe's elastic sphere with Ca_e = C.
+std::string theory_table(double lambda, double ca);
+
+}  // namespace softflow::analysis::theory

@@ -1,0 +1,139 @@
+// ALE mesh motion (thesis §2.3.3, eq. 2.55 as corrected in SPEC §9):
+// the displacement d of the mesh nodes solves  div(k_e grad d) = 0,
+// k_e = 1 / (volume of element e), with the interface displacement as
+// Dirichlet data and d = 0 on the outer boundary (walls, non-periodic faces).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "softflow/element/isoparametric.hpp"
+#include "softflow/fem/tabulation.hpp"
+#include "softflow/la/petsc.hpp"
+#include "softflow/mesh/mesh.hpp"
+
+namespace softflow::physics {
+
+enum class AleMethod {
+  /// CG + hypre BoomerAMG, warm-started from the previous solution of each
+  /// component. Default: the cheapest per solve (see README.md).
+  iterative,
+  /// MUMPS Cholesky, factored once; three triangular solves per call.
+  direct,
+};
+
+struct AleSettings {
+  AleMethod method = AleMethod::iterative;
+  /// Relative tolerance of CG (unpreconditioned residual vs. right-hand side).
+  double rtol = 1e-10;
+  int max_iterations = 1000;
+  /// Options prefix: e.g. -ale_pc_type gamg, -ale_ksp_monitor override the choices.
+  std::string prefix = "ale_";
+};
+
+/// Element matrix of the mesh-motion operator in the local P2 node order.
+using AleTetMatrix = Eigen::Matrix<double, 10, 10>;
+
+/// k_e * integral over the tetrahedron of grad N_i . grad N_j, with
+/// k_e = 1 / (volume of the tetrahedron), on the isoparametric P2 map.
+/// Returns the volume. Throws SolverError on a non-positive Jacobian.
+double ale_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
+                      AleTetMatrix& out);
+
+/// Harmonic-type extension of the interface displacement into the volume:
+///
+///   div(k_e grad d) = 0   in every tetrahedron (matrix and objects),
+///   d = d_S               on every interface node (mesh.interface_faces),
+///   d = 0                 on every outer boundary node (mesh.boundary_faces),
+///
+/// solved for the three components separately with one scalar operator.
+///
+/// The operator lives on the REFERENCE mesh given to the constructor and is
+/// assembled, and its preconditioner/factorisation built, once: a deliberate
+/// speed choice. Because it is linear, extending the per-step increment and
+/// adding it to the current positions is the same as extending the total
+/// interface displacement from the reference positions; the weight
+/// k_e = 1/V_e of the reference elements makes the big far-field elements
+/// absorb the deformation and keeps the small interface elements stiff.
+///
+/// Unknowns: one per representative node (periodic copies share it, so
+/// periodic nodes keep differing by lattice vectors). Prescribed nodes are
+/// eliminated: the system has only free unknowns, and the right-hand side
+/// is -C d_S with C the free-interface coupling block, kept from assembly.
+/// A node on both an interface and the outer boundary (objects never touch
+/// the box, so in principle none) follows the interface.
+///
+/// Parallel layout as fem::StokesDofMap/StokesSystem: the mesh is
+/// replicated, each rank owns a contiguous range of representative nodes
+/// (balanced by free unknowns) and assembles the tetrahedra whose first
+/// node's representative it owns into distributed PETSc matrices.
+class AleMeshMotion {
+ public:
+  explicit AleMeshMotion(const mesh::Mesh& reference, const AleSettings& settings = {});
+  ~AleMeshMotion();
+  AleMeshMotion(const AleMeshMotion&) = delete;
+  AleMeshMotion& operator=(const AleMeshMotion&) = delete;
+
+  /// Displacement of every mesh node (replicated on every rank) given the
+  /// displacement of the interface nodes. The input is indexed by mesh node
+  /// and must have mesh.n_nodes() entries; only interface nodes are read
+  /// (interface_nodes()), and the result equals the input there exactly.
+  /// Collective. Throws SolverError if CG does not converge.
+  std::vector<Eigen::Vector3d> solve(const std::vector<Eigen::Vector3d>& interface_displacement);
+
+  /// Every mesh node on an interface: the nodes solve() reads.
+  [[nodiscard]] const std::vector<int>& interface_nodes() const { return interface_nodes_; }
+  /// Global number of free (solved-for) unknowns per component.
+  [[nodiscard]] int n_unknowns() const { return n_free_; }
+  /// This rank's contiguous range of free unknowns.
+  [[nodiscard]] la::OwnershipRange ownership() const { return free_range_; }
+
+  /// Assembly of the operator (seconds, this rank).
+  [[nodiscard]] double assembly_seconds() const { return assembly_seconds_; }
+  /// Preconditioner setup or factorisation (seconds).
+  [[nodiscard]] double setup_seconds() const { return setup_seconds_; }
+  /// Wall time of the last solve() call: right-hand sides, 3 solves, gathers.
+  [[nodiscard]] double last_solve_seconds() const { return last_solve_seconds_; }
+  /// Krylov iterations of the last solve() per component (1 each for direct).
+  [[nodiscard]] const std::array<int, 3>& last_iterations() const { return last_iterations_; }
+  [[nodiscard]] int last_total_iterations() const {
+    return last_iterations_[0] + last_iterations_[1] + last_iterations_[2];
+  }
+
+ private:
+  void partition(const mesh::Mesh& mesh);
+  void assemble(const mesh::Mesh& mesh);
+  void create_solver();
+
+  AleSettings settings_;
+  int n_nodes_ = 0;
+  std::vector<int> master_;          // node -> representative (identity if not periodic)
+  std::vector<int> free_index_;      // representative -> free unknown, -1 if prescribed/unused
+  std::vector<int> interface_index_; // representative -> interface unknown, -1 otherwise
+  std::vector<int> interface_source_;  // representative -> node whose input it takes, -1
+  std::vector<int> interface_nodes_;
+  std::vector<int> owned_interface_source_;  // this rank's interface unknowns -> input node
+  std::vector<int> owned_tets_;
+  int n_free_ = 0;
+  int n_interface_ = 0;
+  la::OwnershipRange free_range_;
+  la::OwnershipRange interface_range_;
+
+  la::Matrix a_;         // free-free block (SPD)
+  la::Matrix coupling_;  // free-interface block C
+  la::Solver ksp_;
+  la::Vector rhs_, interface_values_;
+  std::array<la::Vector, 3> solution_;  // kept: warm start of the next solve
+  la::Vector gathered_;                 // every free unknown, on every rank
+  VecScatter to_all_ = nullptr;
+
+  double assembly_seconds_ = 0.0;
+  double setup_seconds_ = 0.0;
+  double last_solve_seconds_ = 0.0;
+  std::array<int, 3> last_iterations_{0, 0, 0};
+};
+
+}  // namespace softflow::physics

@@ -1,0 +1,73 @@
+#include "softflow/simulation/run_support.hpp"
+
+#include <mpi.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/geometry/shear_cell.hpp"
+#include "softflow/parallel/mesh_broadcast.hpp"
+
+namespace softflow::simulation {
+
+bool is_root() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank == 0;
+}
+
+// Runs `work` on rank 0 only; a failure there is rethrown on every rank with
+// the same type (input / mesh / other) and message, so no rank waits forever.
+void on_root_sharing_failure(const std::function<void()>& work) {
+  std::string error;
+  int failed = 0;  // 1 input, 2 mesh, 3 other
+  if (is_root()) {
+    try {
+      work();
+    } catch (const InputError& e) {
+      error = e.what();
+      failed = 1;
+    } catch (const MeshError& e) {
+      error = e.what();
+      failed = 2;
+    } catch (const std::exception& e) {
+      error = e.what();
+      failed = 3;
+    }
+  }
+  MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (!failed) return;
+  int n = static_cast<int>(error.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  error.resize(n);
+  MPI_Bcast(error.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+  if (failed == 1) throw InputError(error);
+  if (failed == 2) throw MeshError(error);
+  throw Error(error);
+}
+
+// Step 1: rank 0 meshes (gmsh is serial), every rank receives the mesh.
+MeshedCase build_mesh(const io::CaseConfig& config) {
+  MeshedCase out;
+  on_root_sharing_failure([&] {
+    geometry::MeshReport r;
+    out.mesh = geometry::build_shear_cell(config.shear_cell_spec(), &r);
+    out.report = {{"nodes", r.n_nodes},
+                  {"tetrahedra", r.n_tets},
+                  {"interface_nodes", r.n_interface_nodes},
+                  {"equator_nodes", r.n_equator_nodes},
+                  {"min_quality", r.min_quality},
+                  {"seconds", r.seconds}};
+  });
+  parallel::broadcast_mesh(out.mesh, MPI_COMM_WORLD);
+  return out;
+}
+
+la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
+  la::SaddlePointSettings s;
+  s.method = config.solver == io::SolverType::direct ? la::SaddlePointMethod::direct
+                                                     : la::SaddlePointMethod::iterative;
+  s.rtol = config.rtol;
+  s.max_iterations = config.max_iterations;
+  return s;
+}
+
+}  // namespace softflow::simulation

@@ -1,0 +1,93 @@
+// Small-deformation theory (eqs. 1.1, 2.59, 2.60, SPEC §3, §10) against values computed by hand.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "softflow/analysis/theory/small_deformation.hpp"
+#include "softflow/common/error.hpp"
+
+using namespace softflow::analysis::theory;
+
+namespace {
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+}  // namespace
+
+TEST(SmallDeformation, TaylorByHand) {
+  // lambda = 1: (19 + 16) / (16 + 16) = 35/32; times Ca = 0.1 -> 0.109375.
+  EXPECT_NEAR(taylor_deformation(1.0, 0.1), 0.109375, 1e-15);
+  // lambda = 2: 54/48 = 1.125 -> 0.1125.
+  EXPECT_NEAR(taylor_deformation(2.0, 0.1), 0.1125, 1e-15);
+  // lambda = 0 (bubble): 16/16 = 1; lambda -> infinity tends to 19/16.
+  EXPECT_NEAR(taylor_deformation(0.0, 0.2), 0.2, 1e-15);
+  EXPECT_NEAR(taylor_deformation(1e12, 1.0), 19.0 / 16.0, 1e-10);
+}
+
+TEST(SmallDeformation, ChaffeyBrennerByHand) {
+  // lambda = 1: 35 * 5 / 160 = 1.09375 rad per unit Ca; Ca = 0.1 -> 0.109375
+  // rad = 6.266725884...deg, theta = 38.733274116 deg.
+  EXPECT_NEAR(chaffey_brenner_angle_deg(1.0, 0.1), 45.0 - 0.109375 * kDegPerRad, 1e-12);
+  EXPECT_NEAR(chaffey_brenner_angle_deg(1.0, 0.1), 38.73327411575662, 1e-10);
+  // lambda = 2: 54 * 7 / 240 = 1.575; Ca = 0.1 -> 45 - 9.02408527... = 35.97591472668953.
+  EXPECT_NEAR(chaffey_brenner_angle_deg(2.0, 0.1), 35.97591472668953, 1e-10);
+  EXPECT_DOUBLE_EQ(chaffey_brenner_angle_deg(3.0, 0.0), 45.0);
+}
+
+TEST(SmallDeformation, GrecoReducesToChaffeyBrennerWithoutElasticity) {
+  for (const double lambda : {0.0, 0.5, 1.0, 2.0, 10.0}) {
+    EXPECT_NEAR(greco_angle_deg(lambda, 0.07, 0.0, 0.0), chaffey_brenner_angle_deg(lambda, 0.07),
+                1e-12);
+  }
+}
+
+TEST(SmallDeformation, GrecoByHand) {
+  // UCM drop of Fig. 2.12: lambda = 2, p_d = 0.5, p = 0. Drop coefficient
+  // (9*4 + 6*8) / (8 * 3 * 54) = 84/1296 = 7/108; times p_d -> 7/216.
+  // theta = 45 deg - 0.1 (1.575 + 7/216) rad = 35.79023395974899 deg.
+  EXPECT_NEAR(greco_angle_deg(2.0, 0.1, 0.0, 0.5), 35.79023395974899, 1e-10);
+  // Matrix term at lambda = 1: (176 + 436 + 323) / (30 * 2 * 35) = 935/2100;
+  // p = 1, Ca = 0.1: 45 deg - 0.1 (1.09375 + 0.445238...) rad = 36.18224774219796.
+  EXPECT_NEAR(greco_angle_deg(1.0, 0.1, 1.0, 0.0), 36.18224774219796, 1e-10);
+  // Elasticity on either side lowers theta (thesis §1.2).
+  EXPECT_LT(greco_angle_deg(1.0, 0.1, 0.3, 0.0), chaffey_brenner_angle_deg(1.0, 0.1));
+  EXPECT_LT(greco_angle_deg(1.0, 0.1, 0.0, 0.3), chaffey_brenner_angle_deg(1.0, 0.1));
+}
+
+TEST(SmallDeformation, SlipDrop) {
+  // alpha = 0 is Taylor's eq. 1.1.
+  for (const double lambda : {0.0, 0.3, 1.0, 4.0}) {
+    EXPECT_NEAR(slip_taylor_deformation(lambda, 0.05, 0.0), taylor_deformation(lambda, 0.05),
+                1e-15);
+  }
+  // lambda = 1, alpha = 0.1: (35 + 8) / (16 * 2.5) = 43/40; alpha = 1:
+  // (35 + 80) / (16 * 7) = 115/112. Slip lowers D (Fig. 2.11).
+  EXPECT_NEAR(slip_taylor_deformation(1.0, 0.1, 0.1), 0.1075, 1e-15);
+  EXPECT_NEAR(slip_taylor_deformation(1.0, 0.1, 1.0), 11.5 / 112.0, 1e-15);
+  EXPECT_LT(slip_taylor_deformation(1.0, 0.1, 1.0), slip_taylor_deformation(1.0, 0.1, 0.1));
+  // Full slip (alpha -> infinity): 80/80 = 1, the bubble's slope.
+  EXPECT_NEAR(slip_taylor_deformation(1.0, 1.0, 1e12), 1.0, 1e-10);
+}
+
+TEST(SmallDeformation, RoscoeSmallCa) {
+  // D = 5/4 * 0.1 = 0.125; theta = 45 deg - 0.075 rad = 40.702816536518824 deg.
+  EXPECT_NEAR(roscoe_small_ca_deformation(0.1), 0.125, 1e-15);
+  EXPECT_NEAR(roscoe_small_ca_angle_deg(0.1), 40.702816536518824, 1e-10);
+}
+
+TEST(SmallDeformation, RejectsNegativeInput) {
+  EXPECT_THROW(taylor_deformation(-1.0, 0.1), softflow::InputError);
+  EXPECT_THROW(chaffey_brenner_angle_deg(1.0, -0.1), softflow::InputError);
+  EXPECT_THROW(greco_angle_deg(1.0, 0.1, -1.0, 0.0), softflow::InputError);
+  EXPECT_THROW(slip_taylor_deformation(1.0, 0.1, std::nan("")), softflow::InputError);
+  EXPECT_THROW(roscoe_small_ca_deformation(-0.1), softflow::InputError);
+}
+
+TEST(SmallDeformation, TheoryTableNamesTheValues) {
+  const std::string table = theory_table(1.0, 0.1);
+  EXPECT_NE(table.find("lambda = 1, Ca = 0.1"), std::string::npos) << table;
+  EXPECT_NE(table.find("0.109375"), std::string::npos) << table;  // Taylor D
+  EXPECT_NE(table.find("38.7333"), std::string::npos) << table;   // Chaffey-Brenner
+  EXPECT_NE(table.find("0.1075"), std::string::npos) << table;    // slip, alpha = 0.1
+  EXPECT_NE(table.find("40.7028"), std::string::npos) << table;   // Roscoe
+  EXPECT_THROW(theory_table(-1.0, 0.1), softflow::InputError);
+}
