@@ -3,6 +3,7 @@
 //   softflow run examples/drop_shear.toml          solve, write output/<case>/
 //   softflow mesh examples/drop_shear.toml         mesh only, report sizes and quality
 //   softflow check examples/drop_shear.toml        validate the case file
+//   softflow theory --lambda 1.4 --ca 0.2          Taylor, Chaffey-Brenner, ... values
 //   mpirun -np 2 softflow run CASE.toml            the same, on 2 MPI ranks
 //   softflow run CASE.toml -- -stokes_ksp_monitor  PETSc options after "--"
 //
@@ -18,6 +19,7 @@
 #include <fmt/format.h>
 #include <petscsys.h>
 
+#include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/case_config.hpp"
@@ -98,11 +100,27 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a case file and print the resolved case");
   check->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
 
+  double lambda = 1.0, ca = 0.1;
+  auto* theory = app.add_subcommand(
+      "theory", "small-deformation theory: Taylor D (eq. 1.1), Chaffey-Brenner theta (eq. 2.59), ...");
+  theory->add_option("--lambda", lambda, "viscosity ratio eta_d / eta_m")->capture_default_str();
+  theory->add_option("--ca", ca, "capillary number eta_m gamma_dot R / Gamma")->capture_default_str();
+
   try {
     int n = static_cast<int>(ours.size());
     app.parse(n, ours.data());
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInputError;
+  }
+
+  if (*theory) {  // no PETSc, no case file: a pure query
+    try {
+      std::cout << softflow::analysis::theory::theory_table(lambda, ca);
+      return kOk;
+    } catch (const softflow::InputError& e) {
+      std::cerr << "softflow: " << e.what() << "\n";
+      return kInputError;
+    }
   }
 
   try {
