@@ -19,8 +19,10 @@ namespace {
 // Outer choices are set through the API (so two solvers in one process
 // never see each other's choice); KSPSetFromOptions still lets the user
 // override them with -<prefix>ksp_type etc.
-void configure_direct(KSP ksp) {
-  check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+void configure_direct(const SaddlePointSettings& s, KSP ksp) {
+  // GMRES around the LU: one iteration with fresh factors, a few with
+  // factors of an earlier (slightly different) matrix when they are reused.
+  check(KSPSetType(ksp, s.max_reuse_iterations > 0 ? KSPGMRES : KSPPREONLY), "KSPSetType");
   PC pc = nullptr;
   check(KSPGetPC(ksp, &pc), "KSPGetPC");
   check(PCSetType(pc, PCLU), "PCSetType");
@@ -72,7 +74,7 @@ SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings, IS vel
                          settings.max_iterations),
         "KSPSetTolerances");
   if (settings.method == SaddlePointMethod::direct) {
-    configure_direct(ksp_.get());
+    configure_direct(settings, ksp_.get());
   } else {
     configure_iterative(settings, ksp_.get(), velocity_dofs, pressure_dofs);
   }
@@ -84,7 +86,27 @@ void SaddlePointSolver::set_operators(Mat a, Mat pmat) {
 }
 
 SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
+  const bool reuse = settings_.method == SaddlePointMethod::direct &&
+                     settings_.max_reuse_iterations > 0 && have_preconditioner_ && !refactor_next_;
+  SolveReport r = solve_once(b, x, reuse);
+  if (reuse && (r.reason.rfind("DIVERGED", 0) == 0)) r = solve_once(b, x, false);  // stale factors
+  if (r.reason.rfind("DIVERGED", 0) == 0) {
+    throw SolverError(fmt::format(
+        "Stokes solver did not converge: {} after {} iterations (residual {:.3e}); try "
+        "[solver] type = \"direct\", a larger max_iterations, or a finer mesh",
+        r.reason, r.iterations, r.residual_norm));
+  }
+  refactor_next_ = settings_.method == SaddlePointMethod::direct &&
+                   r.iterations > settings_.max_reuse_iterations;
+  return r;
+}
+
+SolveReport SaddlePointSolver::solve_once(Vec b, Vec x, bool reuse) {
   const auto start = std::chrono::steady_clock::now();
+  check(KSPSetReusePreconditioner(ksp_.get(), reuse ? PETSC_TRUE : PETSC_FALSE),
+        "KSPSetReusePreconditioner");
+  if (!reuse) ++n_setups_;
+  have_preconditioner_ = true;
   check(KSPSolve(ksp_.get(), b, x), "KSPSolve");
   SolveReport r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -95,12 +117,7 @@ SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
   check(KSPGetConvergedReason(ksp_.get(), &reason), "KSPGetConvergedReason");
   r.reason = KSPConvergedReasons[reason];
   check(KSPGetResidualNorm(ksp_.get(), &r.residual_norm), "KSPGetResidualNorm");
-  if (reason < 0) {
-    throw SolverError(fmt::format(
-        "Stokes solver did not converge: {} after {} iterations (residual {:.3e}); try "
-        "[solver] type = \"direct\", a larger max_iterations, or a finer mesh",
-        r.reason, r.iterations, r.residual_norm));
-  }
+  r.reused_preconditioner = reuse;
   return r;
 }
 

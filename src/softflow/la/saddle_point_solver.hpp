@@ -16,6 +16,12 @@ struct SaddlePointSettings {
   SaddlePointMethod method = SaddlePointMethod::direct;
   double rtol = 1e-8;
   int max_iterations = 500;
+  /// Direct method in a time loop: keep the LU factors of an earlier matrix
+  /// and precondition GMRES with them while the mesh moves little
+  /// (PLATFORM.md: 4-6 iterations at 1-5 % mesh motion instead of a new
+  /// factorisation); refactor once a solve needs more than this many
+  /// iterations or fails. 0 refactors at every solve.
+  int max_reuse_iterations = 25;
   /// Options prefix: every choice can be overridden from the command line,
   /// e.g. -stokes_ksp_type gmres or -stokes_fieldsplit_velocity_pc_type gamg.
   std::string prefix = "stokes_";
@@ -26,6 +32,7 @@ struct SolveReport {
   double seconds = 0.0;
   double residual_norm = 0.0;
   std::string reason;
+  bool reused_preconditioner = false;
 };
 
 /// Solves
@@ -42,16 +49,26 @@ class SaddlePointSolver {
  public:
   SaddlePointSolver(const SaddlePointSettings& settings, IS velocity_dofs, IS pressure_dofs);
 
-  /// Sets the operator (and preconditioning matrix) and (re)builds the preconditioner.
+  /// Sets the operator (and preconditioning matrix) for the next solve.
   void set_operators(Mat a, Mat pmat);
-  /// Solves a x = b; throws SolverError if the solver does not converge.
+  /// Solves a x = b, rebuilding the preconditioner unless the reuse policy
+  /// keeps it; throws SolverError if the solver does not converge even with
+  /// a fresh preconditioner.
   SolveReport solve(Vec b, Vec x);
+
+  /// Number of preconditioner (re)builds so far (factorisations for the direct method).
+  [[nodiscard]] int n_setups() const { return n_setups_; }
 
   [[nodiscard]] KSP ksp() const { return ksp_.get(); }
 
  private:
+  SolveReport solve_once(Vec b, Vec x, bool reuse);
+
   SaddlePointSettings settings_;
   Solver ksp_;
+  bool have_preconditioner_ = false;
+  bool refactor_next_ = true;
+  int n_setups_ = 0;
 };
 
 /// Sets `-name value` in PETSc's options database unless the user already set it.
