@@ -1,6 +1,9 @@
 # Runs a case and compares its timeseries.csv with the stored reference.
+# LAUNCHER (optional) prefixes the command, e.g. "mpiexec -n 2 --oversubscribe".
 file(REMOVE_RECURSE ${WORK})
-execute_process(COMMAND ${SOFTFLOW} run ${CASE} -o ${WORK} -q RESULT_VARIABLE rc ERROR_VARIABLE err)
+string(REPLACE ";" " " launcher_text "${LAUNCHER}")
+separate_arguments(launcher UNIX_COMMAND "${launcher_text}")
+execute_process(COMMAND ${launcher} ${SOFTFLOW} run ${CASE} -o ${WORK} -q RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "run failed (${rc}): ${err}")
 endif()
