@@ -122,4 +122,31 @@ void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mes
   pvd << "</Collection>\n</VTKFile>\n";
 }
 
+FieldSeries::FieldSeries(std::filesystem::path directory, std::filesystem::path pvd_path)
+    : directory_(std::move(directory)), pvd_path_(std::move(pvd_path)) {
+  std::filesystem::create_directories(directory_);
+}
+
+void FieldSeries::write(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+                        const std::vector<double>& solution, double time, int step) {
+  for (int region = 0; region <= mesh.n_objects; ++region) {
+    const std::string name = region == 0 ? fmt::format("matrix_{:06d}.vtu", step)
+                                         : fmt::format("object_{}_{:06d}.vtu", region, step);
+    write_vtu(directory_ / name, extract_subdomain(mesh, dofs, solution, region));
+    const auto relative = std::filesystem::relative(directory_ / name, pvd_path_.parent_path());
+    entries_.push_back({time, region, relative.string()});
+  }
+  std::string pvd = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (const auto& e : entries_)
+    pvd += fmt::format("<DataSet timestep=\"{:.10g}\" part=\"{}\" file=\"{}\"/>\n", e.time, e.part, e.file);
+  pvd += "</Collection>\n</VTKFile>\n";
+  const auto tmp = pvd_path_.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << pvd;
+    if (!out) throw Error(fmt::format("cannot write {}", tmp));
+  }
+  std::filesystem::rename(tmp, pvd_path_);
+}
+
 }  // namespace softflow::io

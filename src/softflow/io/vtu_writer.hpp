@@ -34,6 +34,27 @@ void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mes
                          const fem::StokesDofMap& dofs, const std::vector<double>& solution,
                          double time = 0.0);
 
+/// Fields at several times as one ParaView time series: every call to
+/// write() adds matrix_<step>.vtu, object_k_<step>.vtu to `directory` and
+/// rewrites `directory`/../<pvd_name> to list every time written so far (the
+/// PVD is replaced atomically, so an interrupted run leaves a readable one).
+class FieldSeries {
+ public:
+  FieldSeries(std::filesystem::path directory, std::filesystem::path pvd_path);
+  void write(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+             const std::vector<double>& solution, double time, int step);
+
+ private:
+  struct Entry {
+    double time;
+    int part;
+    std::string file;
+  };
+  std::filesystem::path directory_;
+  std::filesystem::path pvd_path_;
+  std::vector<Entry> entries_;
+};
+
 /// Standard base64 of raw bytes (VTK's inline binary encoding).
 std::string base64_encode(const unsigned char* data, std::size_t n);
 

@@ -46,13 +46,6 @@ nlohmann::json theory_json(const io::CaseConfig& config) {
   return out;
 }
 
-void write_fields(const io::OutputDirectory& output, const DropSimulation& sim, int step) {
-  const auto dir = output.staging_path() / (step < 0 ? std::string("fields")
-                                                     : fmt::format("fields_{:06d}", step));
-  std::filesystem::create_directories(dir);
-  io::write_stokes_fields(dir, sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time());
-}
-
 // deformation.png through the repository's plotting script (matplotlib); a
 // missing Python or matplotlib costs the plot, not the run.
 void plot(const std::filesystem::path& directory) {
@@ -77,6 +70,11 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });
 
   DropSimulation sim(config, std::move(meshed.mesh));
+  // One ParaView time series: fields/*.vtu listed by fields.pvd.
+  std::unique_ptr<io::FieldSeries> fields;
+  if (root && config.write_fields)
+    fields = std::make_unique<io::FieldSeries>(output->staging_path() / "fields",
+                                               output->staging_path() / "fields.pvd");
   const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
   std::ofstream series;
   if (root) {
@@ -90,8 +88,8 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
     for (int n = 0; n < n_steps; ++n) {
       last = sim.step();
       if (root) series << timeseries_rows(last) << std::flush;
-      if (root && config.time.fields_interval > 0 && last.step % config.time.fields_interval == 0)
-        write_fields(*output, sim, last.step);
+      if (fields && config.time.fields_interval > 0 && last.step % config.time.fields_interval == 0)
+        fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(), last.step);
       if (!options.quiet && root) {
         const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
         const auto& o = last.objects.front();
@@ -137,7 +135,9 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
 
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));
-    if (config.write_fields && sim.steps() > 0) write_fields(*output, sim, -1);
+    const bool written = config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;
+    if (fields && sim.steps() > 0 && !written)
+      fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(), sim.steps());
     output->write_text("summary.json", summary.dump(2) + "\n");
     series.close();
     plot(output->staging_path());

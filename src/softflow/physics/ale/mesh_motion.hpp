@@ -18,18 +18,25 @@
 namespace softflow::physics {
 
 enum class AleMethod {
-  /// CG + hypre BoomerAMG, warm-started from the previous solution of each
-  /// component. Default: the cheapest per solve (see README.md).
-  iterative,
-  /// MUMPS Cholesky, factored once; three triangular solves per call.
+  /// direct up to kAleDirectLimit unknowns, iterative above (README.md).
+  automatic,
+  /// MUMPS Cholesky, factored once; one triangular solve with the three
+  /// components as a block right-hand side per call. Fastest per call at
+  /// 10k-100k unknowns, but its memory grows like n^(4/3).
   direct,
+  /// CG + hypre BoomerAMG, set up once, each component warm-started from its
+  /// previous solution.
+  iterative,
 };
 
+/// Largest number of unknowns for which AleMethod::automatic factors.
+inline constexpr int kAleDirectLimit = 150000;
+
 struct AleSettings {
-  AleMethod method = AleMethod::iterative;
-  /// Relative tolerance of CG (unpreconditioned residual vs. right-hand side).
+  AleMethod method = AleMethod::automatic;
+  /// Iterative method: CG stops at unpreconditioned residual <= rtol * norm(rhs).
   double rtol = 1e-10;
-  int max_iterations = 1000;
+  int max_iterations = 1000;  ///< iterative method
   /// Options prefix: e.g. -ale_pc_type gamg, -ale_ksp_monitor override the choices.
   std::string prefix = "ale_";
 };
@@ -40,8 +47,7 @@ using AleTetMatrix = Eigen::Matrix<double, 10, 10>;
 /// k_e * integral over the tetrahedron of grad N_i . grad N_j, with
 /// k_e = 1 / (volume of the tetrahedron), on the isoparametric P2 map.
 /// Returns the volume. Throws SolverError on a non-positive Jacobian.
-double ale_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
-                      AleTetMatrix& out);
+double ale_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab, AleTetMatrix& out);
 
 /// Harmonic-type extension of the interface displacement into the volume:
 ///
@@ -90,6 +96,8 @@ class AleMeshMotion {
   [[nodiscard]] int n_unknowns() const { return n_free_; }
   /// This rank's contiguous range of free unknowns.
   [[nodiscard]] la::OwnershipRange ownership() const { return free_range_; }
+  /// The method in use (never automatic).
+  [[nodiscard]] AleMethod method() const { return method_; }
 
   /// Assembly of the operator (seconds, this rank).
   [[nodiscard]] double assembly_seconds() const { return assembly_seconds_; }
@@ -107,12 +115,16 @@ class AleMeshMotion {
   void partition(const mesh::Mesh& mesh);
   void assemble(const mesh::Mesh& mesh);
   void create_solver();
+  void interface_rhs(const std::vector<Eigen::Vector3d>& d_s, int component, Vec b);
+  void solve_iterative(const std::vector<Eigen::Vector3d>& d_s, int component);
+  void solve_direct(const std::vector<Eigen::Vector3d>& d_s);
 
   AleSettings settings_;
+  AleMethod method_ = AleMethod::direct;
   int n_nodes_ = 0;
-  std::vector<int> master_;          // node -> representative (identity if not periodic)
-  std::vector<int> free_index_;      // representative -> free unknown, -1 if prescribed/unused
-  std::vector<int> interface_index_; // representative -> interface unknown, -1 otherwise
+  std::vector<int> master_;            // node -> representative (identity if not periodic)
+  std::vector<int> free_index_;        // representative -> free unknown, -1 if prescribed/unused
+  std::vector<int> interface_index_;   // representative -> interface unknown, -1 otherwise
   std::vector<int> interface_source_;  // representative -> node whose input it takes, -1
   std::vector<int> interface_nodes_;
   std::vector<int> owned_interface_source_;  // this rank's interface unknowns -> input node
@@ -126,9 +138,10 @@ class AleMeshMotion {
   la::Matrix coupling_;  // free-interface block C
   la::Solver ksp_;
   la::Vector rhs_, interface_values_;
-  std::array<la::Vector, 3> solution_;  // kept: warm start of the next solve
-  la::Vector gathered_;                 // every free unknown, on every rank
-  VecScatter to_all_ = nullptr;
+  std::array<la::Vector, 3> solution_;     // iterative: kept as the next warm start
+  la::Matrix rhs_block_, solution_block_;  // direct: the 3 components as dense columns
+  la::Vector gathered_;                    // every free unknown, on every rank
+  la::Owned<VecScatter, VecScatterDestroy> to_all_;
 
   double assembly_seconds_ = 0.0;
   double setup_seconds_ = 0.0;

@@ -1,0 +1,58 @@
+# A short run in time writes the time series, a ParaView time series, the
+# summary and the plot; a run whose mesh degrades stops with a diagnosis and
+# keeps what it computed.
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+file(READ ${CASE} text)
+string(REPLACE "fields = false" "fields = true" text "${text}")
+string(REPLACE "end = 1.0" "end = 0.5\nfields_interval = 5" text "${text}")
+file(WRITE ${WORK}/case.toml "${text}")
+execute_process(COMMAND ${SOFTFLOW} run ${WORK}/case.toml -o ${WORK}/out RESULT_VARIABLE rc
+                OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "run failed (${rc}): ${err}")
+endif()
+foreach(pattern "step +10/10" "ETA")
+  if(NOT out MATCHES "${pattern}")
+    message(FATAL_ERROR "progress output lacks '${pattern}':\n${out}")
+  endif()
+endforeach()
+foreach(f case.toml summary.json timeseries.csv fields.pvd deformation.png
+          fields/matrix_000005.vtu fields/object_1_000010.vtu)
+  if(NOT EXISTS ${WORK}/out/${f})
+    message(FATAL_ERROR "missing ${f}")
+  endif()
+endforeach()
+file(STRINGS ${WORK}/out/timeseries.csv lines)
+list(GET lines 0 header)
+foreach(column t D theta_deg L B W xc yc zc uc vc wc volume area ellipsoid_dev min_quality)
+  if(NOT "${header}," MATCHES "(^|,)${column},")
+    message(FATAL_ERROR "timeseries.csv lacks column ${column}: ${header}")
+  endif()
+endforeach()
+list(LENGTH lines n_lines)
+if(NOT n_lines EQUAL 12)  # header, t = 0, 10 steps
+  message(FATAL_ERROR "timeseries.csv has ${n_lines} lines, expected 12")
+endif()
+execute_process(COMMAND python3 ${CMAKE_CURRENT_LIST_DIR}/check_vtu.py ${WORK}/out RESULT_VARIABLE rc
+                OUTPUT_VARIABLE vtu_out ERROR_VARIABLE vtu_err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "fields are malformed: ${vtu_out}${vtu_err}")
+endif()
+
+# A quality threshold no mesh meets: the run must stop at step 1 with a diagnosis.
+string(REPLACE "fields_interval = 5" "fields_interval = 5\nmin_quality = 0.9" text "${text}")
+file(WRITE ${WORK}/strict.toml "${text}")
+execute_process(COMMAND ${SOFTFLOW} run ${WORK}/strict.toml -o ${WORK}/strict -q RESULT_VARIABLE rc
+                ERROR_VARIABLE err)
+if(rc EQUAL 0)
+  message(FATAL_ERROR "a run below time.min_quality did not fail")
+endif()
+if(NOT err MATCHES "quality")
+  message(FATAL_ERROR "the failure does not say what happened: ${err}")
+endif()
+file(READ ${WORK}/strict/summary.json summary)
+if(NOT summary MATCHES "\"status\": \"stopped\"")
+  message(FATAL_ERROR "summary.json of the stopped run does not say so")
+endif()
+message(STATUS "stopped run: ${err}")
