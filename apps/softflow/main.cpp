@@ -8,7 +8,7 @@
 //   softflow run CASE.toml -- -stokes_ksp_monitor  PETSc options after "--"
 //
 // Exit codes: 0 success, 1 bad input (case file, command line), 2 meshing
-// failed, 3 solver failed, 4 any other error.
+// failed or degraded, 3 solver failed, 4 any other error.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
     } catch (const softflow::InputError& e) {
       return report("", e, kInputError);
     } catch (const softflow::MeshError& e) {
-      return report("meshing failed: ", e, kMeshError);
+      return report("mesh: ", e, kMeshError);
     } catch (const softflow::SolverError& e) {
       return report("solver failed: ", e, kSolverError);
     } catch (const std::exception& e) {

@@ -1,4 +1,5 @@
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/mesh/renumber.hpp"
 
 #include <algorithm>
 #include <set>
@@ -818,6 +819,7 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
     session.run("meshing", [] { gmsh::model::mesh::generate(3); });
     session.run("reading the mesh", [&] { m = read_mesh(spec, entities); });
   }
+  mesh::renumber_nodes_spatially(m);  // compact per-rank node ranges, local element loops
   verify_periodic(m);
   const double q = check_quality(m);
   if (report)
