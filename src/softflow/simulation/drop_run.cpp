@@ -84,9 +84,18 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   StepReport last = sim.initial_report();
   const double initial_volume = last.objects.empty() ? 0.0 : last.objects[0].volume;
   std::string stop_reason;
+  StageSeconds total;
+  int stokes_iterations = 0;
   try {
     for (int n = 0; n < n_steps; ++n) {
       last = sim.step();
+      total.predict_and_translate += last.stages.predict_and_translate;
+      total.ale += last.stages.ale;
+      total.stokes_assembly += last.stages.stokes_assembly;
+      total.stokes_solve += last.stages.stokes_solve;
+      total.correct += last.stages.correct;
+      total.analysis += last.stages.analysis;
+      stokes_iterations += last.stokes_iterations;
       if (root) series << timeseries_rows(last) << std::flush;
       if (fields && config.time.fields_interval > 0 && last.step % config.time.fields_interval == 0)
         fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(), last.step);
@@ -118,6 +127,16 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
       {"wall_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
   };
   if (!stop_reason.empty()) summary["stop_reason"] = stop_reason;
+  const double per_step = sim.steps() > 0 ? 1.0 / sim.steps() : 0.0;
+  summary["seconds_per_step"] = {
+      {"predict_and_translate", total.predict_and_translate * per_step},
+      {"ale", total.ale * per_step},
+      {"stokes_assembly", total.stokes_assembly * per_step},
+      {"stokes_solve", total.stokes_solve * per_step},
+      {"correct_interface", total.correct * per_step},
+      {"analysis", total.analysis * per_step}};
+  summary["stokes_iterations_per_step"] = stokes_iterations * per_step;
+  summary["stokes_factorizations"] = sim.stokes().n_factorizations();
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& o : last.objects)
     objects.push_back({{"object", o.object},

@@ -49,22 +49,33 @@ StepReport DropSimulation::initial_report() const {
 
 StepReport DropSimulation::step() {
   const auto start = Clock::now();
+  auto lap = [last = start]() mutable {
+    const auto now = Clock::now();
+    const double s = std::chrono::duration<double>(now - last).count();
+    last = now;
+    return s;
+  };
+  StepReport r;
   const double dt = config_.time.step;
   const auto x_hat = predict_interfaces();                   // Step 1
   const auto centre_velocity = translate_mesh(x_hat, dt);    // Step 2
+  r.stages.predict_and_translate = lap();
   const double quality = move_mesh_ale(x_hat);               // Step 3
+  r.stages.ale = lap();
   time_ += dt;
-  const int iterations = solve_stokes();                     // Step 4
+  const int iterations = solve_stokes(r.stages);             // Step 4
+  lap();
   correct_interfaces(x_hat, centre_velocity, dt);            // Step 5
+  r.stages.correct = lap();
   ++steps_;
 
-  StepReport r;
   r.step = steps_;
   r.time = time_;
   r.min_quality = quality;
   r.stokes_iterations = iterations;
   for (int k = 0; k < static_cast<int>(trackers_.size()); ++k)
     r.objects.push_back(measure(k, centre_velocity[k]));
+  r.stages.analysis = lap();
   r.step_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
 }
@@ -120,7 +131,7 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   return quality;
 }
 
-int DropSimulation::solve_stokes() {
+int DropSimulation::solve_stokes(StageSeconds& stages) {
   physics::StokesProblem problem;
   problem.viscosity.push_back(config_.matrix_viscosity);
   for (const auto& o : config_.objects) {
@@ -133,6 +144,8 @@ int DropSimulation::solve_stokes() {
   problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh_);
   auto result = stokes_->solve(problem);
   solution_ = std::move(result.solution);
+  stages.stokes_assembly = result.assembly_seconds;
+  stages.stokes_solve = result.solve.seconds;
   return result.solve.iterations;
 }
 

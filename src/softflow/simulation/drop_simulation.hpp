@@ -27,8 +27,19 @@ struct ObjectState {
   double volume = 0.0, area = 0.0, ellipsoid_deviation = 0.0;
 };
 
+/// Wall time of each stage of one step, for finding what limits speed.
+struct StageSeconds {
+  double predict_and_translate = 0.0;  ///< Steps 1-2
+  double ale = 0.0;                    ///< Step 3, with the quality check
+  double stokes_assembly = 0.0;        ///< Step 4
+  double stokes_solve = 0.0;           ///< Step 4
+  double correct = 0.0;                ///< Step 5 (redistribution potential included)
+  double analysis = 0.0;               ///< ellipsoid fit, volume, area
+};
+
 struct StepReport {
   int step = 0;
+  StageSeconds stages;
   double time = 0.0;
   double min_quality = 0.0;
   int stokes_iterations = 0;
@@ -66,7 +77,7 @@ class DropSimulation {
   std::vector<physics::Vec3> translate_mesh(const std::vector<std::vector<physics::Vec3>>& x_hat,
                                             double dt);
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat);
-  int solve_stokes();
+  int solve_stokes(StageSeconds& stages);
   void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,
                           const std::vector<physics::Vec3>& centre_velocity, double dt);
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;

@@ -42,6 +42,8 @@ class StokesSystem {
   [[nodiscard]] const fem::StokesDofMap& dofs() const { return dofs_; }
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   [[nodiscard]] la::OwnershipRange ownership() const { return range_; }
+  /// Preconditioner builds so far (LU factorisations with the direct method).
+  [[nodiscard]] int n_factorizations() const { return solver_->n_setups(); }
 
   /// Assembles the problem on the current mesh and solves it.
   StokesResult solve(const StokesProblem& problem);
@@ -59,8 +61,11 @@ class StokesSystem {
   la::OwnershipRange range_;
   std::vector<int> owned_tets_;
   std::vector<int> owned_interface_faces_;
+  static constexpr std::size_t kTetMatrixSize = 34 * 34;
   la::Matrix a_;
   la::Matrix pmat_;  // only for the iterative method
+  std::vector<PetscScalar> values_;                 // element matrices, coordinate order
+  std::vector<PetscScalar> preconditioner_values_;  // the same with -M/eta in the pressure block
   la::IndexSet velocity_is_, pressure_is_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
 };
