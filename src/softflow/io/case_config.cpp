@@ -43,7 +43,7 @@ const std::vector<Section>& schema() {
       {"solver", {"type", "rtol", "max_iterations", "petsc_options"}},
       {"output", {"directory", "fields"}},
       {"time", {"step", "end", "fields_interval", "min_quality"}},
-      {"interface", {"redistribution_factor", "supg_beta"}},
+      {"interface", {"redistribution_factor", "supg_beta", "semi_implicit_tension"}},
   };
   return sections;
 }
@@ -579,6 +579,7 @@ void read_time_and_interface(const toml::table& root, CaseConfig& c, Diagnostics
   i.check_keys();
   i.number("redistribution_factor", c.interface.redistribution_factor, Bound::non_negative);
   i.number("supg_beta", c.interface.supg_beta, Bound::non_negative);
+  i.boolean("semi_implicit_tension", c.interface.semi_implicit_tension);
 }
 
 // ---- one object ----
@@ -831,8 +832,10 @@ std::string to_toml(const CaseConfig& c) {
   s += fmt::format("[time]\nstep = {}\nend = {}\nfields_interval = {}\nmin_quality = {}\n\n",
                    toml_float(c.time.step), toml_float(c.time.end), c.time.fields_interval,
                    toml_float(c.time.min_quality));
-  s += fmt::format("[interface]\nredistribution_factor = {}\nsupg_beta = {}\n",
-                   toml_float(c.interface.redistribution_factor), toml_float(c.interface.supg_beta));
+  s += fmt::format(
+      "[interface]\nredistribution_factor = {}\nsupg_beta = {}\nsemi_implicit_tension = {}\n",
+      toml_float(c.interface.redistribution_factor), toml_float(c.interface.supg_beta),
+      c.interface.semi_implicit_tension);
   return s;
 }
 

@@ -43,6 +43,9 @@ struct InterfaceConfig {
   /// k / gamma_dot of eq. 2.30 (thesis: 10); with gamma_dot = 0, k itself.
   double redistribution_factor = 10.0;
   double supg_beta = 0.5;  ///< beta of tau = beta h / (2 U_t); 0.5 for P2
+  /// Tension taken at the end-of-step interface position (physics::SemiImplicitTension):
+  /// lifts the capillary time-step limit; false = the thesis's explicit tension.
+  bool semi_implicit_tension = true;
 };
 
 /// A validated case. Every field holds a usable value: defaults are filled in.

@@ -63,7 +63,7 @@ StepReport DropSimulation::step() {
   const double quality = move_mesh_ale(x_hat);               // Step 3
   r.stages.ale = lap();
   time_ += dt;
-  const int iterations = solve_stokes(r.stages);             // Step 4
+  const int iterations = solve_stokes(x_hat, dt, r.stages);  // Step 4
   lap();
   correct_interfaces(x_hat, centre_velocity, dt);            // Step 5
   r.stages.correct = lap();
@@ -131,8 +131,40 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   return quality;
 }
 
-int DropSimulation::solve_stokes(StageSeconds& stages) {
+physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
+    const std::vector<std::vector<Vec3>>& x_hat, double dt) const {
+  physics::SemiImplicitTension tension;
+  if (!config_.interface.semi_implicit_tension || trackers_.empty()) return tension;
+  // theta = 1 for the BDF1 first step, 2/3 after (eqs. 2.48, 2.50). w = the
+  // previous step's fluid velocity along the normal: the implicit part then
+  // acts on the velocity increment only (see physics::SemiImplicitTension).
+  // At the first step there is no previous velocity; w = 0 is exact there,
+  // since the BDF1 predictor does not move the interface.
+  const bool first_step = trackers_.front().steps() == 0;
+  tension.theta_dt = first_step ? dt : 2.0 * dt / 3.0;
+  tension.node_normal.assign(mesh_.n_nodes(), Vec3::Zero());
+  tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
+  const auto& dofs = stokes_->dofs();
+  for (std::size_t k = 0; k < trackers_.size(); ++k) {
+    const auto& tracker = trackers_[k];
+    const auto normals = physics::node_normals(tracker.surface(), x_hat[k]);
+    const auto& nodes = tracker.surface().volume_node;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      tension.node_normal[nodes[i]] = normals[i];
+      if (!first_step) {
+        const int v = dofs.velocity_dof(nodes[i], 0);
+        tension.predicted_normal_velocity[nodes[i]] =
+            normals[i].dot(Vec3(solution_[v], solution_[v + 1], solution_[v + 2]));
+      }
+    }
+  }
+  return tension;
+}
+
+int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, double dt,
+                                 StageSeconds& stages) {
   physics::StokesProblem problem;
+  problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
   problem.viscosity.push_back(config_.matrix_viscosity);
   for (const auto& o : config_.objects) {
     problem.viscosity.push_back(o.viscosity_ratio * config_.matrix_viscosity);

@@ -10,6 +10,7 @@
 #include "softflow/io/case_config.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
+#include "softflow/physics/stokes/stokes_problem.hpp"
 
 namespace softflow::physics {
 class StokesSystem;
@@ -51,7 +52,8 @@ struct StepReport {
 ///   1. predict_interfaces   x_hat_{n+1} = 2 x_n - x_{n-1} (eq. 2.49; x_n at the first step)
 ///   2. translate_mesh       d1 = (X_x,n+1 - X_x,n, 0, 0) with X the centre of volume
 ///   3. move_mesh_ale        grad.(k_e grad d2) = 0, d2 = interface motion on S, 0 outside (eq. 2.55)
-///   4. solve_stokes         u_{n+1}, p_{n+1} on the moved mesh (eqs. 2.34-2.35)
+///   4. solve_stokes         u_{n+1}, p_{n+1} on the moved mesh (eqs. 2.34-2.35), the
+///                           tension optionally semi-implicit (physics::SemiImplicitTension)
 ///   5. correct_interfaces   x_{n+1} from the SUPG surface convection equation (eq. 2.50)
 /// The ALE operator lives on the reference (initial) mesh and is factored
 /// once; the total displacement from the reference mesh is solved for, which
@@ -77,7 +79,10 @@ class DropSimulation {
   std::vector<physics::Vec3> translate_mesh(const std::vector<std::vector<physics::Vec3>>& x_hat,
                                             double dt);
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat);
-  int solve_stokes(StageSeconds& stages);
+  int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
+                   StageSeconds& stages);
+  [[nodiscard]] physics::SemiImplicitTension semi_implicit_tension(
+      const std::vector<std::vector<physics::Vec3>>& x_hat, double dt) const;
   void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,
                           const std::vector<physics::Vec3>& centre_velocity, double dt);
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;

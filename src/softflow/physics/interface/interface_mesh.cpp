@@ -71,4 +71,21 @@ std::vector<double> triangle_areas(const InterfaceMesh& s, const std::vector<Vec
   return areas;
 }
 
+std::vector<Vec3> node_normals(const InterfaceMesh& s, const std::vector<Vec3>& x) {
+  // Reference coordinates of the 6 triangle nodes: vertices, then the
+  // midpoints of edges (0,1), (1,2), (2,0).
+  static const std::array<Vec3, 6> kNodeXi = {Vec3(0, 0, 0),     Vec3(1, 0, 0),
+                                              Vec3(0, 1, 0),     Vec3(0.5, 0, 0),
+                                              Vec3(0.5, 0.5, 0), Vec3(0, 0.5, 0)};
+  const auto areas = triangle_areas(s, x);
+  std::vector<Vec3> normal(s.n_nodes(), Vec3::Zero());
+  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+    const auto nodes = triangle_at(s.triangles[t], x);
+    for (int k = 0; k < 6; ++k)
+      normal[s.triangles[t][k]] += areas[t] * element::surface_point(nodes, kNodeXi[k]).normal;
+  }
+  for (auto& n : normal) n.normalize();
+  return normal;
+}
+
 }  // namespace softflow::physics

@@ -38,6 +38,12 @@ struct SurfaceIntegrals {
 };
 SurfaceIntegrals surface_integrals(const InterfaceMesh& s, const std::vector<Vec3>& x);
 
+/// Unit outward normal at each node of the surface at positions x: the
+/// triangles' normals at the node averaged with their areas as weights (the
+/// P2 surface is only continuous, so the triangles sharing a node disagree
+/// slightly about its normal).
+std::vector<Vec3> node_normals(const InterfaceMesh& s, const std::vector<Vec3>& x);
+
 /// Area of each triangle at positions x.
 std::vector<double> triangle_areas(const InterfaceMesh& s, const std::vector<Vec3>& x);
 

@@ -52,4 +52,17 @@ void add_surface_tension(const element::TriangleNodes& x, double gamma,
   }
 }
 
+TriangleStiffness surface_stiffness(const element::TriangleNodes& x) {
+  // Degree 5: exact on flat triangles (degree-2 integrand) and well below
+  // discretisation error on the curved ones, as for the tension load.
+  static const element::QuadratureRule rule = element::triangle_rule(5);
+  TriangleStiffness s = TriangleStiffness::Zero();
+  for (int q = 0; q < rule.size(); ++q) {
+    const auto p = element::surface_point(x, rule.points[q]);
+    s.noalias() += (rule.weights[q] * p.area_scale) * p.surface_gradients *
+                   p.surface_gradients.transpose();
+  }
+  return s;
+}
+
 }  // namespace softflow::physics

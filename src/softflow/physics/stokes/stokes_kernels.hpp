@@ -13,6 +13,7 @@ using TetVector = Eigen::Matrix<double, 34, 1>;
 using TriangleVelocityVector = Eigen::Matrix<double, 18, 1>;
 
 using PressureMass = Eigen::Matrix<double, 4, 4>;
+using TriangleStiffness = Eigen::Matrix<double, 6, 6>;
 
 /// Adds on one tetrahedron, with eta the region's viscosity:
 ///   (1) a(v, u) = (2 eta D(v), D(u))        velocity-velocity,
@@ -46,5 +47,12 @@ void add_body_force(const element::TetNodes& x, const fem::TetTabulation& tab, c
 /// (div n) v.n ds for closed S makes this the weak form of the traction jump.
 void add_surface_tension(const element::TriangleNodes& x, double gamma,
                          TriangleVelocityVector& out);
+
+/// The Laplace-Beltrami stiffness of one curved P2 triangle,
+///   S_ab = integral_T grad_s N_a . grad_s N_b ds,
+/// the operator of the semi-implicit tension (SemiImplicitTension). Since
+/// grad_s x = I - n n on the isoparametric surface, sum_b S_ab x_b equals
+/// integral_T grad_s N_a ds: the explicit tension's load per unit Gamma.
+TriangleStiffness surface_stiffness(const element::TriangleNodes& x);
 
 }  // namespace softflow::physics

@@ -10,6 +10,38 @@ namespace softflow::physics {
 
 using Vec3 = Eigen::Vector3d;
 
+/// Surface tension taken (to leading order) on the interface where it will
+/// be at the end of the step rather than where the predictor put it. With
+/// explicit tension a step above about eta h / Gamma lets short surface
+/// waves grow: the capillary time-step limit. The corrector moves the
+/// interface from the predicted position by theta dt (u.n - w) n, with w the
+/// normal velocity the predictor already accounted for, so
+///
+///   -Gamma int_S grad_s x_new : grad_s v
+///     ~ -Gamma int_S grad_s x_hat : grad_s v
+///       - Gamma theta dt int_S grad_s(u.n - w) . grad_s(v.n)
+///
+/// (the normal's own surface gradient dropped). The last term, moved to the
+/// left side, is a symmetric positive surface Laplacian of the normal
+/// velocity that damps the short waves (the idea of Baensch 2001 and Hysing
+/// 2006). w is the previous step's fluid velocity along n: the term then
+/// acts on the velocity increment u_{n+1} - u_n and vanishes exactly at any
+/// steady state. (Taking w from the predictor's node motion instead is not
+/// exact at steady state: nodes slide tangentially, and the tank-treading
+/// velocity has an O(h^2) component along a nodal normal; that version was
+/// measured first order in dt.) On the scalar model x' = -sigma x the
+/// increment form is stable for every sigma dt (BDF1).
+struct SemiImplicitTension {
+  /// theta dt: dt for a BDF1 step, 2 dt / 3 for BDF2 (eqs. 2.48, 2.50); 0 = explicit.
+  double theta_dt = 0.0;
+  /// Unit outward normal at every interface node (indexed by mesh node; others unused).
+  std::vector<Vec3> node_normal;
+  /// w at every interface node (indexed by mesh node; others unused).
+  std::vector<double> predicted_normal_velocity;
+
+  [[nodiscard]] bool active() const { return theta_dt > 0.0; }
+};
+
 /// Everything that defines one instantaneous Stokes problem on a given mesh:
 ///
 ///   -div(2 eta_r D(u)) + grad p = f,  div u = 0   in every region r,
@@ -24,6 +56,8 @@ struct StokesProblem {
   std::function<Vec3(const Vec3&, int)> body_force;
   /// Velocity g(x) on every outer boundary face.
   std::function<Vec3(const Vec3&)> boundary_velocity;
+  /// Semi-implicit surface tension (see SemiImplicitTension); off by default.
+  SemiImplicitTension semi_implicit_tension;
   /// The pressure level is fixed at one matrix vertex (the gauge) to this value.
   int pressure_gauge_node = -1;
   double pressure_gauge_value = 0.0;

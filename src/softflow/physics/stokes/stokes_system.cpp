@@ -69,7 +69,10 @@ void StokesSystem::create_matrices() {
   // values, in the same order. PETSc then sums repeated entries and routes
   // off-rank rows itself. MatSetValues, by contrast, searches every row for
   // every entry and cost ~40 ns an entry: 5x the element kernels.
-  const std::size_t n = owned_tets_.size() * kTetMatrixSize;
+  // The interface blocks of the semi-implicit tension are always in the
+  // pattern (zero when it is off), so that one pattern serves every solve.
+  const std::size_t n = owned_tets_.size() * kTetMatrixSize +
+                        owned_interface_faces_.size() * kInterfaceMatrixSize;
   auto make = [&](la::Matrix& m) {
     std::vector<PetscInt> rows(n), cols(n);  // PETSc may reorder them
     std::size_t e = 0;
@@ -77,6 +80,14 @@ void StokesSystem::create_matrices() {
       const auto& d = dofs_.tet_dofs(t);
       for (int i = 0; i < 34; ++i)
         for (int j = 0; j < 34; ++j, ++e) {
+          rows[e] = d[i];
+          cols[e] = d[j];
+        }
+    }
+    for (int f : owned_interface_faces_) {
+      const auto d = interface_velocity_dofs(f);
+      for (int i = 0; i < 18; ++i)
+        for (int j = 0; j < 18; ++j, ++e) {
           rows[e] = d[i];
           cols[e] = d[j];
         }
@@ -124,20 +135,44 @@ void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
       check(VecSetValues(rhs, 30, d.data(), fe.data(), ADD_VALUES), "VecSetValues(f)");
     }
   }
-  for (int f : owned_interface_faces_) {
+  const auto& implicit = problem.semi_implicit_tension;
+  std::size_t e = owned_tets_.size() * kTetMatrixSize;
+  for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i, e += kInterfaceMatrixSize) {
+    const int f = owned_interface_faces_[i];
     const int object = mesh_.interface_object[f];
     const double gamma = object - 1 < static_cast<int>(problem.interfacial_tension.size())
                              ? problem.interfacial_tension[object - 1]
                              : 0.0;
-    if (gamma == 0.0) continue;
-    const auto& tri = mesh_.interface_faces[f];
-    TriangleVelocityVector fs = TriangleVelocityVector::Zero();
-    add_surface_tension(fem::triangle_nodes(mesh_, tri), gamma, fs);
-    // Shared (no-slip) velocity: the matrix-side copy is the interface velocity.
-    std::array<PetscInt, 18> rows;
-    for (int k = 0; k < 6; ++k)
-      for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.velocity_dof(tri[k], 0) + c;
-    check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
+    InterfaceMatrix block = InterfaceMatrix::Zero();
+    if (gamma != 0.0) {
+      const auto& tri = mesh_.interface_faces[f];
+      const auto x = fem::triangle_nodes(mesh_, tri);
+      TriangleVelocityVector fs = TriangleVelocityVector::Zero();
+      add_surface_tension(x, gamma, fs);
+      if (implicit.active()) {
+        // Gamma theta dt int grad_s(u.n) . grad_s(v.n) on the left, the
+        // predictor's part Gamma theta dt int grad_s w . grad_s(v.n) on the right.
+        const TriangleStiffness stiffness = surface_stiffness(x);
+        const double scale = gamma * implicit.theta_dt;
+        for (int a = 0; a < 6; ++a) {
+          const Vec3& na = implicit.node_normal.at(tri[a]);
+          double load = 0.0;
+          for (int b = 0; b < 6; ++b) {
+            const Vec3& nb = implicit.node_normal.at(tri[b]);
+            block.block<3, 3>(3 * a, 3 * b) = (scale * stiffness(a, b)) * na * nb.transpose();
+            load += stiffness(a, b) * implicit.predicted_normal_velocity.at(tri[b]);
+          }
+          fs.segment<3>(3 * a) += (scale * load) * na;
+        }
+      }
+      const auto rows = interface_velocity_dofs(f);
+      check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
+    }
+    // Symmetric, so column-major data is also the coordinate list's row-major order.
+    std::copy(block.data(), block.data() + kInterfaceMatrixSize, values_.begin() + e);
+    if (iterative)
+      std::copy(block.data(), block.data() + kInterfaceMatrixSize,
+                preconditioner_values_.begin() + e);
   }
   check(MatSetValuesCOO(a_.get(), values_.data(), INSERT_VALUES), "MatSetValuesCOO(A)");
   if (iterative)
@@ -187,6 +222,12 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
 }
 
 StokesResult StokesSystem::solve(const StokesProblem& problem) {
+  if (problem.semi_implicit_tension.active() &&
+      (static_cast<int>(problem.semi_implicit_tension.node_normal.size()) < mesh_.n_nodes() ||
+       static_cast<int>(problem.semi_implicit_tension.predicted_normal_velocity.size()) <
+           mesh_.n_nodes()))
+    throw SolverError("StokesProblem: semi-implicit tension needs a normal and a normal "
+                      "velocity for every mesh node");
   if (static_cast<int>(problem.viscosity.size()) < mesh_.n_objects + 1)
     throw SolverError(fmt::format("StokesProblem: {} viscosities for {} regions",
                                   problem.viscosity.size(), mesh_.n_objects + 1));
@@ -204,6 +245,15 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
   result.solve = solver_->solve(rhs.get(), x.get());
   result.solution = la::gather_to_all(x.get());
   return result;
+}
+
+std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face) const {
+  // Shared (no-slip) velocity: the matrix-side copy is the interface velocity.
+  const auto& tri = mesh_.interface_faces[face];
+  std::array<PetscInt, 18> rows;
+  for (int k = 0; k < 6; ++k)
+    for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.velocity_dof(tri[k], 0) + c;
+  return rows;
 }
 
 int default_pressure_gauge_node(const mesh::Mesh& mesh) {

@@ -1,6 +1,7 @@
 // Assembly and solution of the two-phase Taylor-Hood Stokes system with PETSc.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -53,6 +54,8 @@ class StokesSystem {
   void create_matrices();
   void assemble(const StokesProblem& problem, Vec rhs);
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
+  /// The 18 velocity unknowns of interface triangle `face` (matrix side).
+  [[nodiscard]] std::array<PetscInt, 18> interface_velocity_dofs(int face) const;
 
   const mesh::Mesh& mesh_;
   la::SaddlePointSettings settings_;
@@ -62,6 +65,8 @@ class StokesSystem {
   std::vector<int> owned_tets_;
   std::vector<int> owned_interface_faces_;
   static constexpr std::size_t kTetMatrixSize = 34 * 34;
+  static constexpr std::size_t kInterfaceMatrixSize = 18 * 18;
+  using InterfaceMatrix = Eigen::Matrix<double, 18, 18>;
   la::Matrix a_;
   la::Matrix pmat_;  // only for the iterative method
   std::vector<PetscScalar> values_;                 // element matrices, coordinate order
