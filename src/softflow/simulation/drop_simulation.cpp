@@ -1,6 +1,7 @@
 #include "softflow/simulation/drop_simulation.hpp"
 
 #include <chrono>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -8,6 +9,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/mesh/quality.hpp"
 #include "softflow/physics/ale/mesh_motion.hpp"
+#include "softflow/physics/ale/mesh_velocity.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
 #include "softflow/simulation/run_support.hpp"
@@ -36,6 +38,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
     trackers_.emplace_back(std::move(surface), std::move(x0), tracking);
   }
   last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
+  mesh_velocity_.assign(mesh_.n_nodes(), mesh::Point::Zero());
 }
 
 DropSimulation::~DropSimulation() = default;
@@ -60,7 +63,7 @@ StepReport DropSimulation::step() {
   const auto x_hat = predict_interfaces();                   // Step 1
   const auto centre_velocity = translate_mesh(x_hat, dt);    // Step 2
   r.stages.predict_and_translate = lap();
-  const double quality = move_mesh_ale(x_hat);               // Step 3
+  const double quality = move_mesh_ale(x_hat, dt);           // Step 3
   r.stages.ale = lap();
   time_ += dt;
   const int iterations = solve_stokes(x_hat, dt, r.stages);  // Step 4
@@ -100,7 +103,7 @@ std::vector<Vec3> DropSimulation::translate_mesh(const std::vector<std::vector<V
   return u;
 }
 
-double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat) {
+double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat, double dt) {
   // Total displacement from the reference mesh: d1 (translation) + d2, with
   // d2 = x_hat - x_ref - d1 on the interfaces and 0 on the outer boundary.
   const Vec3 d1(translation_x_, 0.0, 0.0);
@@ -111,11 +114,14 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
       interface_displacement[nodes[i]] = x_hat[k][i] - reference_nodes_[nodes[i]] - d1;
   }
   const auto d2 = ale_->solve(interface_displacement);
-  for (int i = 0; i < mesh_.n_nodes(); ++i) mesh_.nodes[i] = reference_nodes_[i] + d1 + d2[i];
+  std::vector<mesh::Point> moved(mesh_.n_nodes());
+  for (int i = 0; i < mesh_.n_nodes(); ++i) moved[i] = reference_nodes_[i] + d1 + d2[i];
   for (std::size_t k = 0; k < trackers_.size(); ++k) {  // exactly on the predicted interface
     const auto& nodes = trackers_[k].surface().volume_node;
-    for (std::size_t i = 0; i < nodes.size(); ++i) mesh_.nodes[nodes[i]] = x_hat[k][i];
+    for (std::size_t i = 0; i < nodes.size(); ++i) moved[nodes[i]] = x_hat[k][i];
   }
+  mesh_velocity_ = physics::bdf_mesh_velocity(moved, mesh_.nodes, previous_nodes_, dt);
+  previous_nodes_ = std::exchange(mesh_.nodes, std::move(moved));
   const double quality = mesh::min_quality(mesh_);
   if (quality < config_.time.min_quality) {
     const int worst = mesh::worst_tet(mesh_);

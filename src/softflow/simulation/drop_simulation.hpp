@@ -51,7 +51,8 @@ struct StepReport {
 /// One time step from t_n to t_{n+1} = t_n + dt:
 ///   1. predict_interfaces   x_hat_{n+1} = 2 x_n - x_{n-1} (eq. 2.49; x_n at the first step)
 ///   2. translate_mesh       d1 = (X_x,n+1 - X_x,n, 0, 0) with X the centre of volume
-///   3. move_mesh_ale        grad.(k_e grad d2) = 0, d2 = interface motion on S, 0 outside (eq. 2.55)
+///   3. move_mesh_ale        grad.(k_e grad d2) = 0, d2 = interface motion on S, 0 outside (eq. 2.55);
+///                           mesh velocity u_m by BDF1, then BDF2
 ///   4. solve_stokes         u_{n+1}, p_{n+1} on the moved mesh (eqs. 2.34-2.35), the
 ///                           tension optionally semi-implicit (physics::SemiImplicitTension)
 ///   5. correct_interfaces   x_{n+1} from the SUPG surface convection equation (eq. 2.50)
@@ -71,6 +72,8 @@ class DropSimulation {
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   [[nodiscard]] const physics::StokesSystem& stokes() const { return *stokes_; }
   [[nodiscard]] const std::vector<double>& solution() const { return solution_; }
+  /// u_m at every geometry node over the last step (BDF1, then BDF2; zero before any step).
+  [[nodiscard]] const std::vector<mesh::Point>& mesh_velocity() const { return mesh_velocity_; }
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] int steps() const { return steps_; }
 
@@ -78,7 +81,7 @@ class DropSimulation {
   std::vector<std::vector<physics::Vec3>> predict_interfaces() const;
   std::vector<physics::Vec3> translate_mesh(const std::vector<std::vector<physics::Vec3>>& x_hat,
                                             double dt);
-  double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat);
+  double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
                    StageSeconds& stages);
   [[nodiscard]] physics::SemiImplicitTension semi_implicit_tension(
@@ -90,6 +93,8 @@ class DropSimulation {
   io::CaseConfig config_;
   mesh::Mesh mesh_;
   std::vector<mesh::Point> reference_nodes_;
+  std::vector<mesh::Point> previous_nodes_;  // x at t_{n-1}: empty before the first step
+  std::vector<mesh::Point> mesh_velocity_;
   std::unique_ptr<physics::StokesSystem> stokes_;
   std::unique_ptr<physics::AleMeshMotion> ale_;
   std::vector<physics::InterfaceTracker> trackers_;
