@@ -29,7 +29,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 OUT = os.path.join(ROOT, "docs", "validation")
 
 # (equator nodes, dt, t_end, semi-implicit tension)
-STUDY_A = [(28, 0.05, 10.0, True), (40, 0.05, 10.0, True), (50, 0.05, 10.0, True)]
+STUDY_A = [(28, 0.05, 10.0, True), (40, 0.05, 10.0, True), (50, 0.05, 10.0, True),
+           (60, 0.05, 10.0, True)]
 STUDY_T = [(28, dt, 4.0, True) for dt in (0.1, 0.05, 0.02, 0.01, 0.005)]
 STUDY_E = [(28, 0.02, 8.0, False), (28, 0.01, 8.0, False), (40, 0.01, 8.0, False),
            (50, 0.01, 4.0, False)]
