@@ -9,6 +9,7 @@ packages=(
   libopenblas0-serial  # optimized BLAS/LAPACK: ~4x faster MUMPS than reference BLAS
   libgmsh-dev gmsh     # gmsh C++ API (meshing)
   libeigen3-dev libhdf5-dev
+  libhdf5-openmpi-dev  # HDF5 checkpoints: the build PETSc links
   libcli11-dev libtoml11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libbenchmark-dev
   openmpi-bin          # mpirun for the MPI tests

@@ -1,14 +1,26 @@
 // softflow: drops and soft particles in shear flow (ALE finite elements, P2/P1 tetrahedra).
 //
 //   softflow run examples/drop_shear.toml          solve, write output/<case>/
+//   softflow restart output/drop_shear             continue a run from its checkpoint
 //   softflow mesh examples/drop_shear.toml         mesh only, report sizes and quality
 //   softflow check examples/drop_shear.toml        validate the case file
 //   softflow theory --lambda 1.4 --ca 0.2          Taylor, Chaffey-Brenner, ... values
 //   mpirun -np 2 softflow run CASE.toml            the same, on 2 MPI ranks
 //   softflow run CASE.toml -- -stokes_ksp_monitor  PETSc options after "--"
 //
-// Exit codes: 0 success, 1 bad input (case file, command line), 2 meshing
-// failed or degraded, 3 solver failed, 4 any other error.
+// Exit codes (also in README.md):
+//   0 success
+//   1 bad input (case file, command line, an incompatible checkpoint)
+//   2 meshing failed, or the moving mesh degraded (an element collapsing)
+//   3 the solver failed: no convergence, or NaN/Inf in the solution
+//   4 any other error (file system, ...)
+//   5 interrupted on request (SIGINT, SIGTERM, SIGUSR1, --wall-time-limit)
+//     after writing a checkpoint: `softflow restart DIR` continues the run
+//   6 an accuracy limit was passed (time.max_volume_drift, an interface blown
+//     up past an ellipsoid fit)
+// A run in time that stops with 2, 3, 5 or 6 keeps its output so far, its
+// last checkpoint, and a summary.json saying why.
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -23,17 +35,27 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/case_config.hpp"
+#include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/stokes_run.hpp"
 
 namespace {
 
-enum ExitCode { kOk = 0, kInputError = 1, kMeshError = 2, kSolverError = 3, kOtherError = 4 };
+enum ExitCode {
+  kOk = 0,
+  kInputError = 1,
+  kMeshError = 2,
+  kSolverError = 3,
+  kOtherError = 4,
+  kInterrupted = 5,
+  kAccuracyError = 6,
+};
 
 // PETSc lifetime for the whole program; options after "--" go to PETSc only.
 class PetscSession {
  public:
   explicit PetscSession(std::vector<char*> petsc_args) : args_(std::move(petsc_args)) {
     int argc = static_cast<int>(args_.size());
+    args_.push_back(nullptr);  // argv[argc] == NULL, as MPI_Init walks argv to it
     char** argv = args_.data();
     if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0)
       throw softflow::Error("PETSc failed to initialise");
@@ -57,6 +79,24 @@ void insert_case_petsc_options(const softflow::io::CaseConfig& config) {
       PetscOptionsInsertString(nullptr, config.petsc_options.c_str()) != 0)
     throw softflow::InputError(fmt::format("solver.petsc_options = \"{}\": PETSc rejected it",
                                            config.petsc_options));
+}
+
+/// "3600", "90s", "45m", "2h", "1.5h" -> seconds.
+std::string parse_duration(const std::string& text, double& seconds) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return fmt::format("--wall-time-limit {}: must be a duration such as 3600, 90m or 2h", text);
+  }
+  const std::string unit = text.substr(used);
+  const double scale = unit.empty() || unit == "s" ? 1.0 : unit == "m" ? 60.0 : unit == "h" ? 3600.0 : 0.0;
+  if (scale == 0.0 || !(value > 0.0))
+    return fmt::format("--wall-time-limit {}: must be a positive duration such as 3600, 90m or 2h",
+                       text);
+  seconds = value * scale;
+  return "";
 }
 
 int report(const char* kind, const std::exception& e, int code) {
@@ -87,15 +127,33 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", SOFTFLOW_VERSION);
   std::string case_file;
   std::string output_dir;
+  std::string run_dir;
+  std::string wall_time_limit;
   bool quiet = false;
+  bool overwrite = false;
 
   auto* run = app.add_subcommand("run", "mesh the case, solve it, write results to the output directory");
   run->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("-o,--output", output_dir, "output directory (overrides [output] directory)");
   run->add_flag("-q,--quiet", quiet, "print nothing but errors");
+  run->add_option("--wall-time-limit", wall_time_limit,
+                  "checkpoint and stop (exit code 5) before this much wall time has passed: "
+                  "seconds, or e.g. 90m, 2h");
+  run->add_flag("--overwrite", overwrite,
+                "start afresh even where the output directory holds an interrupted run");
+
+  auto* restart = app.add_subcommand(
+      "restart",
+      "continue the run in an output directory from its checkpoint (after a stop request, the "
+      "wall-time limit, or a crash); the time series is continued, not rewritten");
+  restart->add_option("directory", run_dir, "the run's output directory")->required()->check(CLI::ExistingDirectory);
+  restart->add_flag("-q,--quiet", quiet, "print nothing but errors");
+  restart->add_option("--wall-time-limit", wall_time_limit,
+                      "checkpoint and stop (exit code 5) before this much wall time has passed");
 
   auto* mesh = app.add_subcommand("mesh", "mesh the case and report nodes, elements and quality");
   mesh->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
+  mesh->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
   auto* check = app.add_subcommand("check", "validate a case file and print the resolved case");
   check->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
@@ -106,11 +164,25 @@ int main(int argc, char** argv) {
   theory->add_option("--lambda", lambda, "viscosity ratio eta_d / eta_m")->capture_default_str();
   theory->add_option("--ca", ca, "capillary number eta_m gamma_dot R / Gamma")->capture_default_str();
 
+  const auto started = std::chrono::steady_clock::now();
   try {
     int n = static_cast<int>(ours.size());
     app.parse(n, ours.data());
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInputError;
+  }
+  softflow::simulation::RunOptions options;
+  options.quiet = quiet;
+  options.overwrite = overwrite;
+  options.started = started;
+  if (!output_dir.empty()) options.output_directory = output_dir;
+  if (!wall_time_limit.empty()) {
+    double seconds = 0.0;
+    if (const auto error = parse_duration(wall_time_limit, seconds); !error.empty()) {
+      std::cerr << "softflow: " << error << "\n";
+      return kInputError;
+    }
+    options.wall_time_limit = seconds;
   }
 
   if (*theory) {  // no PETSc, no case file: a pure query
@@ -126,20 +198,26 @@ int main(int argc, char** argv) {
   try {
     PetscSession petsc_session(petsc);
     try {
-      const auto config = softflow::io::read_case_file(case_file);
+      // A restart's case is the resolved case.toml its run wrote (checked
+      // against the checkpoint's own copy before anything else happens).
+      const auto config = softflow::io::read_case_file(
+          *restart ? std::filesystem::path(run_dir) / "case.toml" : std::filesystem::path(case_file));
       insert_case_petsc_options(config);
-      if (*check) {
+      if (*restart) {
+        softflow::simulation::restart_drop_case(config, run_dir, options);
+      } else if (*check) {
         softflow::geometry::validate(config.shear_cell_spec());
         if (is_root()) std::cout << softflow::io::to_toml(config);
       } else if (*mesh) {
-        softflow::simulation::mesh_case(config, false);
+        softflow::simulation::mesh_case(config, quiet);
       } else if (*run) {
-        softflow::simulation::RunOptions options;
-        if (!output_dir.empty()) options.output_directory = output_dir;
-        options.quiet = quiet;
         softflow::simulation::run_case(config, options);
       }
       return kOk;
+    } catch (const softflow::RunInterrupted& e) {
+      return report("", e, kInterrupted);
+    } catch (const softflow::AccuracyError& e) {
+      return report("accuracy limit: ", e, kAccuracyError);
     } catch (const softflow::InputError& e) {
       return report("", e, kInputError);
     } catch (const softflow::MeshError& e) {

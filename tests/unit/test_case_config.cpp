@@ -56,6 +56,32 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.petsc_options, b.petsc_options);
   EXPECT_EQ(a.output_directory, b.output_directory);
   EXPECT_EQ(a.write_fields, b.write_fields);
+  EXPECT_EQ(a.time.max_volume_drift, b.time.max_volume_drift);
+  EXPECT_EQ(a.checkpoint.interval_steps, b.checkpoint.interval_steps);
+  EXPECT_EQ(a.checkpoint.interval_minutes, b.checkpoint.interval_minutes);
+}
+
+// ---- [checkpoint] and the volume-drift limit ----
+
+TEST(CaseConfig, CheckpointAndDriftDefaultsAndRoundTrip) {
+  const CaseConfig d = parse_case("", "case.toml");
+  EXPECT_EQ(d.checkpoint.interval_steps, 0);
+  EXPECT_EQ(d.checkpoint.interval_minutes, 10.0);
+  EXPECT_EQ(d.time.max_volume_drift, 0.01);
+  const CaseConfig c = parse_case(
+      "[time]\nmax_volume_drift = 0.03\n[checkpoint]\ninterval_steps = 7\ninterval_minutes = 2.5\n",
+      "case.toml");
+  EXPECT_EQ(c.checkpoint.interval_steps, 7);
+  EXPECT_EQ(c.checkpoint.interval_minutes, 2.5);
+  EXPECT_EQ(c.time.max_volume_drift, 0.03);
+  expect_same(c, parse_case(to_toml(c), "case.toml"));
+}
+
+TEST(CaseConfig, CheckpointAndDriftErrorsNameKeyValueAndRange) {
+  EXPECT_ERROR("[checkpoint]\ninterval_steps = -1\n", "checkpoint.interval_steps = -1: must be an integer >= 0");
+  EXPECT_ERROR("[checkpoint]\ninterval_minutes = -2\n", "checkpoint.interval_minutes = -2: must be >= 0");
+  EXPECT_ERROR("[checkpoint]\ninterval = 5\n", "did you mean");
+  EXPECT_ERROR("[time]\nmax_volume_drift = 1.5\n", "time.max_volume_drift = 1.5: must be in (0, 1)");
 }
 
 // ---- defaults ----

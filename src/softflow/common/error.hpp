@@ -31,4 +31,18 @@ class SolverError : public Error {
   using Error::Error;
 };
 
+/// A run left the range where its results can be trusted (e.g. an object's
+/// volume drifted past the case's limit): the numbers are finite but wrong.
+class AccuracyError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A run stopped on request (SIGINT, SIGTERM, SIGUSR1, the wall-time limit)
+/// after writing a checkpoint: not a failure; `softflow restart` continues it.
+class RunInterrupted : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace softflow

@@ -42,7 +42,8 @@ const std::vector<Section>& schema() {
       {"mesh", {"equator_nodes", "far_size", "growth", "optimize_high_order"}},
       {"solver", {"type", "rtol", "max_iterations", "petsc_options"}},
       {"output", {"directory", "fields"}},
-      {"time", {"step", "end", "fields_interval", "min_quality"}},
+      {"time", {"step", "end", "fields_interval", "min_quality", "max_volume_drift"}},
+      {"checkpoint", {"interval_steps", "interval_minutes"}},
       {"interface", {"redistribution_factor", "supg_beta", "semi_implicit_tension"}},
   };
   return sections;
@@ -575,6 +576,11 @@ void read_time_and_interface(const toml::table& root, CaseConfig& c, Diagnostics
   t.number("end", c.time.end, Bound::non_negative);
   t.integer("fields_interval", c.time.fields_interval, 0);
   t.number("min_quality", c.time.min_quality, Bound::open_unit);
+  t.number("max_volume_drift", c.time.max_volume_drift, Bound::open_unit);
+  TableReader k(section_table(root, "checkpoint", diag), "checkpoint", "checkpoint", diag);
+  k.check_keys();
+  k.integer("interval_steps", c.checkpoint.interval_steps, 0);
+  k.number("interval_minutes", c.checkpoint.interval_minutes, Bound::non_negative);
   TableReader i(section_table(root, "interface", diag), "interface", "interface", diag);
   i.check_keys();
   i.number("redistribution_factor", c.interface.redistribution_factor, Bound::non_negative);
@@ -829,9 +835,13 @@ std::string to_toml(const CaseConfig& c) {
                   c.max_iterations, toml_string(c.petsc_options));
   s += fmt::format("[output]\ndirectory = {}\nfields = {}\n\n", toml_string(c.output_directory),
                    c.write_fields);
-  s += fmt::format("[time]\nstep = {}\nend = {}\nfields_interval = {}\nmin_quality = {}\n\n",
-                   toml_float(c.time.step), toml_float(c.time.end), c.time.fields_interval,
-                   toml_float(c.time.min_quality));
+  s += fmt::format(
+      "[time]\nstep = {}\nend = {}\nfields_interval = {}\nmin_quality = {}\nmax_volume_drift = "
+      "{}\n\n",
+      toml_float(c.time.step), toml_float(c.time.end), c.time.fields_interval,
+      toml_float(c.time.min_quality), toml_float(c.time.max_volume_drift));
+  s += fmt::format("[checkpoint]\ninterval_steps = {}\ninterval_minutes = {}\n\n",
+                   c.checkpoint.interval_steps, toml_float(c.checkpoint.interval_minutes));
   s += fmt::format(
       "[interface]\nredistribution_factor = {}\nsupg_beta = {}\nsemi_implicit_tension = {}\n",
       toml_float(c.interface.redistribution_factor), toml_float(c.interface.supg_beta),

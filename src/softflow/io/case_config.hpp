@@ -36,6 +36,17 @@ struct TimeConfig {
   double end = 0.0;             ///< t_end >= 0
   int fields_interval = 0;      ///< write fields every this many steps (0: at the end only)
   double min_quality = 0.02;    ///< stop with a diagnosis if an element's quality falls below
+  /// Stop with a diagnosis once an object's volume differs from its initial
+  /// volume by more than this fraction.
+  double max_volume_drift = 0.01;
+};
+
+/// [checkpoint]: when a run in time saves its state (checkpoint.h5 in the
+/// output directory). It also does so at the end, on SIGINT/SIGTERM/SIGUSR1
+/// and before the wall-time limit.
+struct CheckpointConfig {
+  int interval_steps = 0;          ///< every this many steps (0: not by step count)
+  double interval_minutes = 10.0;  ///< at most this long apart in wall time (0: not by time)
 };
 
 /// [interface]: interface tracking (thesis §2.2.3, §2.3.2).
@@ -67,6 +78,7 @@ struct CaseConfig {
   bool write_fields = true;  ///< [output] fields: write VTU/PVD fields
   TimeConfig time;            ///< [time]
   InterfaceConfig interface;  ///< [interface]
+  CheckpointConfig checkpoint;  ///< [checkpoint]
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <regex>
 #include <vector>
 
 #include <fmt/format.h>
@@ -147,6 +148,20 @@ void FieldSeries::write(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
     if (!out) throw Error(fmt::format("cannot write {}", tmp));
   }
   std::filesystem::rename(tmp, pvd_path_);
+}
+
+void FieldSeries::resume(int step) {
+  std::ifstream in(pvd_path_);
+  entries_.clear();
+  // Our own PVD: one <DataSet timestep="t" part="p" file="f"/> per line, the
+  // step number being the digits before ".vtu" in f.
+  const std::regex line(R"re(<DataSet timestep="([^"]*)" part="([^"]*)" file="([^"]*_([0-9]+)\.vtu)"/>)re");
+  std::string text;
+  while (std::getline(in, text)) {
+    std::smatch m;
+    if (!std::regex_search(text, m, line) || std::stoi(m[4].str()) > step) continue;
+    entries_.push_back({std::stod(m[1].str()), std::stoi(m[2].str()), m[3].str()});
+  }
 }
 
 }  // namespace softflow::io

@@ -43,6 +43,9 @@ class FieldSeries {
   FieldSeries(std::filesystem::path directory, std::filesystem::path pvd_path);
   void write(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
              const std::vector<double>& solution, double time, int step);
+  /// Continues the series of an earlier run (a restart): takes the entries
+  /// of the existing PVD file up to `step`, so that later writes extend it.
+  void resume(int step);
 
  private:
   struct Entry {

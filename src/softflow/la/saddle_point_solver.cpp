@@ -79,6 +79,13 @@ SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings, IS vel
     configure_iterative(settings, ksp_.get(), velocity_dofs, pressure_dofs);
   }
   check(KSPSetFromOptions(ksp_.get()), "KSPSetFromOptions");
+  // -<prefix>lu_reuse_max_its N overrides the reuse threshold (tests use a
+  // low one to make a short run refactor several times).
+  PetscInt reuse = settings_.max_reuse_iterations;
+  PetscBool set = PETSC_FALSE;
+  check(PetscOptionsGetInt(nullptr, settings_.prefix.c_str(), "-lu_reuse_max_its", &reuse, &set),
+        "PetscOptionsGetInt");
+  if (set) settings_.max_reuse_iterations = static_cast<int>(reuse);
 }
 
 void SaddlePointSolver::set_operators(Mat a, Mat pmat) {
@@ -90,6 +97,13 @@ SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
                      settings_.max_reuse_iterations > 0 && have_preconditioner_ && !refactor_next_;
   SolveReport r = solve_once(b, x, reuse);
   if (reuse && (r.reason.rfind("DIVERGED", 0) == 0)) r = solve_once(b, x, false);  // stale factors
+  if (r.reason == "DIVERGED_NANORINF") {
+    throw SolverError(fmt::format(
+        "the Stokes system holds NaN or Inf ({} after {} iterations): a parameter far out of "
+        "range (capillary number, interfacial tension, viscosity ratio) or a tangled mesh; check "
+        "the case's values, or try a smaller time.step",
+        r.reason, r.iterations));
+  }
   if (r.reason.rfind("DIVERGED", 0) == 0) {
     throw SolverError(fmt::format(
         "Stokes solver did not converge: {} after {} iterations (residual {:.3e}); try "

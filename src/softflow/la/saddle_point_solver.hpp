@@ -61,6 +61,17 @@ class SaddlePointSolver {
 
   [[nodiscard]] KSP ksp() const { return ksp_.get(); }
 
+  /// The reuse policy's state: whether the next solve builds a fresh
+  /// preconditioner, and the builds so far. Checkpoints save it, so that a
+  /// restarted run refactors at the same steps as an uninterrupted one.
+  [[nodiscard]] bool refactor_next() const { return refactor_next_; }
+  void restore_reuse_state(bool refactor_next, int n_setups) {
+    refactor_next_ = refactor_next;
+    n_setups_ = n_setups;
+  }
+  /// The next solve builds a fresh preconditioner whatever the policy says.
+  void request_fresh_preconditioner() { refactor_next_ = true; }
+
  private:
   SolveReport solve_once(Vec b, Vec x, bool reuse);
 

@@ -1,15 +1,24 @@
 #include "softflow/simulation/drop_run.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <memory>
+#include <sstream>
+#include <string>
 
 #include <fmt/format.h>
+#include <mpi.h>
 
 #include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/common/error.hpp"
+#include "softflow/io/checkpoint.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
@@ -19,7 +28,12 @@ namespace softflow::simulation {
 
 namespace {
 
+namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 std::string format_duration(double seconds) {
   const long s = std::lround(seconds);
@@ -48,97 +62,185 @@ nlohmann::json theory_json(const io::CaseConfig& config) {
 
 // deformation.png through the repository's plotting script (matplotlib); a
 // missing Python or matplotlib costs the plot, not the run.
-void plot(const std::filesystem::path& directory) {
-  const std::filesystem::path script =
-      std::filesystem::path(SOFTFLOW_SOURCE_DIR) / "scripts" / "plot_timeseries.py";
-  if (!std::filesystem::exists(script)) return;
+void plot(const fs::path& directory) {
+  const fs::path script = fs::path(SOFTFLOW_SOURCE_DIR) / "scripts" / "plot_timeseries.py";
+  if (!fs::exists(script)) return;
   const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",
                                           script.string(), directory.string());
   if (std::system(command.c_str()) != 0)
-    fmt::print(stderr, "softflow: warning: could not draw deformation.png (needs python3-matplotlib)\n");
+    fmt::print(stderr,
+               "softflow: warning: could not draw deformation.png (needs python3-matplotlib)\n");
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------
+// Stop requests. The handler only records the signal; the run checks it at
+// the end of each step, where the state is consistent and can be saved.
 
-nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
-                             MeshedCase meshed) {
-  const auto start = Clock::now();
-  const bool root = is_root();
-  const std::filesystem::path directory =
-      options.output_directory.value_or(std::filesystem::path(config.output_directory));
-  std::unique_ptr<io::OutputDirectory> output;
-  on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });
+volatile std::sig_atomic_t g_stop_signal = 0;
 
-  DropSimulation sim(config, std::move(meshed.mesh));
-  // One ParaView time series: fields/*.vtu listed by fields.pvd.
-  std::unique_ptr<io::FieldSeries> fields;
-  if (root && config.write_fields)
-    fields = std::make_unique<io::FieldSeries>(output->staging_path() / "fields",
-                                               output->staging_path() / "fields.pvd");
-  const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
-  std::ofstream series;
-  if (root) {
-    series.open(output->path_of("timeseries.csv"));
-    series << timeseries_header() << timeseries_rows(sim.initial_report()) << std::flush;
+void request_stop(int signal) {
+  g_stop_signal = signal;
+  // A second Ctrl-C ends the process at once, for whoever cannot wait for the step.
+  std::signal(signal, SIG_DFL);
+}
+
+/// SIGINT, SIGTERM and SIGUSR1 (which mpirun forwards to every rank) request
+/// a stop for as long as the object lives; the previous handlers come back after.
+class StopRequests {
+ public:
+  StopRequests() {
+    g_stop_signal = 0;
+    for (std::size_t i = 0; i < kSignals.size(); ++i)
+      previous_[i] = std::signal(kSignals[i], request_stop);
   }
-  StepReport last = sim.initial_report();
-  const double initial_volume = last.objects.empty() ? 0.0 : last.objects[0].volume;
-  std::string stop_reason;
+  ~StopRequests() {
+    for (std::size_t i = 0; i < kSignals.size(); ++i) std::signal(kSignals[i], previous_[i]);
+  }
+  StopRequests(const StopRequests&) = delete;
+  StopRequests& operator=(const StopRequests&) = delete;
+
+  /// The signal received on any rank (0: none). Collective: every rank must call it.
+  static int received() {
+    int local = g_stop_signal, any = 0;
+    MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return any;
+  }
+
+ private:
+  static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGUSR1};
+  std::array<void (*)(int), 3> previous_{};
+};
+
+/// True on every rank if true on any: all ranks must take the same branch.
+bool on_any_rank(bool local) {
+  int l = local ? 1 : 0, any = 0;
+  MPI_Allreduce(&l, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return any != 0;
+}
+
+std::string signal_name(int signal) {
+  switch (signal) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGUSR1: return "SIGUSR1";
+    default: return fmt::format("signal {}", signal);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// What a run accumulates across restarts (saved in the checkpoint's run_json).
+
+struct RunLedger {
   StageSeconds total;
-  int stokes_iterations = 0;
-  try {
-    for (int n = 0; n < n_steps; ++n) {
-      last = sim.step();
-      total.predict_and_translate += last.stages.predict_and_translate;
-      total.ale += last.stages.ale;
-      total.stokes_assembly += last.stages.stokes_assembly;
-      total.stokes_solve += last.stages.stokes_solve;
-      total.correct += last.stages.correct;
-      total.analysis += last.stages.analysis;
-      stokes_iterations += last.stokes_iterations;
-      if (root) series << timeseries_rows(last) << std::flush;
-      if (fields && config.time.fields_interval > 0 && last.step % config.time.fields_interval == 0)
-        fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(), last.step);
-      if (!options.quiet && root) {
-        const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-        const auto& o = last.objects.front();
-        fmt::print("step {:>6}/{}  t = {:8.4f}  D = {:.5f}  theta = {:6.2f} deg  dt = {:g}  "
-                   "quality {:.3f}  ETA {}\n",
-                   last.step, n_steps, last.time, o.deformation, o.theta_deg, config.time.step,
-                   last.min_quality, format_duration(elapsed / last.step * (n_steps - last.step)));
-      }
-    }
-  } catch (const Error& e) {
-    stop_reason = e.what();
-  }
+  long stokes_iterations = 0;
+  int timed_steps = 0;        ///< steps whose timings are in `total`
+  double wall_seconds = 0.0;  ///< up to the last checkpoint of earlier sessions
+  int sessions = 1;
+  nlohmann::json mesh_report;
+};
 
+nlohmann::json to_json(const RunLedger& l) {
+  return {{"stage_seconds",
+           {l.total.predict_and_translate, l.total.ale, l.total.stokes_assembly,
+            l.total.stokes_solve, l.total.correct, l.total.analysis}},
+          {"stokes_iterations", l.stokes_iterations},
+          {"timed_steps", l.timed_steps},
+          {"wall_seconds", l.wall_seconds},
+          {"sessions", l.sessions},
+          {"mesh", l.mesh_report}};
+}
+
+RunLedger ledger_from_json(const std::string& text) {
+  RunLedger l;
+  try {
+    const auto j = nlohmann::json::parse(text);
+    const auto& s = j.at("stage_seconds");
+    l.total = {s.at(0), s.at(1), s.at(2), s.at(3), s.at(4), s.at(5)};
+    l.stokes_iterations = j.at("stokes_iterations");
+    l.timed_steps = j.at("timed_steps");
+    l.wall_seconds = j.at("wall_seconds");
+    l.sessions = j.at("sessions");
+    l.mesh_report = j.at("mesh");
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("the checkpoint's run record is damaged: {}", e.what()));
+  }
+  return l;
+}
+
+void add(StageSeconds& total, const StageSeconds& s) {
+  total.predict_and_translate += s.predict_and_translate;
+  total.ale += s.ale;
+  total.stokes_assembly += s.stokes_assembly;
+  total.stokes_solve += s.stokes_solve;
+  total.correct += s.correct;
+  total.analysis += s.analysis;
+}
+
+/// The files a run keeps open (rank 0 only).
+struct RunFiles {
+  std::ofstream series;
+  std::unique_ptr<io::FieldSeries> fields;
+};
+
+/// A failure of the same type with a longer message.
+[[noreturn]] void rethrow_with_message(const std::exception_ptr& failure,
+                                       const std::string& message) {
+  try {
+    std::rethrow_exception(failure);
+  } catch (const MeshError&) {
+    throw MeshError(message);
+  } catch (const SolverError&) {
+    throw SolverError(message);
+  } catch (const AccuracyError&) {
+    throw AccuracyError(message);
+  } catch (const InputError&) {
+    throw InputError(message);
+  } catch (const Error&) {
+    throw Error(message);
+  }
+}
+
+struct CheckpointMark {
+  int step = -1;  ///< -1: none written
+  double time = 0.0;
+};
+
+nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& sim,
+                            const RunLedger& ledger, const StepReport& last,
+                            const std::string& status, const std::string& stop_reason,
+                            const CheckpointMark& checkpoint) {
   nlohmann::json summary = {
       {"softflow_version", SOFTFLOW_VERSION},
       {"case", config.name},
-      {"status", stop_reason.empty() ? "completed" : "stopped"},
+      {"status", status},
       {"mpi_ranks", la::mpi_size()},
-      {"mesh", meshed.report},
+      {"mesh", ledger.mesh_report},
       {"dimensionless_groups", io::to_json(io::dimensionless_groups(config))},
       {"unknowns", sim.stokes().dofs().n_dofs()},
       {"steps", sim.steps()},
       {"time", sim.time()},
       {"dt", config.time.step},
       {"theory", theory_json(config)},
-      {"wall_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
+      {"wall_seconds", ledger.wall_seconds},
+      {"sessions", ledger.sessions},
   };
   if (!stop_reason.empty()) summary["stop_reason"] = stop_reason;
-  const double per_step = sim.steps() > 0 ? 1.0 / sim.steps() : 0.0;
-  summary["seconds_per_step"] = {
-      {"predict_and_translate", total.predict_and_translate * per_step},
-      {"ale", total.ale * per_step},
-      {"stokes_assembly", total.stokes_assembly * per_step},
-      {"stokes_solve", total.stokes_solve * per_step},
-      {"correct_interface", total.correct * per_step},
-      {"analysis", total.analysis * per_step}};
-  summary["stokes_iterations_per_step"] = stokes_iterations * per_step;
+  summary["last_checkpoint"] =
+      checkpoint.step >= 0 ? nlohmann::json{{"step", checkpoint.step}, {"time", checkpoint.time}}
+                           : nlohmann::json(nullptr);
+  const double per_step = ledger.timed_steps > 0 ? 1.0 / ledger.timed_steps : 0.0;
+  const auto& total = ledger.total;
+  summary["seconds_per_step"] = {{"predict_and_translate", total.predict_and_translate * per_step},
+                                 {"ale", total.ale * per_step},
+                                 {"stokes_assembly", total.stokes_assembly * per_step},
+                                 {"stokes_solve", total.stokes_solve * per_step},
+                                 {"correct_interface", total.correct * per_step},
+                                 {"analysis", total.analysis * per_step}};
+  summary["stokes_iterations_per_step"] = static_cast<double>(ledger.stokes_iterations) * per_step;
   summary["stokes_factorizations"] = sim.stokes().n_factorizations();
   nlohmann::json objects = nlohmann::json::array();
-  for (const auto& o : last.objects)
+  for (const auto& o : last.objects) {
+    const double v0 = sim.initial_volumes().at(o.object - 1);
     objects.push_back({{"object", o.object},
                        {"D", o.deformation},
                        {"theta_deg", o.theta_deg},
@@ -147,24 +249,320 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
                        {"W", o.W},
                        {"ellipsoid_deviation", o.ellipsoid_deviation},
                        {"volume", o.volume},
-                       {"volume_drift", o.object == 1 && initial_volume > 0
-                                            ? o.volume / initial_volume - 1.0
-                                            : 0.0}});
+                       {"volume_drift", v0 > 0 ? o.volume / v0 - 1.0 : 0.0}});
+  }
   summary["final"] = objects;
+  return summary;
+}
 
+nlohmann::json progress_json(const StepReport& r, int n_steps, const io::CaseConfig& config,
+                             const std::string& status, double wall_seconds, double eta_seconds,
+                             const CheckpointMark& checkpoint) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const auto& o : r.objects)
+    objects.push_back({{"object", o.object}, {"D", o.deformation}, {"theta_deg", o.theta_deg}});
+  nlohmann::json j = {{"status", status},          {"step", r.step},
+                      {"steps", n_steps},          {"t", r.time},
+                      {"t_end", config.time.end},  {"dt", config.time.step},
+                      {"objects", objects},        {"wall_seconds", wall_seconds},
+                      {"eta_seconds", eta_seconds}};
+  // The first object's D and theta at the top level: what a batch script greps for.
+  if (!r.objects.empty()) {
+    j["D"] = r.objects.front().deformation;
+    j["theta_deg"] = r.objects.front().theta_deg;
+  }
+  j["last_checkpoint"] = checkpoint.step >= 0
+                             ? nlohmann::json{{"step", checkpoint.step}, {"time", checkpoint.time}}
+                             : nlohmann::json(nullptr);
+  return j;
+}
+
+/// The loop from the simulation's current step to time.end, shared by a
+/// fresh run and a restart: steps, output, checkpoints, stop requests and
+/// failures, then the summary.
+nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& options,
+                            const fs::path& directory, DropSimulation& sim, RunLedger ledger,
+                            StepReport last, RunFiles& files, CheckpointMark checkpoint) {
+  const bool root = is_root();
+  const auto session_start = Clock::now();
+  const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
+  const int first_step = sim.steps();
+  StopRequests stop_requests;
+  auto last_checkpoint_clock = Clock::now();
+  double longest_step = 0.0, checkpoint_seconds = 0.0;
+  const double earlier_wall_seconds = ledger.wall_seconds;
+
+  auto write_checkpoint = [&] {
+    const auto begin = Clock::now();
+    RunLedger saved = ledger;
+    saved.wall_seconds = earlier_wall_seconds + seconds_since(session_start);
+    on_root_sharing_failure([&] {
+      io::Checkpoint c;
+      sim.save(c);
+      c.softflow_version = SOFTFLOW_VERSION;
+      c.case_toml = io::to_toml(config);
+      c.run_json = to_json(saved).dump();
+      io::write_checkpoint(directory / kCheckpointFile, c);
+    });
+    checkpoint = {sim.steps(), sim.time()};
+    last_checkpoint_clock = Clock::now();
+    checkpoint_seconds = seconds_since(begin);
+  };
+
+  std::string status = "running", stop_reason;
+  std::exception_ptr failure;
+  try {
+    while (sim.steps() < n_steps) {
+      last = sim.step();
+      add(ledger.total, last.stages);
+      ledger.stokes_iterations += last.stokes_iterations;
+      ++ledger.timed_steps;
+      longest_step = std::max(longest_step, last.step_seconds);
+      const double elapsed = seconds_since(session_start);
+      const double eta = elapsed / (last.step - first_step) * (n_steps - last.step);
+      on_root_sharing_failure([&] {
+        files.series << timeseries_rows(last) << std::flush;
+        if (files.fields && config.time.fields_interval > 0 &&
+            last.step % config.time.fields_interval == 0)
+          files.fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(),
+                              last.step);
+        io::write_text_file_atomically(
+            directory / "progress.json",
+            progress_json(last, n_steps, config, "running", earlier_wall_seconds + elapsed, eta,
+                          checkpoint)
+                    .dump(2) +
+                "\n");
+      });
+      if (!options.quiet && root) {
+        const auto& o = last.objects.front();
+        fmt::print(
+            "step {:>6}/{}  t = {:8.4f}  D = {:.5f}  theta = {:6.2f} deg  dt = {:g}  "
+            "quality {:.3f}  ETA {}\n",
+            last.step, n_steps, last.time, o.deformation, o.theta_deg, config.time.step,
+            last.min_quality, format_duration(eta));
+        std::fflush(stdout);
+      }
+      sim.check_volumes();
+      if (sim.steps() >= n_steps) break;  // the final checkpoint follows the loop
+
+      // Stop before the wall-time limit with room for the longest step seen
+      // and two checkpoint writes (the next may be slower than the last).
+      const bool limit_near =
+          options.wall_time_limit &&
+          seconds_since(options.started) + 1.5 * longest_step + 2.0 * checkpoint_seconds + 1.0 >
+              *options.wall_time_limit;
+      const int signal = StopRequests::received();
+      const bool stop = signal != 0 || on_any_rank(limit_near);
+      const bool due =
+          (config.checkpoint.interval_steps > 0 &&
+           sim.steps() % config.checkpoint.interval_steps == 0) ||
+          (config.checkpoint.interval_minutes > 0 &&
+           seconds_since(last_checkpoint_clock) >= 60.0 * config.checkpoint.interval_minutes);
+      if (stop || due) write_checkpoint();
+      if (stop) {
+        status = "interrupted";
+        stop_reason = signal != 0 ? fmt::format("interrupted by {} at step {} (t = {:.4f})",
+                                                signal_name(signal), sim.steps(), sim.time())
+                                  : fmt::format(
+                                        "stopped at step {} (t = {:.4f}) before the wall-time "
+                                        "limit of {:g} s",
+                                        sim.steps(), sim.time(), *options.wall_time_limit);
+        break;
+      }
+    }
+    if (status == "running") {
+      write_checkpoint();  // lets a later, longer run continue from the end
+      status = "completed";
+    }
+  } catch (const Error& e) {
+    failure = std::current_exception();
+    status = "stopped";
+    stop_reason = e.what();
+    stop_reason += checkpoint.step >= 0
+                       ? fmt::format(
+                             ". The last checkpoint (step {}, t = {:.4f}) and the output "
+                             "so far are in {}",
+                             checkpoint.step, checkpoint.time, directory.string())
+                       : fmt::format(
+                             ". The output so far is in {} (no checkpoint was written: "
+                             "[checkpoint] interval_steps sets how often)",
+                             directory.string());
+  }
+
+  ledger.wall_seconds = earlier_wall_seconds + seconds_since(session_start);
+  const auto summary = make_summary(config, sim, ledger, last, status, stop_reason, checkpoint);
   on_root_sharing_failure([&] {
-    output->write_text("case.toml", io::to_toml(config));
-    const bool written = config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;
-    if (fields && sim.steps() > 0 && !written)
-      fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(), sim.steps());
-    output->write_text("summary.json", summary.dump(2) + "\n");
-    series.close();
-    plot(output->staging_path());
-    output->commit();
+    const bool written =
+        config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;
+    if (files.fields && sim.steps() > first_step && !written && !failure)
+      files.fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(), sim.steps());
+    io::write_text_file_atomically(directory / "summary.json", summary.dump(2) + "\n");
+    io::write_text_file_atomically(
+        directory / "progress.json",
+        progress_json(last, n_steps, config, status, ledger.wall_seconds, 0.0, checkpoint).dump(2) +
+            "\n");
+    files.series.close();
+    plot(directory);
   });
   if (!options.quiet && root) fmt::print("wrote {}\n", directory.string());
-  if (!stop_reason.empty()) throw MeshError(stop_reason);
+  if (failure) rethrow_with_message(failure, stop_reason);
+  if (status == "interrupted")
+    throw RunInterrupted(fmt::format("{}; checkpoint written: continue with `softflow restart {}`",
+                                     stop_reason, directory.string()));
   return summary;
+}
+
+/// A checkpoint without a finished summary is work a fresh run would throw away.
+void refuse_to_replace_unfinished_run(const fs::path& directory) {
+  std::error_code ec;
+  if (!fs::exists(directory / kCheckpointFile, ec)) return;
+  std::string status = "interrupted";
+  std::ifstream in(directory / "summary.json");
+  if (in) {
+    try {
+      status = nlohmann::json::parse(in).value("status", status);
+    } catch (const nlohmann::json::exception&) {
+    }
+  }
+  if (status == "completed" || status == "stopped") return;
+  throw InputError(
+      fmt::format("{} holds an unfinished run (status \"{}\", with a checkpoint): continue it with "
+                  "`softflow restart {}`, or start afresh with `softflow run ... --overwrite`",
+                  directory.string(), status, directory.string()));
+}
+
+/// Keeps the header and the rows of steps <= `step`; a row cut short by a
+/// crash (no final newline) goes too. Rows past the checkpoint are computed again.
+void truncate_timeseries(const fs::path& path, int step) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string all = text.str();
+  if (!all.empty() && all.back() != '\n') all.erase(all.rfind('\n') + 1);
+  std::istringstream lines(all);
+  std::string line, kept;
+  bool header = true;
+  while (std::getline(lines, line)) {
+    if (header) {
+      kept += line + "\n";
+      header = false;
+      continue;
+    }
+    const auto comma = line.find(',');
+    if (comma == std::string::npos) continue;
+    try {
+      if (std::stoi(line.substr(0, comma)) <= step) kept += line + "\n";
+    } catch (const std::exception&) {
+      // not a row of ours: dropped
+    }
+  }
+  if (kept.empty()) kept = timeseries_header();
+  io::write_text_file_atomically(path, kept);
+}
+
+/// The case of `directory`/case.toml must be the one the checkpoint was
+/// written with; only [checkpoint] may change between sessions.
+void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpoint,
+                     const fs::path& directory) {
+  if (checkpoint.softflow_version != SOFTFLOW_VERSION)
+    throw InputError(fmt::format(
+        "{}: the checkpoint was written by softflow {}, this is softflow {}: continue the run "
+        "with softflow {} (results of two versions would not form one run)",
+        (directory / kCheckpointFile).string(), checkpoint.softflow_version, SOFTFLOW_VERSION,
+        checkpoint.softflow_version));
+  io::CaseConfig saved = io::parse_case(checkpoint.case_toml, "checkpoint");
+  saved.checkpoint = config.checkpoint;
+  const std::string expected = io::to_toml(saved), given = io::to_toml(config);
+  if (expected == given) return;
+  std::istringstream a(expected), b(given);
+  std::string line_a, line_b;
+  int line = 0;
+  while (true) {
+    ++line;
+    const bool more_a = static_cast<bool>(std::getline(a, line_a));
+    const bool more_b = static_cast<bool>(std::getline(b, line_b));
+    if (!more_a && !more_b) break;
+    if (!more_a) line_a.clear();
+    if (!more_b) line_b.clear();
+    if (line_a != line_b) break;
+  }
+  throw InputError(fmt::format(
+      "{}: not the case the checkpoint was written with (resolved line {}: '{}' here, '{}' in "
+      "the checkpoint). A restart continues the same case; only [checkpoint] may change. To "
+      "run a changed case, start it with softflow run",
+      (directory / "case.toml").string(), line, line_b, line_a));
+}
+
+}  // namespace
+
+nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
+                             MeshedCase meshed) {
+  const fs::path directory = options.output_directory.value_or(fs::path(config.output_directory));
+  if (!options.overwrite)
+    on_root_sharing_failure([&] { refuse_to_replace_unfinished_run(directory); });
+  // Staged, then committed at once: an older directory is replaced in one
+  // step, and from then on the run writes in place, so that its progress,
+  // time series and checkpoints are readable while it runs.
+  std::unique_ptr<io::OutputDirectory> output;
+  on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });
+  RunLedger ledger;
+  ledger.mesh_report = meshed.report;
+  DropSimulation sim(config, std::move(meshed.mesh));
+  const StepReport first = sim.initial_report();
+  RunFiles files;
+  on_root_sharing_failure([&] {
+    output->write_text("case.toml", io::to_toml(config));
+    output->write_text("timeseries.csv", timeseries_header() + timeseries_rows(first));
+    output->commit();
+    files.series.open(directory / "timeseries.csv", std::ios::app);
+    if (!files.series)
+      throw Error(fmt::format("cannot append to {}/timeseries.csv", directory.string()));
+    if (config.write_fields)
+      files.fields =
+          std::make_unique<io::FieldSeries>(directory / "fields", directory / "fields.pvd");
+  });
+  return continue_run(config, options, directory, sim, std::move(ledger), first, files, {});
+}
+
+nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& directory,
+                                 const RunOptions& options) {
+  const bool root = is_root();
+  // Every rank reads the checkpoint: each holds the full replicated state.
+  const io::Checkpoint checkpoint = io::read_checkpoint(directory / kCheckpointFile);
+  check_same_case(config, checkpoint, directory);
+  const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
+  if (checkpoint.step >= n_steps) {
+    if (!options.quiet && root)
+      fmt::print("{}: the run is complete (step {}, t = {:.4f}); nothing to do\n",
+                 directory.string(), checkpoint.step, checkpoint.time);
+    std::ifstream in(directory / "summary.json");
+    try {
+      return in ? nlohmann::json::parse(in) : nlohmann::json::object();
+    } catch (const nlohmann::json::exception&) {
+      return nlohmann::json::object();
+    }
+  }
+  RunLedger ledger = ledger_from_json(checkpoint.run_json);
+  ++ledger.sessions;
+  DropSimulation sim(config, checkpoint.reference_mesh);
+  sim.restore(checkpoint);
+  RunFiles files;
+  on_root_sharing_failure([&] {
+    truncate_timeseries(directory / "timeseries.csv", checkpoint.step);
+    files.series.open(directory / "timeseries.csv", std::ios::app);
+    if (!files.series)
+      throw Error(fmt::format("cannot append to {}/timeseries.csv", directory.string()));
+    if (config.write_fields) {
+      files.fields =
+          std::make_unique<io::FieldSeries>(directory / "fields", directory / "fields.pvd");
+      files.fields->resume(checkpoint.step);
+    }
+  });
+  if (!options.quiet && root)
+    fmt::print("restarting {} from its checkpoint: step {}/{}, t = {:.4f}\n", directory.string(),
+               checkpoint.step, n_steps, checkpoint.time);
+  return continue_run(config, options, directory, sim, std::move(ledger), sim.current_report(),
+                      files, {checkpoint.step, checkpoint.time});
 }
 
 }  // namespace softflow::simulation

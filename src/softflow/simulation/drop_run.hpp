@@ -1,5 +1,7 @@
-// A drop-in-shear run in time: the loop, its progress line, time series, summary and plot.
+// A drop-in-shear run in time: the loop, its progress, checkpoints, time series, summary and plot.
 #pragma once
+
+#include <filesystem>
 
 #include <nlohmann/json.hpp>
 
@@ -10,14 +12,40 @@
 namespace softflow::simulation {
 
 /// Runs `config` from t = 0 to time.end with the thesis's Steps 1-5
-/// (DropSimulation) and writes into the output directory: case.toml,
-/// timeseries.csv (one row per object and step), fields.pvd (final state, and
-/// every time.fields_interval steps), summary.json (final D and theta, theory,
-/// wall time, unknowns, steps, volume drift) and deformation.png (D(t), theta(t)
-/// beside Taylor and Chaffey-Brenner). If the run stops early (a degraded mesh,
-/// a solver failure), what was computed is still written, the summary says why,
-/// and the error is rethrown.
+/// (DropSimulation).
+///
+/// The output directory is created when the run starts (replacing an older
+/// one at once, atomically) and stays readable while it runs; every file in
+/// it is replaced atomically or only appended to:
+///   case.toml        the resolved case
+///   timeseries.csv   one row per object and step, appended each step
+///   progress.json    step, t, D, theta, status, ETA: rewritten each step
+///   checkpoint.h5    the state to continue from ([checkpoint] intervals, the
+///                    end, a stop request, the wall-time limit)
+///   fields.pvd       ParaView series (every time.fields_interval steps, and the last)
+///   summary.json     final D and theta, theory, wall time, unknowns, steps,
+///                    volume drift, status, and why the run stopped
+///   deformation.png  D(t), theta(t) beside Taylor and Chaffey-Brenner
+///
+/// A failure (MeshError, SolverError, AccuracyError) keeps what was
+/// computed and the last checkpoint, writes the summary with the reason and
+/// is rethrown. SIGINT, SIGTERM or SIGUSR1 (on any rank), or the wall-time
+/// limit, end the run after the current step with a checkpoint: RunInterrupted
+/// is thrown once everything is written. A directory that holds an
+/// interrupted run is not replaced unless options.overwrite.
 nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
                              MeshedCase meshed);
+
+/// Continues the run in `directory` from its checkpoint.h5, in place: the
+/// time series is cut back to the checkpoint's step and appended to, the
+/// field series extended. `config` is the directory's case.toml; it must be
+/// the case the checkpoint was written with ([checkpoint] settings aside) and
+/// the checkpoint must come from this softflow version, or InputError says
+/// why not. A run already complete is left as it is.
+nlohmann::json restart_drop_case(const io::CaseConfig& config,
+                                 const std::filesystem::path& directory, const RunOptions& options);
+
+/// Name of the checkpoint file in a run's output directory.
+inline constexpr const char* kCheckpointFile = "checkpoint.h5";
 
 }  // namespace softflow::simulation

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "softflow/io/case_config.hpp"
+#include "softflow/io/checkpoint.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
@@ -66,8 +67,24 @@ class DropSimulation {
 
   /// The state at t = 0 (after no step).
   [[nodiscard]] StepReport initial_report() const;
-  /// Advances one step and reports the new state.
+  /// The current state (no stage timings, no solver iterations): after a
+  /// restart, what the last step reported.
+  [[nodiscard]] StepReport current_report() const;
+  /// Advances one step and reports the new state. Stops the run with a
+  /// diagnosis (step, time, where, what to try) on a degraded mesh
+  /// (MeshError) or a failed or non-finite Stokes solution (SolverError).
   StepReport step();
+  /// Throws AccuracyError (with step, object, drift and what to try) if an
+  /// object's volume has drifted past time.max_volume_drift. Separate from
+  /// step(), so that the offending step is recorded before the run stops.
+  void check_volumes() const;
+
+  /// Fills the simulation's part of a checkpoint: time, step, mesh, fields,
+  /// interface histories, and the solver's preconditioner state.
+  void save(io::Checkpoint& checkpoint) const;
+  /// Continues from a checkpoint written by save() for the same case and
+  /// reference mesh (the one this simulation was constructed with).
+  void restore(const io::Checkpoint& checkpoint);
 
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   [[nodiscard]] const physics::StokesSystem& stokes() const { return *stokes_; }
@@ -76,6 +93,8 @@ class DropSimulation {
   [[nodiscard]] const std::vector<mesh::Point>& mesh_velocity() const { return mesh_velocity_; }
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] int steps() const { return steps_; }
+  /// Each object's volume at t = 0 (the reference for the volume drift).
+  [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
 
  private:
   std::vector<std::vector<physics::Vec3>> predict_interfaces() const;
@@ -89,6 +108,9 @@ class DropSimulation {
   void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,
                           const std::vector<physics::Vec3>& centre_velocity, double dt);
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;
+  void check_solution_finite() const;
+  void rebuild_preconditioner(const io::Checkpoint& checkpoint);
+  void rebuild_factorization(const std::vector<mesh::Point>& nodes);
 
   io::CaseConfig config_;
   mesh::Mesh mesh_;
@@ -100,6 +122,12 @@ class DropSimulation {
   std::vector<physics::InterfaceTracker> trackers_;
   std::vector<double> solution_;
   std::vector<physics::Vec3> last_centre_velocity_;
+  std::vector<double> initial_volumes_;
+  // Mesh nodes of the direct solver's first factorisation (its symbolic
+  // analysis) and of the factors in use: see rebuild_preconditioner().
+  std::vector<mesh::Point> analysis_nodes_;
+  std::vector<mesh::Point> factorization_nodes_;
+  int analysis_step_ = 0, factorization_step_ = 0;  // the steps whose solves built them
   double translation_x_ = 0.0;
   double time_ = 0.0;
   int steps_ = 0;

@@ -1,6 +1,7 @@
 // One instantaneous two-phase Stokes solve from a case file: mesh, solve, analyse, write.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 
@@ -13,7 +14,14 @@ namespace softflow::simulation {
 struct RunOptions {
   /// Overrides [output] directory.
   std::optional<std::filesystem::path> output_directory;
+  /// No progress lines; errors only.
   bool quiet = false;
+  /// A run in time checkpoints and stops (RunInterrupted) before this many
+  /// seconds have passed since `started`.
+  std::optional<double> wall_time_limit;
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+  /// Start afresh even where the output directory holds an unfinished run.
+  bool overwrite = false;
 };
 
 /// Meshes the case (rank 0; replicated to all ranks), reports the mesh.

@@ -4,6 +4,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+#include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
 #include "softflow/element/isoparametric.hpp"
@@ -177,6 +178,18 @@ void InterfaceTracker::correct(const std::vector<Vec3>& predicted,
   x_previous_ = x_;
   for (int i = 0; i < n; ++i) x_[i] = x_next.row(i).transpose();
   ++steps_;
+}
+
+void InterfaceTracker::restore(History history) {
+  if (history.x.size() != x_.size() || history.x_previous.size() != x_.size())
+    throw Error(fmt::format("interface history of {} nodes for a surface of {}", history.x.size(),
+                            x_.size()));
+  x_ = std::move(history.x);
+  x_previous_ = std::move(history.x_previous);
+  centre_ = history.centre;
+  centre_previous_ = history.centre_previous;
+  steps_ = history.steps;
+  centre_steps_ = history.centre_steps;
 }
 
 }  // namespace softflow::physics

@@ -53,6 +53,20 @@ class InterfaceTracker {
   /// X of the latest recorded centre (from the predicted surface; initially x_0's).
   [[nodiscard]] const Vec3& centre() const { return centre_; }
 
+  /// What the next steps depend on besides the surface and the settings:
+  /// saved in checkpoints, so that a restarted run continues with BDF2 from
+  /// exactly the same x_n, x_{n-1}, X_n, X_{n-1}.
+  struct History {
+    std::vector<Vec3> x, x_previous;
+    Vec3 centre = Vec3::Zero(), centre_previous = Vec3::Zero();
+    int steps = 0, centre_steps = 0;
+  };
+  [[nodiscard]] History history() const {
+    return {x_, x_previous_, centre_, centre_previous_, steps_, centre_steps_};
+  }
+  /// Continues from a saved history of the same surface (the node count must match).
+  void restore(History history);
+
   /// The redistribution potential c on the surface x (eq. 2.31), mean zero.
   [[nodiscard]] std::vector<double> redistribution_potential(const std::vector<Vec3>& x) const;
 

@@ -45,6 +45,8 @@ class StokesSystem {
   [[nodiscard]] la::OwnershipRange ownership() const { return range_; }
   /// Preconditioner builds so far (LU factorisations with the direct method).
   [[nodiscard]] int n_factorizations() const { return solver_->n_setups(); }
+  /// The solver, for saving and restoring its preconditioner reuse state (restarts).
+  [[nodiscard]] la::SaddlePointSolver& solver() { return *solver_; }
 
   /// Assembles the problem on the current mesh and solves it.
   StokesResult solve(const StokesProblem& problem);

@@ -1,0 +1,438 @@
+#include "softflow/io/checkpoint.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include <fcntl.h>
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+
+namespace softflow::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kFormatName = "softflow-checkpoint";
+
+/// Thrown inside this file on any HDF5 failure; turned into a message that
+/// names the file by the public functions.
+struct Hdf5Failure {
+  std::string what;
+};
+
+[[noreturn]] void fail(std::string what) { throw Hdf5Failure{std::move(what)}; }
+
+hid_t checked(hid_t id, const std::string& what) {
+  if (id < 0) fail(what);
+  return id;
+}
+
+void checked(herr_t status, const char* what, const std::string& name) {
+  if (status < 0) fail(fmt::format("{} '{}'", what, name));
+}
+
+/// An HDF5 identifier that closes itself.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  [[nodiscard]] hid_t get() const { return id_; }
+  /// Closes now and reports failure (a file's close is where data reaches it).
+  herr_t close() {
+    const herr_t status = id_ >= 0 ? close_(id_) : 0;
+    id_ = -1;
+    return status;
+  }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+/// HDF5 prints an error stack to stderr on every failed call unless told not
+/// to; our callers report failures themselves, once, with the file's name.
+class QuietHdf5Errors {
+ public:
+  QuietHdf5Errors() {
+    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
+  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
+  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
+
+ private:
+  H5E_auto2_t function_ = nullptr;
+  void* data_ = nullptr;
+};
+
+Handle make_group(hid_t parent, const std::string& name) {
+  return Handle(checked(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                        "cannot create group " + name),
+                H5Gclose);
+}
+
+Handle open_group(hid_t parent, const std::string& name) {
+  return Handle(checked(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), "missing group " + name),
+                H5Gclose);
+}
+
+// ---- datasets: rows x cols (cols = 0: one-dimensional) ----
+
+void write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
+                 std::size_t rows, std::size_t cols) {
+  const hsize_t dims[2] = {rows, cols};
+  Handle space(checked(H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr), "dataspace " + name),
+               H5Sclose);
+  Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                                H5P_DEFAULT),
+                     "cannot create dataset " + name),
+             H5Dclose);
+  if (rows > 0)
+    checked(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "cannot write", name);
+}
+
+/// Reads a dataset of `cols` columns (0: one-dimensional) into a vector.
+template <class T>
+std::vector<T> read_array(hid_t parent, const std::string& name, hid_t type, std::size_t cols) {
+  Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), "missing dataset " + name),
+             H5Dclose);
+  Handle space(checked(H5Dget_space(set.get()), "dataspace " + name), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  hsize_t dims[2] = {0, 0};
+  if (rank != (cols > 0 ? 2 : 1) || H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0 ||
+      (cols > 0 && dims[1] != cols))
+    fail(fmt::format("dataset {} has the wrong shape", name));
+  std::vector<T> out(dims[0] * (cols > 0 ? cols : 1));
+  if (!out.empty())
+    checked(H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "cannot read",
+            name);
+  return out;
+}
+
+void write_points(hid_t parent, const std::string& name, const std::vector<mesh::Point>& points) {
+  // Eigen::Vector3d is three contiguous doubles, so a vector of them is an n x 3 array.
+  static_assert(sizeof(mesh::Point) == 3 * sizeof(double));
+  write_array(parent, name, H5T_NATIVE_DOUBLE, points.data(), points.size(), 3);
+}
+
+std::vector<mesh::Point> read_points(hid_t parent, const std::string& name) {
+  const auto flat = read_array<double>(parent, name, H5T_NATIVE_DOUBLE, 3);
+  std::vector<mesh::Point> points(flat.size() / 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = mesh::Point(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
+  return points;
+}
+
+void write_point(hid_t parent, const std::string& name, const mesh::Point& p) {
+  write_array(parent, name, H5T_NATIVE_DOUBLE, p.data(), 3, 0);
+}
+
+mesh::Point read_point(hid_t parent, const std::string& name) {
+  const auto v = read_array<double>(parent, name, H5T_NATIVE_DOUBLE, 0);
+  if (v.size() != 3) fail(fmt::format("dataset {} is not a point", name));
+  return mesh::Point(v[0], v[1], v[2]);
+}
+
+template <std::size_t N>
+void write_cells(hid_t parent, const std::string& name,
+                 const std::vector<std::array<int, N>>& cells) {
+  write_array(parent, name, H5T_NATIVE_INT, cells.data(), cells.size(), N);
+}
+
+template <std::size_t N>
+std::vector<std::array<int, N>> read_cells(hid_t parent, const std::string& name) {
+  const auto flat = read_array<int>(parent, name, H5T_NATIVE_INT, N);
+  std::vector<std::array<int, N>> cells(flat.size() / N);
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    std::copy(flat.begin() + i * N, flat.begin() + (i + 1) * N, cells[i].begin());
+  return cells;
+}
+
+// ---- attributes ----
+
+void write_attribute(hid_t object, const std::string& name, hid_t type, const void* value) {
+  Handle space(checked(H5Screate(H5S_SCALAR), "dataspace " + name), H5Sclose);
+  Handle attribute(
+      checked(H5Acreate2(object, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+              "cannot create attribute " + name),
+      H5Aclose);
+  checked(H5Awrite(attribute.get(), type, value), "cannot write attribute", name);
+}
+
+void write_int(hid_t object, const std::string& name, int value) {
+  write_attribute(object, name, H5T_NATIVE_INT, &value);
+}
+void write_double(hid_t object, const std::string& name, double value) {
+  write_attribute(object, name, H5T_NATIVE_DOUBLE, &value);
+}
+void write_string(hid_t object, const std::string& name, const std::string& value) {
+  // Fixed-length, NUL-terminated: readable by h5dump and h5py as plain text.
+  Handle type(checked(H5Tcopy(H5T_C_S1), "string type"), H5Tclose);
+  checked(H5Tset_size(type.get(), value.size() + 1), "string size", name);
+  checked(H5Tset_strpad(type.get(), H5T_STR_NULLTERM), "string padding", name);
+  write_attribute(object, name, type.get(), value.c_str());
+}
+
+Handle open_attribute(hid_t object, const std::string& name) {
+  return Handle(checked(H5Aopen(object, name.c_str(), H5P_DEFAULT), "missing attribute " + name),
+                H5Aclose);
+}
+
+int read_int(hid_t object, const std::string& name) {
+  Handle attribute = open_attribute(object, name);
+  int value = 0;
+  checked(H5Aread(attribute.get(), H5T_NATIVE_INT, &value), "cannot read attribute", name);
+  return value;
+}
+
+double read_double(hid_t object, const std::string& name) {
+  Handle attribute = open_attribute(object, name);
+  double value = 0.0;
+  checked(H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &value), "cannot read attribute", name);
+  return value;
+}
+
+std::string read_string(hid_t object, const std::string& name) {
+  Handle attribute = open_attribute(object, name);
+  Handle type(checked(H5Aget_type(attribute.get()), "type of " + name), H5Tclose);
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0)
+    fail(fmt::format("attribute {} is not a fixed-length string", name));
+  std::string buffer(H5Tget_size(type.get()), '\0');
+  checked(H5Aread(attribute.get(), type.get(), buffer.data()), "cannot read attribute", name);
+  return buffer.substr(0, buffer.find('\0'));
+}
+
+// ---- the mesh ----
+
+void write_mesh(hid_t file, const mesh::Mesh& m) {
+  Handle g = make_group(file, "mesh");
+  write_double(g.get(), "length", m.box.length);
+  write_double(g.get(), "height", m.box.height);
+  write_double(g.get(), "width", m.box.width);
+  write_int(g.get(), "periodic_x", m.box.periodic_x ? 1 : 0);
+  write_int(g.get(), "periodic_z", m.box.periodic_z ? 1 : 0);
+  write_int(g.get(), "n_objects", m.n_objects);
+  write_points(g.get(), "nodes", m.nodes);
+  write_array(g.get(), "is_vertex", H5T_NATIVE_UINT8, m.is_vertex.data(), m.is_vertex.size(), 0);
+  write_cells(g.get(), "tets", m.tets);
+  write_array(g.get(), "tet_region", H5T_NATIVE_INT, m.tet_region.data(), m.tet_region.size(), 0);
+  write_cells(g.get(), "boundary_faces", m.boundary_faces);
+  std::vector<int> tags(m.boundary_face_tag.size());
+  for (std::size_t i = 0; i < tags.size(); ++i) tags[i] = static_cast<int>(m.boundary_face_tag[i]);
+  write_array(g.get(), "boundary_face_tag", H5T_NATIVE_INT, tags.data(), tags.size(), 0);
+  write_cells(g.get(), "interface_faces", m.interface_faces);
+  write_array(g.get(), "interface_object", H5T_NATIVE_INT, m.interface_object.data(),
+              m.interface_object.size(), 0);
+  write_array(g.get(), "periodic_master", H5T_NATIVE_INT, m.periodic_master.data(),
+              m.periodic_master.size(), 0);
+}
+
+mesh::Mesh read_mesh(hid_t file) {
+  Handle g = open_group(file, "mesh");
+  mesh::Mesh m;
+  m.box.length = read_double(g.get(), "length");
+  m.box.height = read_double(g.get(), "height");
+  m.box.width = read_double(g.get(), "width");
+  m.box.periodic_x = read_int(g.get(), "periodic_x") != 0;
+  m.box.periodic_z = read_int(g.get(), "periodic_z") != 0;
+  m.n_objects = read_int(g.get(), "n_objects");
+  m.nodes = read_points(g.get(), "nodes");
+  m.is_vertex = read_array<std::uint8_t>(g.get(), "is_vertex", H5T_NATIVE_UINT8, 0);
+  m.tets = read_cells<10>(g.get(), "tets");
+  m.tet_region = read_array<int>(g.get(), "tet_region", H5T_NATIVE_INT, 0);
+  m.boundary_faces = read_cells<6>(g.get(), "boundary_faces");
+  for (int tag : read_array<int>(g.get(), "boundary_face_tag", H5T_NATIVE_INT, 0))
+    m.boundary_face_tag.push_back(static_cast<mesh::BoundaryTag>(tag));
+  m.interface_faces = read_cells<6>(g.get(), "interface_faces");
+  m.interface_object = read_array<int>(g.get(), "interface_object", H5T_NATIVE_INT, 0);
+  m.periodic_master = read_array<int>(g.get(), "periodic_master", H5T_NATIVE_INT, 0);
+  // Sizes that must agree, or indices below would run off the arrays.
+  const auto n = m.nodes.size();
+  bool ok = m.is_vertex.size() == n && m.tet_region.size() == m.tets.size() &&
+            m.boundary_face_tag.size() == m.boundary_faces.size() &&
+            m.interface_object.size() == m.interface_faces.size() &&
+            (m.periodic_master.empty() || m.periodic_master.size() == n);
+  for (const auto& t : m.tets)
+    for (int i : t) ok = ok && i >= 0 && static_cast<std::size_t>(i) < n;
+  if (!ok) fail("the mesh arrays are inconsistent");
+  return m;
+}
+
+/// Data reaches the disk only with fsync; the rename is durable only once
+/// the directory is synced too.
+void sync_path(const fs::path& path, int flags) {
+  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+  if (fd < 0)
+    fail(fmt::format("cannot open {} to sync it: {}", path.string(), std::strerror(errno)));
+  const int rc = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  if (rc != 0) fail(fmt::format("cannot sync {}: {}", path.string(), std::strerror(err)));
+}
+
+void write_file(const fs::path& path, const Checkpoint& c) {
+  Handle file(checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                      "cannot create the file"),
+              H5Fclose);
+  const hid_t root = file.get();
+  write_string(root, "format", kFormatName);
+  write_int(root, "format_version", c.format_version);
+  write_string(root, "softflow_version", c.softflow_version);
+  write_string(root, "case_toml", c.case_toml);
+  write_string(root, "run_json", c.run_json);
+  write_int(root, "step", c.step);
+  write_double(root, "time", c.time);
+  write_double(root, "dt", c.dt);
+  write_double(root, "translation_x", c.translation_x);
+  write_int(root, "refactor_next", c.refactor_next ? 1 : 0);
+  write_int(root, "n_factorizations", c.n_factorizations);
+  write_int(root, "analysis_step", c.analysis_step);
+  write_int(root, "factorization_step", c.factorization_step);
+  write_mesh(root, c.reference_mesh);
+  {
+    Handle state = make_group(root, "state");
+    write_points(state.get(), "nodes", c.nodes);
+    write_points(state.get(), "previous_nodes", c.previous_nodes);
+    write_points(state.get(), "mesh_velocity", c.mesh_velocity);
+    write_array(state.get(), "solution", H5T_NATIVE_DOUBLE, c.solution.data(), c.solution.size(),
+                0);
+    write_points(state.get(), "analysis_nodes", c.analysis_nodes);
+    write_points(state.get(), "factorization_nodes", c.factorization_nodes);
+  }
+  Handle objects = make_group(root, "objects");
+  write_int(objects.get(), "count", static_cast<int>(c.objects.size()));
+  for (std::size_t k = 0; k < c.objects.size(); ++k) {
+    const auto& o = c.objects[k];
+    Handle g = make_group(objects.get(), std::to_string(k + 1));
+    write_points(g.get(), "x", o.x);
+    write_points(g.get(), "x_previous", o.x_previous);
+    write_point(g.get(), "centre", o.centre);
+    write_point(g.get(), "centre_previous", o.centre_previous);
+    write_point(g.get(), "last_centre_velocity", o.last_centre_velocity);
+    write_int(g.get(), "steps", o.steps);
+    write_int(g.get(), "centre_steps", o.centre_steps);
+  }
+  objects.close();
+  if (file.close() < 0) fail("cannot close the file");
+}
+
+Checkpoint read_file(const fs::path& path) {
+  Handle file(
+      checked(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open it as an HDF5 file"),
+      H5Fclose);
+  const hid_t root = file.get();
+  Checkpoint c;
+  if (H5Aexists(root, "format") <= 0 || read_string(root, "format") != kFormatName)
+    fail("it is not a softflow checkpoint");
+  c.format_version = read_int(root, "format_version");
+  c.softflow_version = read_string(root, "softflow_version");
+  if (c.format_version != kCheckpointFormatVersion)
+    throw InputError(fmt::format(
+        "{}: checkpoint format version {} (written by softflow {}), but this softflow {} reads "
+        "only version {}: continue the run with softflow {}",
+        path.string(), c.format_version, c.softflow_version, SOFTFLOW_VERSION,
+        kCheckpointFormatVersion, c.softflow_version));
+  c.case_toml = read_string(root, "case_toml");
+  c.run_json = read_string(root, "run_json");
+  c.step = read_int(root, "step");
+  c.time = read_double(root, "time");
+  c.dt = read_double(root, "dt");
+  c.translation_x = read_double(root, "translation_x");
+  c.refactor_next = read_int(root, "refactor_next") != 0;
+  c.n_factorizations = read_int(root, "n_factorizations");
+  c.analysis_step = read_int(root, "analysis_step");
+  c.factorization_step = read_int(root, "factorization_step");
+  c.reference_mesh = read_mesh(root);
+  {
+    Handle state = open_group(root, "state");
+    c.nodes = read_points(state.get(), "nodes");
+    c.previous_nodes = read_points(state.get(), "previous_nodes");
+    c.mesh_velocity = read_points(state.get(), "mesh_velocity");
+    c.solution = read_array<double>(state.get(), "solution", H5T_NATIVE_DOUBLE, 0);
+    c.analysis_nodes = read_points(state.get(), "analysis_nodes");
+    c.factorization_nodes = read_points(state.get(), "factorization_nodes");
+  }
+  const std::size_t n = c.reference_mesh.nodes.size();
+  if (c.nodes.size() != n || (!c.analysis_nodes.empty() && c.analysis_nodes.size() != n) ||
+      (!c.previous_nodes.empty() && c.previous_nodes.size() != n) ||
+      (!c.mesh_velocity.empty() && c.mesh_velocity.size() != n) ||
+      (!c.factorization_nodes.empty() && c.factorization_nodes.size() != n))
+    fail("the node arrays do not match the mesh");
+  Handle objects = open_group(root, "objects");
+  const int count = read_int(objects.get(), "count");
+  if (count != c.reference_mesh.n_objects) fail("the object count does not match the mesh");
+  for (int k = 1; k <= count; ++k) {
+    Handle g = open_group(objects.get(), std::to_string(k));
+    CheckpointObject o;
+    o.x = read_points(g.get(), "x");
+    o.x_previous = read_points(g.get(), "x_previous");
+    if (o.x.size() != o.x_previous.size()) fail(fmt::format("object {}: history sizes differ", k));
+    o.centre = read_point(g.get(), "centre");
+    o.centre_previous = read_point(g.get(), "centre_previous");
+    o.last_centre_velocity = read_point(g.get(), "last_centre_velocity");
+    o.steps = read_int(g.get(), "steps");
+    o.centre_steps = read_int(g.get(), "centre_steps");
+    c.objects.push_back(std::move(o));
+  }
+  return c;
+}
+
+}  // namespace
+
+void write_checkpoint(const fs::path& path, const Checkpoint& checkpoint) {
+  QuietHdf5Errors quiet;
+  fs::path tmp = path;
+  tmp += fmt::format(".tmp-{}", ::getpid());
+  try {
+    write_file(tmp, checkpoint);
+    sync_path(tmp, O_RDONLY);
+  } catch (const Hdf5Failure& e) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw Error(fmt::format("cannot write the checkpoint {}: {}", path.string(), e.what));
+  }
+  // The previous checkpoint stays in place until this rename replaces it in one step.
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw Error(fmt::format("cannot write the checkpoint {}: {}", path.string(), ec.message()));
+  }
+  try {
+    sync_path(path.has_parent_path() ? path.parent_path() : fs::path("."), O_RDONLY | O_DIRECTORY);
+  } catch (const Hdf5Failure&) {
+    // The checkpoint is complete and in place; only the rename's durability
+    // across a power cut is in doubt, which is no reason to stop the run.
+  }
+}
+
+Checkpoint read_checkpoint(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(
+        fmt::format("{}: no checkpoint there (the run wrote none yet, or this is not "
+                    "a run's output directory)",
+                    path.string()));
+  QuietHdf5Errors quiet;
+  try {
+    return read_file(path);
+  } catch (const Hdf5Failure& e) {
+    throw InputError(fmt::format("{}: cannot read the checkpoint: {}", path.string(), e.what));
+  }
+}
+
+}  // namespace softflow::io

@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""A run in time never dies silently: each way of failing stops it with the
+documented exit code and a message saying what happened, at which step, where,
+and what to try; the output so far and the last checkpoint stay readable.
+
+Usage: failures.py SOFTFLOW CASE.toml WORK_DIR   (CASE: the coarse drop_short case)
+"""
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+
+def fail(message):
+    print("FAIL: " + message)
+    sys.exit(1)
+
+
+def run(args):
+    return subprocess.run(args, capture_output=True, text=True)
+
+
+def expect_stop(softflow, work, name, text, code, patterns, extra=()):
+    """Runs `text` as a case; checks exit code, message and the kept output."""
+    case = os.path.join(work, name + ".toml")
+    out = os.path.join(work, name)
+    with open(case, "w") as f:
+        f.write(text)
+    result = run([softflow, "run", case, "-o", out, "-q"] + list(extra))
+    if result.returncode != code:
+        fail(f"{name}: exit code {result.returncode}, expected {code}\n{result.stdout}{result.stderr}")
+    for pattern in patterns:
+        if not re.search(pattern, result.stderr):
+            fail(f"{name}: the message lacks /{pattern}/:\n{result.stderr}")
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    with open(os.path.join(out, "progress.json")) as f:
+        progress = json.load(f)
+    if summary["status"] != "stopped" or progress["status"] != "stopped":
+        fail(f"{name}: status {summary['status']} / {progress['status']}, expected stopped")
+    if summary["stop_reason"].split(".")[0] not in result.stderr:
+        fail(f"{name}: summary.json's stop_reason differs from the message")
+    with open(os.path.join(out, "timeseries.csv")) as f:
+        rows = list(csv.DictReader(f))
+    if len(rows) != summary["steps"] + 1:
+        fail(f"{name}: {len(rows)} rows for {summary['steps']} completed steps")
+    print(f"{name}: exit {code}: {result.stderr.strip()[:200]}")
+    return out, summary, result.stderr
+
+
+def main(softflow, case_source, work):
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    base = open(case_source).read()
+
+    # A collapsing element: large Ca and dt tangle the never-remeshed mesh at step 9.
+    text = base.replace("capillary_number = 0.1", "capillary_number = 0.3")
+    text = text.replace("step = 0.05", "step = 0.15")
+    text = text.replace("end = 1.0", "end = 3.0\nmax_volume_drift = 0.5")
+    text += "\n[checkpoint]\ninterval_steps = 2\n"
+    out, summary, message = expect_stop(softflow, work, "collapse", text, 2,
+                                        [r"step \d+ \(t = ", r"element \d+", "quality", "try",
+                                         r"last checkpoint \(step \d+"])
+    failed_at = re.search(r"step (\d+) \(t = ", message).group(1)
+    checkpoint = summary["last_checkpoint"]["step"]
+    if not 0 < checkpoint < int(failed_at):
+        fail(f"collapse: last checkpoint at {checkpoint}, failure at step {failed_at}")
+    # The checkpoint is readable: a restart continues from it and meets the same failure.
+    result = run([softflow, "restart", out, "-q"])
+    if result.returncode != 2 or f"step {failed_at} (t = " not in result.stderr:
+        fail(f"restart after the collapse: exit {result.returncode}: {result.stderr}")
+    print(f"collapse: restart from step {checkpoint} fails again at step {failed_at}")
+
+    # Volume drift past a tight limit (the coarse drop loses ~0.1 % at step 1).
+    text = base.replace("end = 1.0", "end = 1.0\nmax_volume_drift = 0.0005")
+    expect_stop(softflow, work, "volume_drift", text, 6,
+                [r"step 1 \(t = ", "object 1", "volume", "time.max_volume_drift", "[Tt]ry"])
+
+    # A solver that does not converge.
+    text = base + '\n[solver]\ntype = "iterative"\nmax_iterations = 2\n'
+    expect_stop(softflow, work, "no_convergence", text, 3,
+                [r"step 1 \(t = ", "did not converge", "DIVERGED_ITS", "try"])
+
+    # NaN/Inf in the solution from a solver that does not notice: Richardson
+    # overflowing, with no residual test (PETSc options after "--").
+    expect_stop(softflow, work, "not_finite", base, 3,
+                [r"step 1 \(t = ", "not finite", "nan", r"node \d+", "in the matrix", "try"],
+                ["--", "-stokes_ksp_type", "richardson", "-stokes_ksp_richardson_scale", "1e300",
+                 "-stokes_ksp_max_it", "5", "-stokes_ksp_norm_type", "none",
+                 "-stokes_ksp_convergence_test", "skip", "-stokes_pc_type", "none"])
+
+    # An absurd interfacial tension (Ca = 1e-300) blows the interface up in one step.
+    text = base.replace("capillary_number = 0.1", "capillary_number = 1e-300")
+    expect_stop(softflow, work, "blow_up", text, 6, [r"step 1 \(t = ", "object 1", "try"])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(*sys.argv[1:4]))

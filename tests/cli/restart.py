@@ -1,0 +1,192 @@
+#!/usr/bin/env python3
+"""Checkpoint and restart of a run in time, through the command-line program.
+
+Usage: restart.py SOFTFLOW CASE.toml WORK_DIR
+
+1. A reference run of 20 steps.
+2. The same run stopped by a real SIGTERM once it passes step 10: exit code
+   5, a checkpoint, status "interrupted"; `softflow restart` continues it to
+   step 20. Every column of timeseries.csv except the wall time
+   (step_seconds) must equal the reference to round-off, the Stokes
+   iteration counts included: the solver must rebuild the very LU factors
+   it was reusing when stopped. The test forces frequent refactorisations
+   (-stokes_lu_reuse_max_its 5) so that the factors in use at the stop are
+   not the first ones.
+3. A run killed with SIGKILL (no chance to checkpoint) continues from its
+   last periodic checkpoint; its rows past that checkpoint are recomputed.
+   A fresh `run` refuses to overwrite the unfinished directory.
+4. A run stopped by --wall-time-limit exits with 5 and continues too.
+5. A restart refuses a case.toml changed after the checkpoint, and does
+   nothing for a run that is complete.
+"""
+import csv
+import json
+import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+PETSC = ["--", "-stokes_lu_reuse_max_its", "5"]
+INTERRUPTED = 5
+
+
+def fail(message):
+    print("FAIL: " + message)
+    sys.exit(1)
+
+
+def run(args, expect):
+    result = subprocess.run(args, capture_output=True, text=True)
+    if result.returncode != expect:
+        fail(f"{' '.join(args)}: exit code {result.returncode}, expected {expect}\n"
+             f"{result.stdout}\n{result.stderr}")
+    return result
+
+
+def rows(directory):
+    with open(os.path.join(directory, "timeseries.csv")) as f:
+        return list(csv.DictReader(f))
+
+
+def read_json(directory, name):
+    with open(os.path.join(directory, name)) as f:
+        return json.load(f)
+
+
+def stop_when_past(softflow, case, out, step, sig):
+    """Starts a run and sends `sig` once progress.json reports `step`."""
+    process = subprocess.Popen([softflow, "run", case, "-o", out, "-q"] + PETSC,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    progress = os.path.join(out, "progress.json")
+    deadline = time.time() + 120
+    while process.poll() is None and time.time() < deadline:
+        try:
+            with open(progress) as f:
+                if json.load(f)["step"] >= step:
+                    process.send_signal(sig)
+                    break
+        except (OSError, ValueError, KeyError):
+            pass
+        time.sleep(0.01)
+    stdout, stderr = process.communicate(timeout=120)
+    return process.returncode, stdout + stderr
+
+
+def compare(reference, result, what):
+    """Every column but the wall time, to round-off; returns the largest difference."""
+    if len(reference) != len(result):
+        fail(f"{what}: {len(result)} rows, the uninterrupted run has {len(reference)}")
+    worst = 0.0
+    for a, b in zip(reference, result):
+        for column in a:
+            if column == "step_seconds":
+                continue
+            x, y = float(a[column]), float(b[column])
+            difference = abs(x - y)
+            worst = max(worst, difference)
+            if difference > 1e-12 * max(1.0, abs(x)):
+                fail(f"{what}: step {a['step']}, {column}: {y!r} vs {x!r} uninterrupted")
+    print(f"{what}: {len(result)} rows, every column but step_seconds within "
+          f"{worst:.1e} of the uninterrupted run")
+    return worst
+
+
+def main(softflow, case_source, work):
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    with open(case_source) as f:
+        text = f.read()
+    text = text.replace("fields = false", "fields = true")
+    text = text.replace("end = 1.0", "end = 1.0\nfields_interval = 5")
+    text += "\n[checkpoint]\ninterval_steps = 4\n"
+    case = os.path.join(work, "case.toml")
+    with open(case, "w") as f:
+        f.write(text)
+
+    # 1. Uninterrupted.
+    full = os.path.join(work, "full")
+    run([softflow, "run", case, "-o", full, "-q"] + PETSC, 0)
+    reference = rows(full)
+    factorizations = read_json(full, "summary.json")["stokes_factorizations"]
+    if len(reference) != 21:
+        fail(f"the reference run has {len(reference)} rows, expected 21")
+    if factorizations < 3:
+        fail(f"only {factorizations} factorisations: the test would not exercise reused factors")
+
+    # 2. SIGTERM past step 10, then restart.
+    stopped = os.path.join(work, "sigterm")
+    code, output = stop_when_past(softflow, case, stopped, 10, signal.SIGTERM)
+    if code != INTERRUPTED:
+        fail(f"SIGTERM: exit code {code}, expected {INTERRUPTED}\n{output}")
+    if "softflow restart" not in output:
+        fail(f"the interrupted run does not say how to continue:\n{output}")
+    summary = read_json(stopped, "summary.json")
+    at = summary["steps"]
+    if summary["status"] != "interrupted" or summary["last_checkpoint"]["step"] != at or at >= 20:
+        fail(f"after SIGTERM: status {summary['status']}, steps {at}, "
+             f"checkpoint {summary['last_checkpoint']}")
+    if read_json(stopped, "progress.json")["status"] != "interrupted":
+        fail("progress.json does not say the run was interrupted")
+    if len(rows(stopped)) != at + 1:
+        fail(f"the interrupted run's time series has {len(rows(stopped))} rows for {at} steps")
+    print(f"SIGTERM stopped the run at step {at} (exit code {code})")
+    run([softflow, "restart", stopped, "-q"] + PETSC, 0)
+    compare(reference, rows(stopped), "SIGTERM + restart")
+    summary = read_json(stopped, "summary.json")
+    if summary["status"] != "completed" or summary["sessions"] != 2:
+        fail(f"after the restart: status {summary['status']}, sessions {summary['sessions']}")
+    if summary["stokes_factorizations"] != factorizations:
+        fail(f"{summary['stokes_factorizations']} factorisations, uninterrupted {factorizations}")
+    with open(os.path.join(stopped, "fields.pvd")) as f:
+        pvd = f.read()
+    for step in (5, 10, 15, 20):
+        if f"matrix_{step:06d}.vtu" not in pvd:
+            fail(f"fields.pvd lacks step {step} after the restart")
+
+    # 3. SIGKILL: no checkpoint at the stop; the last periodic one (every 4 steps) is used.
+    killed = os.path.join(work, "sigkill")
+    code, output = stop_when_past(softflow, case, killed, 10, signal.SIGKILL)
+    if code != -signal.SIGKILL:
+        fail(f"SIGKILL: exit code {code}")
+    progress = read_json(killed, "progress.json")
+    if progress["status"] != "running" or progress["last_checkpoint"] is None:
+        fail(f"after SIGKILL progress.json says {progress}")
+    result = run([softflow, "run", case, "-o", killed, "-q"], 1)
+    if "softflow restart" not in result.stderr:
+        fail(f"a fresh run over an unfinished one does not point to restart: {result.stderr}")
+    print(f"SIGKILL at step {progress['step']}, checkpoint at {progress['last_checkpoint']['step']}")
+    run([softflow, "restart", killed, "-q"] + PETSC, 0)
+    compare(reference, rows(killed), "SIGKILL + restart")
+
+    # 4. The wall-time limit: a limit shorter than the run.
+    limited = os.path.join(work, "limited")
+    seconds = max(1.0, 0.5 * read_json(full, "summary.json")["wall_seconds"])
+    result = run([softflow, "run", case, "-o", limited, "-q", "--wall-time-limit", f"{seconds:.2f}"]
+                 + PETSC, INTERRUPTED)
+    steps = read_json(limited, "summary.json")["steps"]
+    print(f"--wall-time-limit {seconds:.2f} stopped the run at step {steps}")
+    run([softflow, "restart", limited, "-q"] + PETSC, 0)
+    compare(reference, rows(limited), "wall-time limit + restart")
+
+    # 5. Incompatible case; a complete run.
+    changed = os.path.join(work, "changed")
+    shutil.copytree(killed, changed)
+    case_text = open(os.path.join(changed, "case.toml")).read()
+    with open(os.path.join(changed, "case.toml"), "w") as f:
+        f.write(case_text.replace("capillary_number = 0.1", "capillary_number = 0.2"))
+    result = run([softflow, "restart", changed, "-q"], 1)
+    if "capillary_number" not in result.stderr or "not the case" not in result.stderr:
+        fail(f"a changed case is not refused clearly: {result.stderr}")
+    print("changed case refused: " + result.stderr.strip().splitlines()[0][:160])
+    before = open(os.path.join(full, "timeseries.csv")).read()
+    result = run([softflow, "restart", full], 0)
+    if "nothing to do" not in result.stdout or open(os.path.join(full, "timeseries.csv")).read() != before:
+        fail("restarting a complete run changed it")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(*sys.argv[1:4]))

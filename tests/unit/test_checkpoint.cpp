@@ -1,0 +1,170 @@
+// Checkpoints: an exact round trip through HDF5, atomic replacement, and refusal of files
+// that are not checkpoints of this format or of this softflow version.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/io/case_config.hpp"
+#include "softflow/io/checkpoint.hpp"
+#include "softflow/mesh/structured_box.hpp"
+#include "softflow/simulation/drop_run.hpp"
+
+namespace softflow::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_directory(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / fmt::format("softflow_test_{}_{}", name, ::getpid());
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+/// A checkpoint whose every number differs, with values that do not round-trip through text.
+Checkpoint sample() {
+  Checkpoint c;
+  c.softflow_version = SOFTFLOW_VERSION;
+  c.case_toml = "[case]\nname = \"x\"\n";
+  c.run_json = "{\"a\": 1}";
+  c.step = 17;
+  c.time = 0.1 * 17;
+  c.dt = 0.1;
+  c.translation_x = 1.0 / 3.0;
+  c.reference_mesh = mesh::structured_box({2.0, 1.0, 1.5, true, false}, 2, 1, 2);
+  for (auto& x : c.reference_mesh.nodes)
+    c.nodes.push_back(x * (1.0 + 1e-13) + mesh::Point::Constant(M_PI));
+  c.previous_nodes = c.reference_mesh.nodes;
+  c.mesh_velocity.assign(c.nodes.size(), mesh::Point(1.0 / 9.0, -0.5, 2e-20));
+  c.solution = {1.0 / 7.0, -2e-300, 3e300, 0.0};
+  c.factorization_nodes = c.nodes;
+  c.analysis_nodes = c.reference_mesh.nodes;
+  c.analysis_step = 1;
+  c.factorization_step = 12;
+  c.refactor_next = true;
+  c.n_factorizations = 4;
+  CheckpointObject o;
+  o.x = {mesh::Point(1.0 / 3.0, 2.0, 3.0), mesh::Point(4.0, 5.0, 6.0)};
+  o.x_previous = {mesh::Point(-1.0, -2.0, -3.0), mesh::Point(-4.0, -5.0, 1e-17)};
+  o.centre = mesh::Point(0.1, 0.2, 0.3);
+  o.centre_previous = mesh::Point(0.4, 0.5, 0.6);
+  o.last_centre_velocity = mesh::Point(7.0, 8.0, 9.0);
+  o.steps = 17;
+  o.centre_steps = 16;
+  c.objects = {o};
+  c.reference_mesh.n_objects = 1;
+  return c;
+}
+
+TEST(Checkpoint, RoundTripIsExact) {
+  const auto dir = fresh_directory("roundtrip");
+  const Checkpoint c = sample();
+  write_checkpoint(dir / "checkpoint.h5", c);
+  const Checkpoint r = read_checkpoint(dir / "checkpoint.h5");
+  EXPECT_EQ(r.softflow_version, c.softflow_version);
+  EXPECT_EQ(r.format_version, kCheckpointFormatVersion);
+  EXPECT_EQ(r.case_toml, c.case_toml);
+  EXPECT_EQ(r.run_json, c.run_json);
+  EXPECT_EQ(r.step, c.step);
+  EXPECT_EQ(r.time, c.time);
+  EXPECT_EQ(r.dt, c.dt);
+  EXPECT_EQ(r.translation_x, c.translation_x);
+  EXPECT_EQ(r.nodes, c.nodes);
+  EXPECT_EQ(r.previous_nodes, c.previous_nodes);
+  EXPECT_EQ(r.mesh_velocity, c.mesh_velocity);
+  EXPECT_EQ(r.analysis_step, 1);
+  EXPECT_EQ(r.factorization_step, 12);
+  EXPECT_EQ(r.solution, c.solution);
+  EXPECT_EQ(r.analysis_nodes, c.analysis_nodes);
+  EXPECT_EQ(r.factorization_nodes, c.factorization_nodes);
+  EXPECT_EQ(r.refactor_next, c.refactor_next);
+  EXPECT_EQ(r.n_factorizations, c.n_factorizations);
+  const auto &m = r.reference_mesh, &e = c.reference_mesh;
+  EXPECT_EQ(m.box.length, e.box.length);
+  EXPECT_EQ(m.box.periodic_z, e.box.periodic_z);
+  EXPECT_EQ(m.n_objects, e.n_objects);
+  EXPECT_EQ(m.nodes, e.nodes);
+  EXPECT_EQ(m.is_vertex, e.is_vertex);
+  EXPECT_EQ(m.tets, e.tets);
+  EXPECT_EQ(m.tet_region, e.tet_region);
+  EXPECT_EQ(m.boundary_faces, e.boundary_faces);
+  EXPECT_EQ(m.boundary_face_tag, e.boundary_face_tag);
+  EXPECT_EQ(m.interface_faces, e.interface_faces);
+  EXPECT_EQ(m.periodic_master, e.periodic_master);
+  ASSERT_EQ(r.objects.size(), 1u);
+  EXPECT_EQ(r.objects[0].x, c.objects[0].x);
+  EXPECT_EQ(r.objects[0].x_previous, c.objects[0].x_previous);
+  EXPECT_EQ(r.objects[0].centre, c.objects[0].centre);
+  EXPECT_EQ(r.objects[0].centre_previous, c.objects[0].centre_previous);
+  EXPECT_EQ(r.objects[0].last_centre_velocity, c.objects[0].last_centre_velocity);
+  EXPECT_EQ(r.objects[0].steps, 17);
+  EXPECT_EQ(r.objects[0].centre_steps, 16);
+  fs::remove_all(dir);
+}
+
+TEST(Checkpoint, ReplacesThePreviousOneWithoutLeavingTemporaries) {
+  const auto dir = fresh_directory("replace");
+  Checkpoint c = sample();
+  write_checkpoint(dir / "checkpoint.h5", c);
+  c.step = 18;
+  write_checkpoint(dir / "checkpoint.h5", c);
+  EXPECT_EQ(read_checkpoint(dir / "checkpoint.h5").step, 18);
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 1);
+  fs::remove_all(dir);
+}
+
+std::string read_error(const fs::path& path) {
+  try {
+    read_checkpoint(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Checkpoint, RefusesWhatIsNotACheckpointOfThisFormat) {
+  const auto dir = fresh_directory("refuse");
+  EXPECT_NE(read_error(dir / "none.h5").find("no checkpoint there"), std::string::npos);
+  std::ofstream(dir / "text.h5") << "not HDF5";
+  EXPECT_NE(read_error(dir / "text.h5").find("cannot read the checkpoint"), std::string::npos);
+  Checkpoint c = sample();
+  c.format_version = kCheckpointFormatVersion + 1;
+  write_checkpoint(dir / "future.h5", c);
+  EXPECT_NE(read_error(dir / "future.h5").find("format version"), std::string::npos)
+      << read_error(dir / "future.h5");
+  // A file cut short (a crash mid-copy) is refused, not misread.
+  write_checkpoint(dir / "whole.h5", sample());
+  fs::copy_file(dir / "whole.h5", dir / "cut.h5");
+  fs::resize_file(dir / "cut.h5", fs::file_size(dir / "whole.h5") / 2);
+  EXPECT_NE(read_error(dir / "cut.h5").find("cannot read the checkpoint"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST(Checkpoint, RestartRefusesAnotherSoftflowVersion) {
+  const auto dir = fresh_directory("version");
+  const CaseConfig config = parse_case("[time]\nend = 1.0\n", "case.toml");
+  Checkpoint c = sample();
+  c.softflow_version = "0.0.1-old";
+  c.case_toml = to_toml(config);
+  write_checkpoint(dir / simulation::kCheckpointFile, c);
+  try {
+    simulation::restart_drop_case(config, dir, {});
+    FAIL() << "a checkpoint of another version was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("written by softflow 0.0.1-old"), std::string::npos)
+        << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace softflow::io
