@@ -100,7 +100,9 @@ def main(softflow, case_source, work):
     with open(case_source) as f:
         text = f.read()
     text = text.replace("fields = false", "fields = true")
-    text = text.replace("end = 1.0", "end = 1.0\nfields_interval = 5")
+    # ale_rebuild_quality near 1 rebuilds the mesh-motion operator on the
+    # moved mesh after the first step: a restart must rebuild it there too.
+    text = text.replace("end = 1.0", "end = 1.0\nfields_interval = 5\nale_rebuild_quality = 0.99")
     text += "\n[checkpoint]\ninterval_steps = 4\n"
     case = os.path.join(work, "case.toml")
     with open(case, "w") as f:
@@ -115,6 +117,8 @@ def main(softflow, case_source, work):
         fail(f"the reference run has {len(reference)} rows, expected 21")
     if factorizations < 3:
         fail(f"only {factorizations} factorisations: the test would not exercise reused factors")
+    if read_json(full, "summary.json")["ale_rebuilds"] < 1:
+        fail("the mesh-motion operator was never rebuilt: the test would not exercise its restart")
 
     # 2. SIGTERM past step 10, then restart.
     stopped = os.path.join(work, "sigterm")

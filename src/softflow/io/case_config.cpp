@@ -42,7 +42,8 @@ const std::vector<Section>& schema() {
       {"mesh", {"equator_nodes", "far_size", "growth", "optimize_high_order"}},
       {"solver", {"type", "rtol", "max_iterations", "petsc_options"}},
       {"output", {"directory", "fields"}},
-      {"time", {"step", "end", "fields_interval", "min_quality", "max_volume_drift"}},
+      {"time",
+       {"step", "end", "fields_interval", "min_quality", "max_volume_drift", "ale_rebuild_quality"}},
       {"checkpoint", {"interval_steps", "interval_minutes"}},
       {"interface", {"redistribution_factor", "supg_beta", "semi_implicit_tension"}},
   };
@@ -259,7 +260,7 @@ class Diagnostics {
 
 enum class Read { absent, ok, bad };
 
-enum class Bound { finite, positive, non_negative, open_unit };
+enum class Bound { finite, positive, non_negative, open_unit, unit_from_zero };
 
 bool satisfies(double x, Bound bound) {
   switch (bound) {
@@ -267,6 +268,7 @@ bool satisfies(double x, Bound bound) {
     case Bound::positive: return x > 0.0;
     case Bound::non_negative: return x >= 0.0;
     case Bound::open_unit: return x > 0.0 && x < 1.0;
+    case Bound::unit_from_zero: return x >= 0.0 && x < 1.0;
   }
   return false;
 }
@@ -277,6 +279,7 @@ std::string_view rule(Bound bound) {
     case Bound::positive: return "must be > 0";
     case Bound::non_negative: return "must be >= 0";
     case Bound::open_unit: return "must be in (0, 1)";
+    case Bound::unit_from_zero: return "must be in [0, 1)";
   }
   return "";
 }
@@ -577,6 +580,7 @@ void read_time_and_interface(const toml::table& root, CaseConfig& c, Diagnostics
   t.integer("fields_interval", c.time.fields_interval, 0);
   t.number("min_quality", c.time.min_quality, Bound::open_unit);
   t.number("max_volume_drift", c.time.max_volume_drift, Bound::open_unit);
+  t.number("ale_rebuild_quality", c.time.ale_rebuild_quality, Bound::unit_from_zero);
   TableReader k(section_table(root, "checkpoint", diag), "checkpoint", "checkpoint", diag);
   k.check_keys();
   k.integer("interval_steps", c.checkpoint.interval_steps, 0);
@@ -837,9 +841,10 @@ std::string to_toml(const CaseConfig& c) {
                    c.write_fields);
   s += fmt::format(
       "[time]\nstep = {}\nend = {}\nfields_interval = {}\nmin_quality = {}\nmax_volume_drift = "
-      "{}\n\n",
+      "{}\nale_rebuild_quality = {}\n\n",
       toml_float(c.time.step), toml_float(c.time.end), c.time.fields_interval,
-      toml_float(c.time.min_quality), toml_float(c.time.max_volume_drift));
+      toml_float(c.time.min_quality), toml_float(c.time.max_volume_drift),
+      toml_float(c.time.ale_rebuild_quality));
   s += fmt::format("[checkpoint]\ninterval_steps = {}\ninterval_minutes = {}\n\n",
                    c.checkpoint.interval_steps, toml_float(c.checkpoint.interval_minutes));
   s += fmt::format(

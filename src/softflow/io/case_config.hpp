@@ -39,6 +39,10 @@ struct TimeConfig {
   /// Stop with a diagnosis once an object's volume differs from its initial
   /// volume by more than this fraction.
   double max_volume_drift = 0.01;
+  /// Below this minimum element quality the mesh-motion operator is rebuilt
+  /// on the current mesh (and again after each further 5 % drop), as the
+  /// thesis's incremental ALE does every step; 0 = always the initial mesh.
+  double ale_rebuild_quality = 0.2;
 };
 
 /// [checkpoint]: when a run in time saves its state (checkpoint.h5 in the

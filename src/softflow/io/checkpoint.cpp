@@ -311,6 +311,9 @@ void write_file(const fs::path& path, const Checkpoint& c) {
                 0);
     write_points(state.get(), "analysis_nodes", c.analysis_nodes);
     write_points(state.get(), "factorization_nodes", c.factorization_nodes);
+    write_points(state.get(), "ale_reference_nodes", c.ale_reference_nodes);
+    write_double(state.get(), "ale_rebuilt_at_quality", c.ale_rebuilt_at_quality);
+    write_int(state.get(), "ale_rebuilds", c.ale_rebuilds);
   }
   Handle objects = make_group(root, "objects");
   write_int(objects.get(), "count", static_cast<int>(c.objects.size()));
@@ -364,12 +367,16 @@ Checkpoint read_file(const fs::path& path) {
     c.solution = read_array<double>(state.get(), "solution", H5T_NATIVE_DOUBLE, 0);
     c.analysis_nodes = read_points(state.get(), "analysis_nodes");
     c.factorization_nodes = read_points(state.get(), "factorization_nodes");
+    c.ale_reference_nodes = read_points(state.get(), "ale_reference_nodes");
+    c.ale_rebuilt_at_quality = read_double(state.get(), "ale_rebuilt_at_quality");
+    c.ale_rebuilds = read_int(state.get(), "ale_rebuilds");
   }
   const std::size_t n = c.reference_mesh.nodes.size();
   if (c.nodes.size() != n || (!c.analysis_nodes.empty() && c.analysis_nodes.size() != n) ||
       (!c.previous_nodes.empty() && c.previous_nodes.size() != n) ||
       (!c.mesh_velocity.empty() && c.mesh_velocity.size() != n) ||
-      (!c.factorization_nodes.empty() && c.factorization_nodes.size() != n))
+      (!c.factorization_nodes.empty() && c.factorization_nodes.size() != n) ||
+      (!c.ale_reference_nodes.empty() && c.ale_reference_nodes.size() != n))
     fail("the node arrays do not match the mesh");
   Handle objects = open_group(root, "objects");
   const int count = read_int(objects.get(), "count");

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -11,7 +12,7 @@ namespace softflow::io {
 
 /// Bumped whenever the layout below changes; a checkpoint of another format
 /// version is refused rather than misread.
-inline constexpr int kCheckpointFormatVersion = 1;
+inline constexpr int kCheckpointFormatVersion = 2;
 
 /// One interface's tracking history: what BDF2 and the centre-velocity
 /// formula need besides the current positions (thesis eqs. 2.49-2.52).
@@ -40,6 +41,8 @@ struct CheckpointObject {
 ///   /state/solution   velocity and pressure at t_n (every dof)
 ///   /state/previous_nodes, /state/mesh_velocity   at t_{n-1}; u_m of the last step
 ///   /state/analysis_nodes, /state/factorization_nodes   see below
+///   /state/ale_reference_nodes   where the ALE operator was built; attributes
+///                     ale_rebuilt_at_quality, ale_rebuilds (format version 2)
 ///   /objects/<k>/     x, x_previous, centre, centre_previous,
 ///                     last_centre_velocity; attributes steps, centre_steps
 struct Checkpoint {
@@ -54,6 +57,11 @@ struct Checkpoint {
   double translation_x = 0.0;  ///< the mesh's accumulated translation with the drop (Step 2)
 
   mesh::Mesh reference_mesh;       ///< the initial mesh: a restart does not re-mesh
+  /// Where the mesh-motion operator was last built (the initial nodes until
+  /// time.ale_rebuild_quality triggers a rebuild), and the quality then.
+  std::vector<mesh::Point> ale_reference_nodes;
+  double ale_rebuilt_at_quality = std::numeric_limits<double>::infinity();
+  int ale_rebuilds = 0;
   std::vector<mesh::Point> nodes;  ///< the moved mesh at t_n
   std::vector<mesh::Point>
       previous_nodes;  ///< at t_{n-1}, for the BDF2 mesh velocity (empty at step 0)

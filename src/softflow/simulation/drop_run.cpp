@@ -238,6 +238,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
                                  {"analysis", total.analysis * per_step}};
   summary["stokes_iterations_per_step"] = static_cast<double>(ledger.stokes_iterations) * per_step;
   summary["stokes_factorizations"] = sim.stokes().n_factorizations();
+  summary["ale_rebuilds"] = sim.ale_rebuilds();
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& o : last.objects) {
     const double v0 = sim.initial_volumes().at(o.object - 1);

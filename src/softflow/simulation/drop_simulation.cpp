@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <utility>
 
@@ -26,7 +27,10 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
-    : config_(config), mesh_(std::move(mesh)), reference_nodes_(mesh_.nodes) {
+    : config_(config),
+      mesh_(std::move(mesh)),
+      initial_nodes_(mesh_.nodes),
+      reference_nodes_(mesh_.nodes) {
   stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_));
   ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
   physics::InterfaceTrackerSettings tracking;
@@ -41,6 +45,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
   }
   last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
   mesh_velocity_.assign(mesh_.n_nodes(), mesh::Point::Zero());
+  last_quality_ = mesh::min_quality(mesh_);
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
 }
@@ -170,7 +175,10 @@ void DropSimulation::save(io::Checkpoint& c) const {
   c.dt = config_.time.step;
   c.translation_x = translation_x_;
   c.reference_mesh = mesh_;
-  c.reference_mesh.nodes = reference_nodes_;
+  c.reference_mesh.nodes = initial_nodes_;
+  c.ale_reference_nodes = reference_nodes_;
+  c.ale_rebuilt_at_quality = ale_rebuilt_at_quality_;
+  c.ale_rebuilds = ale_rebuilds_;
   c.nodes = mesh_.nodes;
   c.previous_nodes = previous_nodes_;
   c.mesh_velocity = mesh_velocity_;
@@ -214,6 +222,16 @@ void DropSimulation::restore(const io::Checkpoint& c) {
   mesh_velocity_ = c.mesh_velocity.empty() ? std::vector<mesh::Point>(n, mesh::Point::Zero())
                                            : c.mesh_velocity;
   solution_ = c.solution;
+  last_quality_ = mesh::min_quality(mesh_);
+  ale_rebuilt_at_quality_ = c.ale_rebuilt_at_quality;
+  ale_rebuilds_ = c.ale_rebuilds;
+  if (!c.ale_reference_nodes.empty() && c.ale_reference_nodes != initial_nodes_) {
+    // The mesh-motion operator was rebuilt on a later mesh: build it there again.
+    reference_nodes_ = c.ale_reference_nodes;
+    mesh::Mesh reference = mesh_;
+    reference.nodes = reference_nodes_;
+    ale_ = std::make_unique<physics::AleMeshMotion>(reference);
+  }
 }
 
 void DropSimulation::rebuild_preconditioner(const io::Checkpoint& c) {
@@ -278,7 +296,27 @@ std::vector<Vec3> DropSimulation::translate_mesh(const std::vector<std::vector<V
   return u;
 }
 
+void DropSimulation::rebuild_ale_if_degraded() {
+  // The thesis solves the mesh motion on the current mesh every step, so
+  // that k_e = 1/V_e stiffens the elements that have shrunk. softflow keeps
+  // the initial mesh's operator, factored once, while the mesh is good, and
+  // rebuilds it on the current mesh when the quality falls below
+  // time.ale_rebuild_quality, then after each further 5 % drop: the same
+  // effect at a few factorisations per run. The displacement is then taken
+  // from the current mesh (the new reference) and the translation restarts.
+  const double threshold = config_.time.ale_rebuild_quality;
+  if (threshold <= 0.0 || steps_ == 0 || last_quality_ >= threshold ||
+      last_quality_ >= 0.95 * ale_rebuilt_at_quality_)
+    return;
+  reference_nodes_ = mesh_.nodes;
+  translation_x_ = 0.0;
+  ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
+  ale_rebuilt_at_quality_ = last_quality_;
+  ++ale_rebuilds_;
+}
+
 double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat, double dt) {
+  rebuild_ale_if_degraded();
   // Total displacement from the reference mesh: d1 (translation) + d2, with
   // d2 = x_hat - x_ref - d1 on the interfaces and 0 on the outer boundary.
   const Vec3 d1(translation_x_, 0.0, 0.0);
@@ -298,6 +336,7 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   mesh_velocity_ = physics::bdf_mesh_velocity(moved, mesh_.nodes, previous_nodes_, dt);
   previous_nodes_ = std::exchange(mesh_.nodes, std::move(moved));
   const double quality = mesh::min_quality(mesh_);
+  last_quality_ = quality;
   if (quality < config_.time.min_quality) {
     const int worst = mesh::worst_tet(mesh_);
     const auto& x = mesh_.nodes[mesh_.tets[worst][0]];

@@ -1,6 +1,7 @@
 // The ALE time loop for drops in shear: thesis §2.3.3, Steps 1-5, each a named stage.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -92,6 +93,8 @@ class DropSimulation {
   /// u_m at every geometry node over the last step (BDF1, then BDF2; zero before any step).
   [[nodiscard]] const std::vector<mesh::Point>& mesh_velocity() const { return mesh_velocity_; }
   [[nodiscard]] double time() const { return time_; }
+  /// How often the mesh-motion operator was rebuilt on the current mesh.
+  [[nodiscard]] int ale_rebuilds() const { return ale_rebuilds_; }
   [[nodiscard]] int steps() const { return steps_; }
   /// Each object's volume at t = 0 (the reference for the volume drift).
   [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
@@ -100,6 +103,7 @@ class DropSimulation {
   std::vector<std::vector<physics::Vec3>> predict_interfaces() const;
   std::vector<physics::Vec3> translate_mesh(const std::vector<std::vector<physics::Vec3>>& x_hat,
                                             double dt);
+  void rebuild_ale_if_degraded();
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
                    StageSeconds& stages);
@@ -114,7 +118,8 @@ class DropSimulation {
 
   io::CaseConfig config_;
   mesh::Mesh mesh_;
-  std::vector<mesh::Point> reference_nodes_;
+  std::vector<mesh::Point> initial_nodes_;    // the mesh as meshed: what a restart starts from
+  std::vector<mesh::Point> reference_nodes_;  // where the ALE operator was built
   std::vector<mesh::Point> previous_nodes_;  // x at t_{n-1}: empty before the first step
   std::vector<mesh::Point> mesh_velocity_;
   std::unique_ptr<physics::StokesSystem> stokes_;
@@ -123,6 +128,9 @@ class DropSimulation {
   std::vector<double> solution_;
   std::vector<physics::Vec3> last_centre_velocity_;
   std::vector<double> initial_volumes_;
+  double last_quality_ = 1.0;  // minimum element quality of the current mesh
+  double ale_rebuilt_at_quality_ = std::numeric_limits<double>::infinity();
+  int ale_rebuilds_ = 0;
   // Mesh nodes of the direct solver's first factorisation (its symbolic
   // analysis) and of the factors in use: see rebuild_preconditioner().
   std::vector<mesh::Point> analysis_nodes_;
