@@ -2,6 +2,7 @@
 //
 //   softflow run examples/drop_shear.toml          solve, write output/<case>/
 //   softflow restart output/drop_shear             continue a run from its checkpoint
+//   softflow sweep examples/sweep_ca.toml -j 2     every combination of listed parameters
 //   softflow mesh examples/drop_shear.toml         mesh only, report sizes and quality
 //   softflow check examples/drop_shear.toml        validate the case file
 //   softflow theory --lambda 1.4 --ca 0.2          Taylor, Chaffey-Brenner, ... values
@@ -23,7 +24,9 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -35,8 +38,10 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/case_config.hpp"
+#include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/stokes_run.hpp"
+#include "softflow/simulation/sweep.hpp"
 
 namespace {
 
@@ -99,6 +104,40 @@ std::string parse_duration(const std::string& text, double& seconds) {
   return "";
 }
 
+bool is_sweep_file(const std::filesystem::path& path) {
+  try {
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return !softflow::io::sweep_parameters(text.str(), path.string()).empty();
+  } catch (const std::exception&) {
+    return false;  // the case reader reports the problem
+  }
+}
+
+/// A case file with lists is a sweep: say so rather than "must be a number".
+softflow::io::CaseConfig read_case(const std::filesystem::path& path) {
+  try {
+    return softflow::io::read_case_file(path);
+  } catch (const softflow::InputError&) {
+    std::vector<softflow::io::SweepParameter> varied;
+    try {
+      std::ifstream in(path);
+      std::ostringstream text;
+      text << in.rdbuf();
+      varied = softflow::io::sweep_parameters(text.str(), path.string());
+    } catch (const std::exception&) {
+    }
+    if (varied.empty()) throw;
+    std::string names;
+    for (const auto& p : varied) names += (names.empty() ? "" : ", ") + p.path;
+    throw softflow::InputError(fmt::format(
+        "{}: {} {} a list of values, which makes the file a parameter sweep: run it with "
+        "`softflow sweep {}` (or give one value for a single run)",
+        path.string(), names, varied.size() == 1 ? "is" : "are", path.string()));
+  }
+}
+
 int report(const char* kind, const std::exception& e, int code) {
   if (is_root()) std::cerr << "softflow: " << kind << e.what() << "\n";
   return code;
@@ -158,6 +197,18 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a case file and print the resolved case");
   check->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
 
+  int jobs = 1;
+  auto* sweep = app.add_subcommand(
+      "sweep",
+      "run every combination of the parameters a case file gives as lists (e.g. capillary_number "
+      "= [0.05, 0.1, 0.2]), each in its own subdirectory; then one table and plot of the final "
+      "values against theory. Re-running skips finished cases and resumes interrupted ones");
+  sweep->add_option("case", case_file, "case file (TOML) with lists")->required()->check(CLI::ExistingFile);
+  sweep->add_option("-j,--jobs", jobs, "cases run at the same time (each on one core)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  sweep->add_flag("-q,--quiet", quiet, "print nothing but errors");
+
   double lambda = 1.0, ca = 0.1;
   auto* theory = app.add_subcommand(
       "theory", "small-deformation theory: Taylor D (eq. 1.1), Chaffey-Brenner theta (eq. 2.59), ...");
@@ -185,6 +236,41 @@ int main(int argc, char** argv) {
     options.wall_time_limit = seconds;
   }
 
+  if (*check && is_sweep_file(case_file)) {  // every combination validated, none run
+    try {
+      std::ifstream in(case_file);
+      std::ostringstream text;
+      text << in.rdbuf();
+      const auto expanded = softflow::io::expand_sweep(text.str(), case_file);
+      for (const auto& c : expanded.cases) softflow::geometry::validate(c.config.shear_cell_spec());
+      std::cout << fmt::format("# a sweep of {} cases, every one valid; softflow sweep runs them in {}/\n",
+                               expanded.cases.size(), expanded.directory);
+      for (const auto& c : expanded.cases) std::cout << "#   " << c.label << "\n";
+      std::cout << "# the first case, resolved:\n" << softflow::io::to_toml(expanded.cases.front().config);
+      return kOk;
+    } catch (const softflow::InputError& e) {
+      std::cerr << "softflow: " << e.what() << "\n";
+      return kInputError;
+    }
+  }
+
+  if (*sweep) {  // no PETSc here: each case is its own softflow process
+    try {
+      softflow::simulation::SweepOptions sweep_options;
+      sweep_options.jobs = jobs;
+      sweep_options.quiet = quiet;
+      sweep_options.softflow = std::filesystem::read_symlink("/proc/self/exe");
+      for (std::size_t i = 1; i < petsc.size(); ++i) sweep_options.petsc_args.emplace_back(petsc[i]);
+      return softflow::simulation::run_sweep(case_file, sweep_options);
+    } catch (const softflow::InputError& e) {
+      std::cerr << "softflow: " << e.what() << "\n";
+      return kInputError;
+    } catch (const std::exception& e) {
+      std::cerr << "softflow: error: " << e.what() << "\n";
+      return kOtherError;
+    }
+  }
+
   if (*theory) {  // no PETSc, no case file: a pure query
     try {
       std::cout << softflow::analysis::theory::theory_table(lambda, ca);
@@ -200,7 +286,7 @@ int main(int argc, char** argv) {
     try {
       // A restart's case is the resolved case.toml its run wrote (checked
       // against the checkpoint's own copy before anything else happens).
-      const auto config = softflow::io::read_case_file(
+      const auto config = read_case(
           *restart ? std::filesystem::path(run_dir) / "case.toml" : std::filesystem::path(case_file));
       insert_case_petsc_options(config);
       if (*restart) {

@@ -290,7 +290,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   const int first_step = sim.steps();
   StopRequests stop_requests;
   auto last_checkpoint_clock = Clock::now();
-  double longest_step = 0.0, checkpoint_seconds = 0.0;
+  double longest_step = 0.0, checkpoint_seconds = 0.0, checkpoint_bytes = 0.0;
   const double earlier_wall_seconds = ledger.wall_seconds;
 
   auto write_checkpoint = [&] {
@@ -304,6 +304,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       c.case_toml = io::to_toml(config);
       c.run_json = to_json(saved).dump();
       io::write_checkpoint(directory / kCheckpointFile, c);
+      checkpoint_bytes = static_cast<double>(fs::file_size(directory / kCheckpointFile));
     });
     checkpoint = {sim.steps(), sim.time()};
     last_checkpoint_clock = Clock::now();
@@ -391,7 +392,9 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   }
 
   ledger.wall_seconds = earlier_wall_seconds + seconds_since(session_start);
-  const auto summary = make_summary(config, sim, ledger, last, status, stop_reason, checkpoint);
+  auto summary = make_summary(config, sim, ledger, last, status, stop_reason, checkpoint);
+  if (checkpoint_bytes > 0)  // what a checkpoint costs: the last one written in this session
+    summary["checkpoint_cost"] = {{"bytes", checkpoint_bytes}, {"seconds", checkpoint_seconds}};
   on_root_sharing_failure([&] {
     const bool written =
         config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;

@@ -1,0 +1,431 @@
+#include "softflow/simulation/sweep.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <array>
+#include <map>
+#include <sstream>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "softflow/analysis/theory/small_deformation.hpp"
+#include "softflow/common/error.hpp"
+#include "softflow/geometry/shear_cell.hpp"
+#include "softflow/io/output_directory.hpp"
+
+extern char** environ;
+
+namespace softflow::simulation {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kInterrupted = 5;     // main.cpp's exit code of a run stopped on request
+constexpr int kFailedEarlier = -2;  // a case skipped because it failed in an earlier sweep
+
+// ---------------------------------------------------------------------------
+// Stop requests: installed without SA_RESTART, so that waitpid returns at once.
+
+volatile std::sig_atomic_t g_signal = 0;
+
+void on_signal(int signal) { g_signal = signal; }
+
+class SweepSignals {
+ public:
+  SweepSignals() {
+    g_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = on_signal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = 0;
+    for (std::size_t i = 0; i < kSignals.size(); ++i)
+      sigaction(kSignals[i], &action, &previous_[i]);
+  }
+  ~SweepSignals() {
+    for (std::size_t i = 0; i < kSignals.size(); ++i)
+      sigaction(kSignals[i], &previous_[i], nullptr);
+  }
+  SweepSignals(const SweepSignals&) = delete;
+  SweepSignals& operator=(const SweepSignals&) = delete;
+
+ private:
+  static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGUSR1};
+  std::array<struct sigaction, 3> previous_{};
+};
+
+// ---------------------------------------------------------------------------
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+nlohmann::json read_summary(const fs::path& run_directory) {
+  std::ifstream in(run_directory / "summary.json");
+  if (!in) return nullptr;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nullptr;
+  }
+}
+
+std::string status_of(const fs::path& run_directory) {
+  const auto summary = read_summary(run_directory);
+  return summary.is_object() ? summary.value("status", "") : "";
+}
+
+/// Starts `args` with stdout and stderr appended to `log`.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | O_APPEND, 0644);
+  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, args.front().c_str(), &files, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  if (rc != 0) throw Error(fmt::format("cannot start {}: {}", args.front(), std::strerror(rc)));
+  return pid;
+}
+
+/// The last non-empty line of a log: usually the case's error message.
+std::string last_line(const fs::path& log) {
+  std::istringstream lines(read_text(log));
+  std::string line, last;
+  while (std::getline(lines, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+std::string format_number(double x) {
+  return std::isfinite(x) ? fmt::format("{:.6g}", x) : std::string();
+}
+
+// ---------------------------------------------------------------------------
+// The table of results.
+
+struct Row {
+  std::string label;
+  std::vector<std::string> values;  // one per parameter
+  std::string status;
+  int object = 0;
+  nlohmann::json numbers;  // column -> number
+};
+
+const std::vector<std::string>& numeric_columns() {
+  static const std::vector<std::string> columns = {"steps",       "t",
+                                                   "D",           "theta_deg",
+                                                   "L",           "B",
+                                                   "W",           "volume_drift",
+                                                   "taylor_D",    "chaffey_brenner_theta_deg",
+                                                   "wall_seconds"};
+  return columns;
+}
+
+std::vector<Row> collect(const io::Sweep& sweep, const fs::path& directory) {
+  std::vector<Row> rows;
+  for (const auto& c : sweep.cases) {
+    std::vector<std::string> values;
+    for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
+      values.push_back(sweep.parameters[p].labels[c.choice[p]]);
+    const auto summary = read_summary(directory / c.label);
+    if (!summary.is_object() || !summary.contains("final")) {
+      rows.push_back(
+          {c.label, values, fs::exists(directory / c.label) ? "running" : "not run", 0, {}});
+      continue;
+    }
+    for (const auto& o : summary["final"]) {
+      Row row{c.label, values, summary.value("status", ""), o.value("object", 0), {}};
+      row.numbers["steps"] = summary.value("steps", 0);
+      row.numbers["t"] = summary.value("time", 0.0);
+      row.numbers["wall_seconds"] = summary.value("wall_seconds", 0.0);
+      for (const char* k : {"D", "theta_deg", "L", "B", "W", "volume_drift"})
+        if (o.contains(k)) row.numbers[k] = o[k];
+      for (const auto& t : summary.value("theory", nlohmann::json::array()))
+        if (t.value("object", 0) == row.object) {
+          row.numbers["taylor_D"] = t.value("taylor_D", 0.0);
+          row.numbers["chaffey_brenner_theta_deg"] = t.value("chaffey_brenner_theta_deg", 0.0);
+        }
+      rows.push_back(std::move(row));
+    }
+  }
+  return rows;
+}
+
+void write_tables(const io::Sweep& sweep, const std::vector<Row>& rows, const fs::path& directory) {
+  std::string csv = "case";
+  std::string md = "| case";
+  for (const auto& p : sweep.parameters) {
+    csv += "," + p.name;
+    md += " | " + p.name;
+  }
+  csv += ",status,object";
+  md += " | status | object";
+  for (const auto& c : numeric_columns()) {
+    csv += "," + c;
+    md += " | " + c;
+  }
+  csv += "\n";
+  md += " |\n|---|";
+  for (std::size_t i = 0; i < sweep.parameters.size() + 2 + numeric_columns().size(); ++i)
+    md += "---|";
+  md += "\n";
+  for (const auto& r : rows) {
+    csv += r.label;
+    md += "| " + r.label;
+    for (const auto& v : r.values) {
+      csv += "," + v;
+      md += " | " + v;
+    }
+    csv += fmt::format(",{},{}", r.status, r.object);
+    md += fmt::format(" | {} | {}", r.status, r.object);
+    for (const auto& c : numeric_columns()) {
+      const std::string v = r.numbers.contains(c)
+                                ? (c == "steps" ? std::to_string(r.numbers[c].get<int>())
+                                                : format_number(r.numbers[c].get<double>()))
+                                : "";
+      csv += "," + v;
+      md += " | " + v;
+    }
+    csv += "\n";
+    md += " |\n";
+  }
+  const std::string intro = fmt::format(
+      "# Sweep {}\n\nFinal values of each case (the last step: run long enough for them to be "
+      "steady) beside small-deformation theory: Taylor D and Chaffey-Brenner theta. Written by "
+      "`softflow sweep`; the plot is sweep.png.\n\n",
+      sweep.name);
+  io::write_text_file_atomically(directory / "sweep.csv", csv);
+  io::write_text_file_atomically(directory / "sweep.md", intro + md);
+}
+
+/// Taylor and Chaffey-Brenner along the first parameter, when it is object
+/// 1's capillary number or viscosity ratio: one curve per combination of
+/// the other parameters. Returns false when there is no such curve.
+bool write_theory_curve(const io::Sweep& sweep, const fs::path& directory) {
+  if (sweep.parameters.empty()) return false;
+  const auto& x = sweep.parameters.front();
+  const bool ca = x.path == "objects[1].capillary_number";
+  const bool lambda = x.path == "objects[1].viscosity_ratio";
+  if (!ca && !lambda) return false;
+  double lo = 0.0, hi = 0.0;
+  for (double v : x.numbers) hi = std::max(hi, v);
+  if (!(hi > 0)) return false;
+  if (lambda) {
+    lo = *std::min_element(x.numbers.begin(), x.numbers.end());
+    lo = std::max(lo / 2, 1e-3);
+  }
+  hi *= 1.1;
+  std::string csv = "group," + x.name + ",taylor_D,chaffey_brenner_theta_deg\n";
+  std::map<std::string, bool> done;
+  for (const auto& c : sweep.cases) {
+    std::string group;
+    for (std::size_t p = 1; p < sweep.parameters.size(); ++p)
+      group += (group.empty() ? "" : " ") + sweep.parameters[p].name + "=" +
+               sweep.parameters[p].labels[c.choice[p]];
+    if (done[group] || c.config.objects.empty()) continue;
+    done[group] = true;
+    const auto& o = c.config.objects.front();
+    const double fixed_ca = o.capillary_number.value_or(0.1);
+    constexpr int kPoints = 60;
+    for (int i = 0; i <= kPoints; ++i) {
+      const double v = ca ? hi * i / kPoints : lo * std::pow(hi / lo, double(i) / kPoints);
+      const double l = lambda ? v : o.viscosity_ratio;
+      const double k = ca ? v : fixed_ca;
+      csv += fmt::format("{},{:.8g},{:.8g},{:.8g}\n", group, v,
+                         analysis::theory::taylor_deformation(l, k),
+                         analysis::theory::chaffey_brenner_angle_deg(l, k));
+    }
+  }
+  io::write_text_file_atomically(directory / "sweep_theory.csv", csv);
+  return true;
+}
+
+void plot(const fs::path& directory, bool quiet) {
+  const fs::path script = fs::path(SOFTFLOW_SOURCE_DIR) / "scripts" / "plot_sweep.py";
+  if (!fs::exists(script)) return;
+  const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",
+                                          script.string(), directory.string());
+  if (std::system(command.c_str()) != 0 && !quiet)
+    fmt::print(stderr, "softflow: warning: could not draw sweep.png (needs python3-matplotlib)\n");
+}
+
+struct Job {
+  std::size_t index;
+  Clock::time_point start;
+};
+
+}  // namespace
+
+int run_sweep(const fs::path& case_file, const SweepOptions& options) {
+  std::error_code ec;
+  if (fs::is_directory(case_file, ec))
+    throw InputError(fmt::format("{}: is a directory, not a case file", case_file.string()));
+  const std::string text = read_text(case_file);
+  if (text.empty() && !fs::exists(case_file, ec))
+    throw InputError(
+        fmt::format("{}: cannot open the case file (does it exist?)", case_file.string()));
+  const io::Sweep sweep = io::expand_sweep(text, case_file.string());
+  if (sweep.parameters.empty())
+    throw InputError(fmt::format(
+        "{}: no parameter is a list, so there is nothing to sweep: give one or more as lists, "
+        "e.g. capillary_number = [0.05, 0.1, 0.2] under [[objects]]; one case runs with softflow "
+        "run",
+        case_file.string()));
+  for (const auto& c : sweep.cases) {
+    try {
+      geometry::validate(c.config.shear_cell_spec());  // overlaps, walls: before any case runs
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("[sweep case {}] {}", c.label, e.what()));
+    }
+  }
+  for (const auto& c : sweep.cases)
+    if (!(c.config.time.end > 0))
+      throw InputError(
+          fmt::format("{} [sweep case {}]: time.end = {}: a sweep tabulates runs in "
+                      "time, so time.end must be > 0",
+                      case_file.string(), c.label, c.config.time.end));
+  if (options.jobs < 1)
+    throw InputError(fmt::format("--jobs {}: must be at least 1", options.jobs));
+
+  const fs::path directory = sweep.directory;
+  for (const auto& d : {directory, directory / "cases", directory / "logs"}) {
+    fs::create_directories(d, ec);
+    if (ec) throw Error(fmt::format("cannot create {}: {}", d.string(), ec.message()));
+  }
+  io::write_text_file_atomically(directory / "sweep.toml", text);
+  nlohmann::json record = {{"name", sweep.name},
+                           {"parameters", nlohmann::json::array()},
+                           {"cases", nlohmann::json::array()}};
+  for (const auto& p : sweep.parameters)
+    record["parameters"].push_back({{"path", p.path}, {"name", p.name}, {"values", p.labels}});
+  for (const auto& c : sweep.cases) record["cases"].push_back(c.label);
+  io::write_text_file_atomically(directory / "sweep.json", record.dump(2) + "\n");
+
+  const std::size_t n = sweep.cases.size();
+  if (!options.quiet)
+    fmt::print(
+        "sweep {}: {} cases of {}, {} at a time, in {}\n", sweep.name, n,
+        [&] {
+          std::string s;
+          for (const auto& p : sweep.parameters)
+            s += (s.empty() ? "" : " x ") + fmt::format("{} ({})", p.path, p.labels.size());
+          return s;
+        }(),
+        options.jobs, directory.string());
+
+  SweepSignals signals;
+  std::map<pid_t, Job> running;
+  std::vector<int> exit_codes(n, -1);
+  std::size_t next = 0;
+  int stop_signal = 0;
+  auto say = [&](std::size_t i, const std::string& what) {
+    if (!options.quiet) fmt::print("[{}/{}] {}: {}\n", i + 1, n, sweep.cases[i].label, what);
+    std::fflush(stdout);
+  };
+  while (true) {
+    while (stop_signal == 0 && running.size() < static_cast<std::size_t>(options.jobs) &&
+           next < n) {
+      const std::size_t i = next++;
+      const auto& c = sweep.cases[i];
+      const fs::path case_path = directory / "cases" / (c.label + ".toml");
+      const fs::path out = directory / c.label;
+      const fs::path log = directory / "logs" / (c.label + ".log");
+      const bool same_case = read_text(case_path) == c.toml_text;
+      const std::string status = same_case ? status_of(out) : "";
+      if (status == "completed" || status == "stopped") {
+        exit_codes[i] = status == "completed" ? 0 : kFailedEarlier;
+        say(i, status == "completed" ? "completed earlier, skipped"
+                                     : "failed earlier, skipped (delete its directory to retry)");
+        continue;
+      }
+      std::vector<std::string> args{options.softflow.string()};
+      std::string action;
+      if (same_case && fs::exists(out / "checkpoint.h5", ec)) {
+        args.insert(args.end(), {"restart", out.string(), "-q"});
+        action = "restarted from its checkpoint";
+      } else {
+        io::write_text_file_atomically(case_path, c.toml_text);
+        args.insert(args.end(),
+                    {"run", case_path.string(), "-o", out.string(), "-q", "--overwrite"});
+        action = "started";
+      }
+      if (!options.petsc_args.empty()) {
+        args.push_back("--");
+        args.insert(args.end(), options.petsc_args.begin(), options.petsc_args.end());
+      }
+      const pid_t pid = spawn(args, log);
+      running[pid] = {i, Clock::now()};
+      say(i, action);
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno != EINTR) throw Error(fmt::format("waitpid: {}", std::strerror(errno)));
+      if (g_signal != 0 && stop_signal == 0) {
+        stop_signal = g_signal;
+        if (!options.quiet)
+          fmt::print("sweep: stop requested; waiting for {} running case(s) to checkpoint\n",
+                     running.size());
+        // A terminal's Ctrl-C reaches every process of the group already; a
+        // second signal would kill a case before its checkpoint.
+        if (stop_signal != SIGINT)
+          for (const auto& [child, job] : running) ::kill(child, stop_signal);
+      }
+      continue;
+    }
+    const auto job = running.at(pid);
+    running.erase(pid);
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    exit_codes[job.index] = code;
+    const double seconds = std::chrono::duration<double>(Clock::now() - job.start).count();
+    const fs::path log = directory / "logs" / (sweep.cases[job.index].label + ".log");
+    if (code == 0)
+      say(job.index, fmt::format("completed in {:.1f} s", seconds));
+    else if (code == kInterrupted)
+      say(job.index, "interrupted, checkpoint written (run the sweep again to resume)");
+    else
+      say(job.index, fmt::format("failed (exit code {}): {}", code, last_line(log)));
+  }
+
+  const auto rows = collect(sweep, directory);
+  write_tables(sweep, rows, directory);
+  write_theory_curve(sweep, directory);
+  plot(directory, options.quiet);
+  if (!options.quiet) fmt::print("wrote {}/sweep.md, sweep.csv, sweep.png\n", directory.string());
+
+  int result = 0;
+  for (int code : exit_codes) {
+    if (result != 0) break;
+    if (code > 0 && code != kInterrupted) result = code;
+    if (code == kFailedEarlier) result = 4;  // its own code is in its log
+  }
+  if (result != 0) return result;
+  const bool unfinished =
+      stop_signal != 0 || std::any_of(exit_codes.begin(), exit_codes.end(),
+                                      [](int c) { return c == kInterrupted || c == -1; });
+  return unfinished ? kInterrupted : 0;
+}
+
+}  // namespace softflow::simulation

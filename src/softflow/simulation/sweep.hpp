@@ -1,0 +1,42 @@
+// `softflow sweep`: every combination of a case file's listed parameters, N runs at a time, one
+// table.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "softflow/io/sweep_case.hpp"
+
+namespace softflow::simulation {
+
+struct SweepOptions {
+  int jobs = 1;                    ///< cases run at the same time (each a serial softflow process)
+  bool quiet = false;              ///< no line per case; errors only
+  std::filesystem::path softflow;  ///< the executable that runs each case
+  std::vector<std::string> petsc_args;  ///< passed to every case after "--"
+};
+
+/// Runs a sweep (io::expand_sweep) in its output directory D:
+///   D/cases/<label>.toml   the generated case files
+///   D/<label>/             each case's run (run_drop_case's files)
+///   D/logs/<label>.log     each case's messages
+///   D/sweep.csv, sweep.md  one row per case and object: the varied values,
+///                          status, steps, t and the final D, theta, L, B, W,
+///                          volume drift beside Taylor D and Chaffey-Brenner theta
+///   D/sweep_theory.csv     Taylor / Chaffey-Brenner along the first parameter
+///                          when it is a capillary number or viscosity ratio
+///   D/sweep.json           parameters and cases; D/sweep.png the plot
+/// Each case is its own process (`softflow run` or `softflow restart`), so
+/// that one failing case never takes the others down. Re-running the sweep
+/// skips completed cases (and ones that failed: their failure would repeat),
+/// restarts interrupted ones from their checkpoints, and starts afresh any
+/// whose generated case file changed. SIGINT, SIGTERM or SIGUSR1 stop
+/// launching cases; running ones checkpoint and stop (SIGTERM and SIGUSR1
+/// are passed on to them; a terminal's Ctrl-C reaches them directly).
+/// Returns the exit code: 0 every case completed, 5 interrupted (run the
+/// sweep again to resume), else the exit code of the first failed case (4
+/// for one that failed in an earlier sweep).
+int run_sweep(const std::filesystem::path& case_file, const SweepOptions& options);
+
+}  // namespace softflow::simulation
