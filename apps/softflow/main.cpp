@@ -163,6 +163,11 @@ int main(int argc, char** argv) {
       "Case files are TOML; see examples/drop_shear.toml for every key with its default.\n"
       "PETSc options go after \"--\", e.g. softflow run case.toml -- -stokes_ksp_monitor"};
   app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 success; 1 bad input; 2 meshing failed or the moving mesh degraded; 3 solver\n"
+      "failed (no convergence, NaN/Inf); 4 other error; 5 interrupted (signal or wall-time limit)\n"
+      "with a checkpoint written: `softflow restart OUTDIR` continues; 6 an accuracy limit passed\n"
+      "(volume drift). A run that stops keeps its output, last checkpoint and a summary saying why.");
   app.set_version_flag("--version", SOFTFLOW_VERSION);
   std::string case_file;
   std::string output_dir;
@@ -284,6 +289,11 @@ int main(int argc, char** argv) {
   try {
     PetscSession petsc_session(petsc);
     try {
+      if (*restart && !std::filesystem::exists(std::filesystem::path(run_dir) / "case.toml"))
+        throw softflow::InputError(fmt::format(
+            "{}: not the output directory of a run (it has no case.toml); give the directory a "
+            "softflow run wrote",
+            run_dir));
       // A restart's case is the resolved case.toml its run wrote (checked
       // against the checkpoint's own copy before anything else happens).
       const auto config = read_case(
