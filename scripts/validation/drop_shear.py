@@ -129,7 +129,8 @@ def report(work):
           f"lambda = 1, Ca = 0.1. Theory: Taylor D = {taylor(1, 0.1):.5f}, Chaffey-Brenner "
           f"theta = {chaffey_brenner(1, 0.1):.3f} deg."]
     csv_rows = []
-    fig, axes = plt.subplots(1, 4, figsize=(19, 4.2))
+    fig, axes = plt.subplots(1, 5, figsize=(23, 4.2))
+    resolution = []  # (equator nodes, steady D) of study A
     titles = {"A": "## Mesh resolution (semi-implicit tension, dt = 0.05, to t = 10)",
               "T": "## Time step (semi-implicit tension, 28 equator nodes, to t = 4)",
               "E": "## Explicit tension (the thesis's scheme) at the small steps it needs"}
@@ -160,6 +161,8 @@ def report(work):
                       f"{r['volume_drift']:+.1e} | {r['wall']:.0f} | {r['status']} |")
             csv_rows.append([study, 1.0, 0.1, n, dt, scheme, r["D_steady"], r["theta_steady"],
                              r["deviation"], r["volume_drift"], r["wall"]])
+            if study == "A":
+                resolution.append((n, r["D_steady"]))
             if study == "T":
                 continue  # the time-step runs overlap the others to the eye
             style = "-" if semi else ":"
@@ -202,6 +205,10 @@ def report(work):
     axes[3].plot(grid, [chaffey_brenner(1.4, c) for c in grid], color="gray", label="Chaffey-Brenner (eq. 2.59)")
     axes[3].plot(cas, ths, "ko", label="softflow")
     axes[3].set(xlabel="Ca", ylabel="steady theta [deg]", title="lambda = 1.4")
+    if resolution:
+        axes[4].plot([n for n, _ in resolution], [d for _, d in resolution], "ko-", label="softflow, dt = 0.05")
+        axes[4].axhline(taylor(1, 0.1), ls="--", color="gray", label="Taylor (eq. 1.1)")
+        axes[4].set(xlabel="equator nodes N", ylabel="steady D", title="lambda = 1, Ca = 0.1: mesh study")
     for ax in axes:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
@@ -212,6 +219,25 @@ def report(work):
         w.writerow(["study", "lambda", "Ca", "equator_nodes", "dt", "tension", "D_steady", "theta_steady_deg",
                     "ellipsoid_deviation", "volume_drift", "wall_seconds"])
         w.writerows(csv_rows)
+    md += ["", "## Reading the tables", "",
+           "- Mesh: the requested equator nodes N = 28/40/50/60 give 314/638/998/1414 interface "
+           "nodes; the thesis's 40 gave 926 (PLATFORM.md), so its 40 and 50 compare with our 50 "
+           "and 60. Successive differences of steady D fall roughly as N^-2 (the far-field size "
+           "is fixed at 4, only the interface region is refined); the thesis's four-digit "
+           "agreement between its 40 and 50 is not reached: our 50 and 60 differ by 0.18 %.",
+           "- Time step: with semi-implicit tension the steady D and theta agree to five digits "
+           "from dt = 0.1 to 0.005, and with the explicit runs at dt = 0.01-0.02 on the same "
+           "meshes to 2e-5 in D. The explicit scheme is unstable above about dt = 0.02 at 28 "
+           "equator nodes (tests/verification/test_semi_implicit_tension.cpp shows the "
+           "collapse on a coarse mesh).",
+           "- Theory: Taylor and Chaffey-Brenner are first order in Ca; at Ca = 0.1 the "
+           "computed D lies 1-2 % above Taylor (about 1 % on the finest mesh), theta within "
+           "0.11 deg of Chaffey-Brenner. For lambda = 1.4 the departure grows with Ca, as the "
+           "thesis's Fig. 2.10 shows: +8 % in D and +1.5 deg in theta at Ca = 0.4, where the "
+           "run relies on rebuilding the mesh-motion operator (time.ale_rebuild_quality) to "
+           "keep the mesh valid (minimum quality ~0.07).",
+           "- Ellipsoid deviation is the largest distance of an interface node from the fitted "
+           "ellipsoid relative to its distance from the centre (thesis Fig. 2.9: ~2e-4)."]
     with open(os.path.join(OUT, "drop_shear.md"), "w") as f:
         f.write("\n".join(md) + "\n\n![drop in shear](drop_shear.png)\n")
     print("\n".join(md))
