@@ -213,6 +213,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   sweep->add_flag("-q,--quiet", quiet, "print nothing but errors");
+  sweep->add_option("--wall-time-limit", wall_time_limit,
+                    "stop before this much wall time has passed: running cases checkpoint (exit "
+                    "code 5), no new one starts; run the sweep again to resume");
 
   double lambda = 1.0, ca = 0.1;
   auto* theory = app.add_subcommand(
@@ -264,6 +267,8 @@ int main(int argc, char** argv) {
       softflow::simulation::SweepOptions sweep_options;
       sweep_options.jobs = jobs;
       sweep_options.quiet = quiet;
+      sweep_options.wall_time_limit = options.wall_time_limit;
+      sweep_options.started = started;
       sweep_options.softflow = std::filesystem::read_symlink("/proc/self/exe");
       for (std::size_t i = 1; i < petsc.size(); ++i) sweep_options.petsc_args.emplace_back(petsc[i]);
       return softflow::simulation::run_sweep(case_file, sweep_options);

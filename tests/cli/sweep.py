@@ -14,6 +14,8 @@ Usage: sweep.py SOFTFLOW CASE.toml WORK_DIR   (CASE: the coarse drop_short case)
    checkpoints) exits 5; re-running it restarts that case from its
    checkpoint and runs the rest; the restarted case's time series equals the
    same case's in the uninterrupted sweep.
+   With --wall-time-limit, the running case checkpoints in time and no
+   further case starts.
 4. `run` on a sweep file, an empty list and an invalid value are refused
    with messages naming the parameter.
 """
@@ -136,6 +138,23 @@ def main(softflow, case_source, work):
     if [r["D"] for r in read_csv(os.path.join(second, "sweep.csv"))] != [r["D"] for r in rows]:
         fail("the resumed sweep's table differs from the uninterrupted one's")
     print(f"sweep stopped by SIGTERM at step {stopped_at} of its first case, resumed: same table")
+
+    # 3b. The wall-time limit: the running case checkpoints before it, no new one starts.
+    limited = os.path.join(work, "limited")
+    write(os.path.join(work, "limited.toml"), sweep_case(base, limited, end="8.0"))
+    start = time.time()
+    result = subprocess.run([softflow, "sweep", os.path.join(work, "limited.toml"),
+                             "--wall-time-limit", "12"], capture_output=True, text=True)
+    elapsed = time.time() - start
+    table = read_csv(os.path.join(limited, "sweep.csv"))
+    if result.returncode != INTERRUPTED or elapsed > 13.0:  # 1 s for process start-up and load
+        fail(f"sweep --wall-time-limit 12: exit {result.returncode} after {elapsed:.1f} s\n"
+             f"{result.stdout}{result.stderr}")
+    if (table[0]["status"] != "interrupted"
+            or not os.path.exists(os.path.join(limited, labels[0], "checkpoint.h5"))
+            or any(r["status"] != "not run" for r in table[1:])):
+        fail(f"after the wall-time limit: {[r['status'] for r in table]}")
+    print(f"--wall-time-limit 12: stopped after {elapsed:.1f} s, first case at step {table[0]['steps']}")
 
     # 4. Refusals.
     case = os.path.join(work, "first.toml")

@@ -339,13 +339,25 @@ int run_sweep(const fs::path& case_file, const SweepOptions& options) {
   std::vector<int> exit_codes(n, -1);
   std::size_t next = 0;
   int stop_signal = 0;
+  bool out_of_time = false;
   auto say = [&](std::size_t i, const std::string& what) {
     if (!options.quiet) fmt::print("[{}/{}] {}: {}\n", i + 1, n, sweep.cases[i].label, what);
     std::fflush(stdout);
   };
   while (true) {
-    while (stop_signal == 0 && running.size() < static_cast<std::size_t>(options.jobs) &&
-           next < n) {
+    while (stop_signal == 0 && !out_of_time &&
+           running.size() < static_cast<std::size_t>(options.jobs) && next < n) {
+      const double left =
+          options.wall_time_limit
+              ? *options.wall_time_limit -
+                    std::chrono::duration<double>(Clock::now() - options.started).count()
+              : 0.0;
+      if (options.wall_time_limit && left < kMinimumCaseSeconds) {
+        out_of_time = true;
+        if (!options.quiet)
+          fmt::print("sweep: {:.0f} s left of the wall-time limit: no further case starts\n", left);
+        break;
+      }
       const std::size_t i = next++;
       const auto& c = sweep.cases[i];
       const fs::path case_path = directory / "cases" / (c.label + ".toml");
@@ -370,6 +382,9 @@ int run_sweep(const fs::path& case_file, const SweepOptions& options) {
                     {"run", case_path.string(), "-o", out.string(), "-q", "--overwrite"});
         action = "started";
       }
+      // The case's own limit: the time left, less a second for it to start.
+      if (options.wall_time_limit)
+        args.insert(args.end(), {"--wall-time-limit", fmt::format("{:.1f}", left - 1.0)});
       if (!options.petsc_args.empty()) {
         args.push_back("--");
         args.insert(args.end(), options.petsc_args.begin(), options.petsc_args.end());
@@ -422,8 +437,8 @@ int run_sweep(const fs::path& case_file, const SweepOptions& options) {
     if (code == kFailedEarlier) result = 4;  // its own code is in its log
   }
   if (result != 0) return result;
-  const bool unfinished =
-      stop_signal != 0 || std::any_of(exit_codes.begin(), exit_codes.end(),
+  const bool unfinished = stop_signal != 0 || out_of_time ||
+                          std::any_of(exit_codes.begin(), exit_codes.end(),
                                       [](int c) { return c == kInterrupted || c == -1; });
   return unfinished ? kInterrupted : 0;
 }

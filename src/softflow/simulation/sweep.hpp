@@ -2,7 +2,9 @@
 // table.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,7 +17,16 @@ struct SweepOptions {
   bool quiet = false;              ///< no line per case; errors only
   std::filesystem::path softflow;  ///< the executable that runs each case
   std::vector<std::string> petsc_args;  ///< passed to every case after "--"
+  /// Stop before this many seconds after `started`: each case gets the time
+  /// left as its own --wall-time-limit, and no case starts with less than
+  /// kMinimumCaseSeconds left.
+  std::optional<double> wall_time_limit;
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
 };
+
+/// A case is not started with less wall time left than this (seconds): it
+/// would spend it meshing and factoring, and stop before its first step.
+inline constexpr double kMinimumCaseSeconds = 10.0;
 
 /// Runs a sweep (io::expand_sweep) in its output directory D:
 ///   D/cases/<label>.toml   the generated case files
@@ -31,7 +42,7 @@ struct SweepOptions {
 /// that one failing case never takes the others down. Re-running the sweep
 /// skips completed cases (and ones that failed: their failure would repeat),
 /// restarts interrupted ones from their checkpoints, and starts afresh any
-/// whose generated case file changed. SIGINT, SIGTERM or SIGUSR1 stop
+/// whose generated case file changed. The wall-time limit, SIGINT, SIGTERM or SIGUSR1 stop
 /// launching cases; running ones checkpoint and stop (SIGTERM and SIGUSR1
 /// are passed on to them; a terminal's Ctrl-C reaches them directly).
 /// Returns the exit code: 0 every case completed, 5 interrupted (run the
