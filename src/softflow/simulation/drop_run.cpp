@@ -416,25 +416,6 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   return summary;
 }
 
-/// A checkpoint without a finished summary is work a fresh run would throw away.
-void refuse_to_replace_unfinished_run(const fs::path& directory) {
-  std::error_code ec;
-  if (!fs::exists(directory / kCheckpointFile, ec)) return;
-  std::string status = "interrupted";
-  std::ifstream in(directory / "summary.json");
-  if (in) {
-    try {
-      status = nlohmann::json::parse(in).value("status", status);
-    } catch (const nlohmann::json::exception&) {
-    }
-  }
-  if (status == "completed" || status == "stopped") return;
-  throw InputError(
-      fmt::format("{} holds an unfinished run (status \"{}\", with a checkpoint): continue it with "
-                  "`softflow restart {}`, or start afresh with `softflow run ... --overwrite`",
-                  directory.string(), status, directory.string()));
-}
-
 /// Keeps the header and the rows of steps <= `step`; a row cut short by a
 /// crash (no final newline) goes too. Rows past the checkpoint are computed again.
 void truncate_timeseries(const fs::path& path, int step) {
@@ -498,6 +479,24 @@ void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpo
 }
 
 }  // namespace
+
+void refuse_to_replace_unfinished_run(const fs::path& directory) {
+  std::error_code ec;
+  if (!fs::exists(directory / kCheckpointFile, ec)) return;
+  std::string status = "interrupted";
+  std::ifstream in(directory / "summary.json");
+  if (in) {
+    try {
+      status = nlohmann::json::parse(in).value("status", status);
+    } catch (const nlohmann::json::exception&) {
+    }
+  }
+  if (status == "completed" || status == "stopped") return;
+  throw InputError(
+      fmt::format("{} holds an unfinished run (status \"{}\", with a checkpoint): continue it with "
+                  "`softflow restart {}`, or start afresh with `softflow run ... --overwrite`",
+                  directory.string(), status, directory.string()));
+}
 
 nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
                              MeshedCase meshed) {

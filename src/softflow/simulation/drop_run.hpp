@@ -45,6 +45,11 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
 nlohmann::json restart_drop_case(const io::CaseConfig& config,
                                  const std::filesystem::path& directory, const RunOptions& options);
 
+/// Throws InputError if `directory` holds a checkpoint of a run that did not
+/// finish (no summary, or status "interrupted"/"running"): work a fresh run
+/// would throw away. `softflow run --overwrite` skips the check.
+void refuse_to_replace_unfinished_run(const std::filesystem::path& directory);
+
 /// Name of the checkpoint file in a run's output directory.
 inline constexpr const char* kCheckpointFile = "checkpoint.h5";
 

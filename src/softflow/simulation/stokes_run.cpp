@@ -87,6 +87,9 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
   const bool root = is_root();
   const std::filesystem::path directory =
       options.output_directory.value_or(std::filesystem::path(config.output_directory));
+  // An interrupted run in the directory is refused before minutes of meshing.
+  if (config.time.end > 0.0 && !options.overwrite)
+    on_root_sharing_failure([&] { refuse_to_replace_unfinished_run(directory); });
   auto meshed = build_mesh(config);  // step 1 (rejects bad geometry before any file is made)
   if (config.time.end > 0.0) return run_drop_case(config, options, std::move(meshed));
   // Staged output: nothing appears under `directory` until the run succeeds.
