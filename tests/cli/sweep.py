@@ -141,7 +141,8 @@ def main(softflow, case_source, work):
 
     # 3b. The wall-time limit: the running case checkpoints before it, no new one starts.
     limited = os.path.join(work, "limited")
-    write(os.path.join(work, "limited.toml"), sweep_case(base, limited, end="8.0"))
+    # A case far longer than the limit (600 steps), so that it is always cut short.
+    write(os.path.join(work, "limited.toml"), sweep_case(base, limited, end="30.0"))
     start = time.time()
     result = subprocess.run([softflow, "sweep", os.path.join(work, "limited.toml"),
                              "--wall-time-limit", "12"], capture_output=True, text=True)
