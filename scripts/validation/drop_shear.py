@@ -228,8 +228,9 @@ def report(work):
            "- Time step: with semi-implicit tension the steady D and theta agree to five digits "
            "from dt = 0.1 to 0.002 (the thesis's 0.0075, 0.005, 0.002 included), and with the "
            "explicit runs at dt = 0.01-0.02 on the same "
-           "meshes to 2e-5 in D. The explicit scheme is unstable above about dt = 0.02 at 28 "
-           "equator nodes (tests/verification/test_semi_implicit_tension.cpp shows the "
+           "meshes to 2e-5 in D. The explicit scheme at 28 equator nodes runs at dt = 0.02 but "
+           "its interface mesh collapses at dt = 0.05 (t = 2.75) and dt = 0.1 (t = 0.6) "
+           "(checked by hand; tests/verification/test_semi_implicit_tension.cpp tests the "
            "collapse on a coarse mesh).",
            "- Theory: Taylor and Chaffey-Brenner are first order in Ca; at Ca = 0.1 the "
            "computed D lies 1-2 % above Taylor (about 1 % on the finest mesh), theta within "

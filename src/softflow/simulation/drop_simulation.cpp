@@ -344,9 +344,14 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
         "step {} (t = {:.4f}): the moving mesh degraded: element {} (region {}, near ({:.3f}, "
         "{:.3f}, {:.3f})) has quality {:.3g} < time.min_quality = {:.3g}. The deformation is "
         "too large for a mesh that is never remeshed; try a smaller time.step, a larger "
-        "interface.redistribution_factor, or a finer mesh",
+        "interface.redistribution_factor, or a finer mesh{}",
         steps_ + 1, time_ + config_.time.step, worst, mesh_.tet_region[worst], x.x(), x.y(), x.z(),
-        quality, config_.time.min_quality));
+        quality, config_.time.min_quality,
+        // Explicit tension collapses the interface mesh above the capillary step limit.
+        config_.interface.semi_implicit_tension
+            ? ""
+            : "; with explicit tension, a step above the capillary limit (about eta h / Gamma) "
+              "does this: interface.semi_implicit_tension = true lifts it"));
   }
   return quality;
 }
