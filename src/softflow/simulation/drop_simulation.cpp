@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <utility>
 
@@ -356,6 +355,12 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   return quality;
 }
 
+Vec3 DropSimulation::interface_velocity(int node) const {
+  // No slip: the matrix-side copy is the shared interface velocity.
+  const int v = stokes_->dofs().velocity_dof(node, 0);
+  return Vec3(solution_[v], solution_[v + 1], solution_[v + 2]);
+}
+
 physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
     const std::vector<std::vector<Vec3>>& x_hat, double dt) const {
   physics::SemiImplicitTension tension;
@@ -369,18 +374,14 @@ physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
   tension.theta_dt = first_step ? dt : 2.0 * dt / 3.0;
   tension.node_normal.assign(mesh_.n_nodes(), Vec3::Zero());
   tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
-  const auto& dofs = stokes_->dofs();
   for (std::size_t k = 0; k < trackers_.size(); ++k) {
     const auto& tracker = trackers_[k];
     const auto normals = physics::node_normals(tracker.surface(), x_hat[k]);
     const auto& nodes = tracker.surface().volume_node;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       tension.node_normal[nodes[i]] = normals[i];
-      if (!first_step) {
-        const int v = dofs.velocity_dof(nodes[i], 0);
-        tension.predicted_normal_velocity[nodes[i]] =
-            normals[i].dot(Vec3(solution_[v], solution_[v + 1], solution_[v + 2]));
-      }
+      if (!first_step)
+        tension.predicted_normal_velocity[nodes[i]] = normals[i].dot(interface_velocity(nodes[i]));
     }
   }
   return tension;
@@ -408,14 +409,10 @@ int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, do
 
 void DropSimulation::correct_interfaces(const std::vector<std::vector<Vec3>>& x_hat,
                                         const std::vector<Vec3>& centre_velocity, double dt) {
-  const auto& dofs = stokes_->dofs();
   for (std::size_t k = 0; k < trackers_.size(); ++k) {
     const auto& nodes = trackers_[k].surface().volume_node;
     std::vector<Vec3> u(nodes.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-      const int v = dofs.velocity_dof(nodes[i], 0);  // no slip: the shared interface velocity
-      u[i] = Vec3(solution_[v], solution_[v + 1], solution_[v + 2]);
-    }
+    for (std::size_t i = 0; i < nodes.size(); ++i) u[i] = interface_velocity(nodes[i]);
     trackers_[k].correct(x_hat[k], u, centre_velocity[k], dt);
   }
 }

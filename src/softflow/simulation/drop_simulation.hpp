@@ -107,6 +107,8 @@ class DropSimulation {
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
                    StageSeconds& stages);
+  /// The fluid velocity of the last solve at an interface node.
+  [[nodiscard]] physics::Vec3 interface_velocity(int node) const;
   [[nodiscard]] physics::SemiImplicitTension semi_implicit_tension(
       const std::vector<std::vector<physics::Vec3>>& x_hat, double dt) const;
   void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,

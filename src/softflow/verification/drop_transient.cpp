@@ -40,12 +40,14 @@ DropTransient deform_drop_in_shear(double dt, double t_end, bool semi_implicit_t
   return out;
 }
 
-double max_deformation_difference(const DropTransient& a, const DropTransient& b) {
+double max_deformation_difference(const DropTransient& a, const DropTransient& b,
+                                  double from_time) {
   std::map<long, double> fine;  // time in units of b's step -> D
   for (std::size_t i = 0; i < b.time.size(); ++i)
     fine[std::lround(b.time[i] / b.dt)] = b.deformation[i];
   double worst = 0.0;
   for (std::size_t i = 0; i < a.time.size(); ++i) {
+    if (a.time[i] < from_time - 1e-9) continue;
     const auto it = fine.find(std::lround(a.time[i] / b.dt));
     if (it != fine.end()) worst = std::max(worst, std::abs(a.deformation[i] - it->second));
   }

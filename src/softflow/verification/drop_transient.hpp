@@ -19,7 +19,9 @@ struct DropTransient {
 /// with 16 equator nodes (the regression case's mesh), from rest to t_end.
 DropTransient deform_drop_in_shear(double dt, double t_end, bool semi_implicit_tension);
 
-/// max over the common output times of |D_a(t) - D_b(t)|; b's step must divide a's.
-double max_deformation_difference(const DropTransient& a, const DropTransient& b);
+/// max over the common output times t >= from_time of |D_a(t) - D_b(t)|;
+/// b's step must divide a's.
+double max_deformation_difference(const DropTransient& a, const DropTransient& b,
+                                  double from_time = 0.0);
 
 }  // namespace softflow::verification
