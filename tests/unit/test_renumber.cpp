@@ -3,6 +3,7 @@
 
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/mesh/renumber.hpp"
+#include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/mesh/structured_box.hpp"
 
 using namespace softflow;
@@ -29,7 +30,8 @@ TEST(RenumberNodes, KeepsTheMeshAndMakesNodeRangesCompact) {
     const auto d = mesh.nodes[i] - mesh.nodes[m];
     EXPECT_NEAR(d.y(), 0.0, 1e-12);
   }
-  EXPECT_EQ(fem::StokesDofMap(mesh, false).n_dofs(), fem::StokesDofMap(before, false).n_dofs());
+  EXPECT_EQ(physics::make_stokes_dof_map(mesh, false).n_dofs(),
+            physics::make_stokes_dof_map(before, false).n_dofs());
   // The first half of the nodes occupies a clearly smaller box than before
   // (vertices and edge nodes interleaved in space, not vertices first).
   auto extent_of_first_half = [](const mesh::Mesh& m) {

@@ -3,6 +3,7 @@
 
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/io/vtu_writer.hpp"
+#include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/mesh/structured_box.hpp"
 
 using namespace softflow;
@@ -29,19 +30,22 @@ TEST(VtuWriter, SubdomainPiecesCarryTheirOwnPressureAtSharedNodes) {
     for (int k = 0; k < 4; ++k) xc += mesh.nodes[mesh.tets[t][k]].x() / 4;
     if (xc > 0) mesh.tet_region[t] = 1;
   }
-  const fem::StokesDofMap dofs(mesh, false);
+  const auto dofs = physics::make_stokes_dof_map(mesh, false);
   // Velocity = node x coordinate in every component, pressure = region + 1.
   std::vector<double> solution(dofs.n_dofs());
   for (int i = 0; i < dofs.n_dofs(); ++i)
-    solution[i] = dofs.is_velocity(i) ? mesh.nodes[dofs.node_of(i)].x() : dofs.region_of(i) + 1.0;
+    solution[i] = dofs.field_of(i) == physics::kVelocityField ? mesh.nodes[dofs.node_of(i)].x()
+                                                              : dofs.region_of(i) + 1.0;
   int n_cells = 0;
   for (int region : {0, 1}) {
     const auto piece = io::extract_subdomain(mesh, dofs, solution, region);
     n_cells += static_cast<int>(piece.cells.size());
-    ASSERT_EQ(piece.velocity.size(), 3 * piece.points.size());
+    const auto& velocity = piece.field("velocity");
+    const auto& pressure = piece.field("pressure");
+    ASSERT_EQ(velocity.values.size(), 3 * piece.points.size());
     for (std::size_t p = 0; p < piece.points.size(); ++p) {
-      EXPECT_DOUBLE_EQ(piece.pressure[p], region + 1.0);  // interface points too
-      EXPECT_DOUBLE_EQ(piece.velocity[3 * p], piece.points[p].x());
+      EXPECT_DOUBLE_EQ(pressure.at(p), region + 1.0);  // interface points too
+      EXPECT_DOUBLE_EQ(velocity.at(p, 0), piece.points[p].x());
     }
   }
   EXPECT_EQ(n_cells, mesh.n_tets());

@@ -8,12 +8,13 @@
 
 namespace softflow::analysis {
 
-std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::DofMap& dofs,
                                             const std::vector<double>& solution) {
   std::vector<ObjectMeasures> m(mesh.n_objects);
   for (int k = 0; k < mesh.n_objects; ++k) m[k].object = k + 1;
 
   static const fem::TetTabulation tab(4);
+  const int velocity = dofs.field_index("velocity"), pressure = dofs.field_index("pressure");
   for (int t = 0; t < mesh.n_tets(); ++t) {
     const int region = mesh.tet_region[t];
     if (region == 0) continue;
@@ -35,7 +36,7 @@ std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::S
     const auto x = fem::triangle_nodes(mesh, tri);
     double jump[3];
     for (int v = 0; v < 3; ++v)
-      jump[v] = solution[dofs.pressure_dof(tri[v], object)] - solution[dofs.pressure_dof(tri[v], 0)];
+      jump[v] = solution[dofs.dof(pressure, tri[v], object)] - solution[dofs.dof(pressure, tri[v], 0)];
     for (int q = 0; q < rule.size(); ++q) {
       const auto s = element::surface_point(x, rule.points[q]);
       const double w = rule.weights[q] * s.area_scale;
@@ -44,7 +45,7 @@ std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::S
       om.area += w;
       om.pressure_jump += w * (l[0] * jump[0] + l[1] * jump[1] + l[2] * jump[2]);
       for (int k = 0; k < 6; ++k) {
-        const int v = dofs.velocity_dof(tri[k], 0);
+        const int v = dofs.dof(velocity, tri[k], 0);
         om.mean_interface_velocity +=
             w * n2[k] * Eigen::Vector3d(solution[v], solution[v + 1], solution[v + 2]);
       }
@@ -60,11 +61,12 @@ std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::S
   return m;
 }
 
-double max_velocity(const fem::StokesDofMap& dofs, const std::vector<double>& solution) {
-  // Velocity dofs come in contiguous (x, y, z) triples (see StokesDofMap).
+double max_velocity(const fem::DofMap& dofs, const std::vector<double>& solution) {
+  // A field's components are contiguous (fem::DofMap): (x, y, z) triples.
+  const int velocity = dofs.field_index("velocity");
   double u = 0.0;
   for (int i = 0; i < dofs.n_dofs();) {
-    if (!dofs.is_velocity(i)) {
+    if (dofs.field_of(i) != velocity) {
       ++i;
       continue;
     }

@@ -22,10 +22,10 @@ struct ObjectMeasures {
   Eigen::Vector3d mean_interface_velocity = Eigen::Vector3d::Zero();
 };
 
-std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::DofMap& dofs,
                                             const std::vector<double>& solution);
 
 /// Largest nodal velocity magnitude over the whole mesh.
-double max_velocity(const fem::StokesDofMap& dofs, const std::vector<double>& solution);
+double max_velocity(const fem::DofMap& dofs, const std::vector<double>& solution);
 
 }  // namespace softflow::analysis

@@ -2,102 +2,93 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+
 namespace softflow::fem {
 
-namespace {
-// Regions touching each representative node, sorted; and whether the node is a vertex.
-struct NodeUse {
-  std::vector<int> regions;
-  bool vertex = false;
-};
-}  // namespace
-
-StokesDofMap::StokesDofMap(const mesh::Mesh& mesh, bool double_interface_velocity)
-    : double_velocity_(double_interface_velocity) {
+DofMap::DofMap(const mesh::Mesh& mesh, std::vector<FieldSpec> fields) : fields_(std::move(fields)) {
   const int n_nodes = mesh.n_nodes();
-  master_.resize(n_nodes);
-  for (int i = 0; i < n_nodes; ++i) master_[i] = mesh.master(i);
+  for (const auto& f : fields_)
+    if (!f.space || f.components < 1 || f.space->n_nodes() != n_nodes)
+      throw InputError(fmt::format("DofMap: field '{}' needs a space on this mesh and at least "
+                                   "one component", f.name));
 
-  std::vector<NodeUse> use(n_nodes);
-  for (int t = 0; t < mesh.n_tets(); ++t) {
-    const int region = mesh.tet_region[t];
-    for (int k = 0; k < 10; ++k) {
-      NodeUse& u = use[master_[mesh.tets[t][k]]];
-      if (std::find(u.regions.begin(), u.regions.end(), region) == u.regions.end())
-        u.regions.push_back(region);
-      if (k < 4) u.vertex = true;
-    }
-  }
+  const int n_f = n_fields();
+  n_field_dofs_.assign(n_f, 0);
+  space_to_dof_.resize(n_f);
+  for (int f = 0; f < n_f; ++f) space_to_dof_[f].assign(fields_[f].space->n_dofs(), -1);
 
-  node_copies_.resize(n_nodes);
+  // Node by node, field by field, copy by copy, component by component.
   node_offset_.assign(n_nodes + 1, 0);
-  int next = 0;
   for (int n = 0; n < n_nodes; ++n) {
-    node_offset_[n] = next;
-    NodeUse& u = use[n];
-    if (u.regions.empty()) continue;
-    std::sort(u.regions.begin(), u.regions.end());
-    auto& copies = node_copies_[n];
-    for (int r : u.regions) copies.push_back({r, -1, -1});
-    // Velocity: one copy per region if doubled, else one shared by all.
-    for (std::size_t c = 0; c < copies.size(); ++c) {
-      if (c == 0 || double_velocity_) {
-        copies[c].velocity = next;
-        for (int d = 0; d < 3; ++d) {
-          is_velocity_.push_back(1);
-          dof_region_.push_back(copies[c].region);
+    node_offset_[n] = n_dofs_;
+    if (mesh.master(n) != n) continue;  // periodic copies own nothing
+    for (int f = 0; f < n_f; ++f) {
+      const int n_c = fields_[f].components;
+      for (const Space::Copy& copy : fields_[f].space->copies(n)) {
+        space_to_dof_[f][copy.dof] = n_dofs_;
+        for (int c = 0; c < n_c; ++c) {
+          dof_field_.push_back(f);
+          dof_component_.push_back(c);
           dof_node_.push_back(n);
+          dof_region_.push_back(copy.region);
         }
-        next += 3;
-      } else {
-        copies[c].velocity = copies[0].velocity;
-      }
-    }
-    // Pressure: always one per region at vertices.
-    if (u.vertex) {
-      for (auto& c : copies) {
-        c.pressure = next++;
-        is_velocity_.push_back(0);
-        dof_region_.push_back(c.region);
-        dof_node_.push_back(n);
+        n_dofs_ += n_c;
+        n_field_dofs_[f] += n_c;
       }
     }
   }
-  node_offset_[n_nodes] = next;
-  n_dofs_ = next;
-  n_velocity_ = static_cast<int>(std::count(is_velocity_.begin(), is_velocity_.end(), 1));
+  node_offset_[n_nodes] = n_dofs_;
 
-  tet_dofs_.resize(mesh.n_tets());
+  element_offset_.assign(n_f, 0);
+  for (int f = 0; f < n_f; ++f) {
+    element_offset_[f] = element_size_;
+    element_size_ += element_field_size(f);
+  }
+  element_dofs_.resize(static_cast<std::size_t>(mesh.n_tets()) * element_size_);
   for (int t = 0; t < mesh.n_tets(); ++t) {
-    const int region = mesh.tet_region[t];
-    TetDofs& dofs = tet_dofs_[t];
-    for (int k = 0; k < 10; ++k) {
-      const int v = velocity_dof(mesh.tets[t][k], region);
-      for (int d = 0; d < 3; ++d) dofs[3 * k + d] = v + d;
+    int* out = element_dofs_.data() + static_cast<std::size_t>(t) * element_size_;
+    for (int f = 0; f < n_f; ++f) {
+      const int n_c = fields_[f].components;
+      for (int space_dof : fields_[f].space->element_dofs(t)) {
+        const int first = space_to_dof_[f][space_dof];
+        for (int c = 0; c < n_c; ++c) *out++ = first + c;
+      }
     }
-    for (int i = 0; i < 4; ++i) dofs[kVelocityPerTet + i] = pressure_dof(mesh.tets[t][i], region);
   }
 }
 
-const std::vector<StokesDofMap::Copy>& StokesDofMap::copies(int node) const {
-  return node_copies_[master_[node]];
+int DofMap::field_index(const std::string& name) const {
+  for (int f = 0; f < n_fields(); ++f)
+    if (fields_[f].name == name) return f;
+  throw InputError(fmt::format("DofMap: no field called '{}'", name));
 }
 
-int StokesDofMap::velocity_dof(int node, int region) const {
-  for (const Copy& c : copies(node))
-    if (c.region == region) return c.velocity;
-  return -1;
+int DofMap::dof(int f, int node, int region, int component) const {
+  const int space_dof = fields_[f].space->dof(node, region);
+  return space_dof < 0 ? -1 : space_to_dof_[f][space_dof] + component;
 }
 
-int StokesDofMap::first_velocity_dof(int node) const {
-  const auto& c = copies(node);
-  return c.empty() ? -1 : c.front().velocity;
+std::vector<int> DofMap::field_dofs(int f) const {
+  std::vector<int> out;
+  out.reserve(n_field_dofs_[f]);
+  for (int d = 0; d < n_dofs_; ++d)
+    if (dof_field_[d] == f) out.push_back(d);
+  return out;
 }
 
-int StokesDofMap::pressure_dof(int node, int region) const {
-  for (const Copy& c : copies(node))
-    if (c.region == region) return c.pressure;
-  return -1;
+DofRange DofMap::ownership(int rank, int n_ranks) const {
+  // Node boundaries nearest to an equal share of dofs: the first node whose
+  // offset reaches the target.
+  auto boundary = [&](long target) {
+    return *std::lower_bound(node_offset_.begin(), node_offset_.end(), target);
+  };
+  const long n = n_dofs_;
+  const int begin = rank == 0 ? 0 : boundary(n * rank / n_ranks);
+  const int end = rank + 1 == n_ranks ? n_dofs_ : boundary(n * (rank + 1) / n_ranks);
+  return {begin, end};
 }
 
 }  // namespace softflow::fem

@@ -1,85 +1,99 @@
-// Degrees of freedom of the P2/P1 Taylor-Hood pair per subdomain, with
-// double interface nodes and periodic identification.
+// Unknowns of several fields on one mesh: spaces composed into one numbering.
 #pragma once
 
-#include <array>
+#include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
+#include "softflow/fem/space.hpp"
 #include "softflow/mesh/mesh.hpp"
 
 namespace softflow::fem {
 
-/// Unknowns of a two-phase (or multiphase) Stokes problem (thesis §2.3.1).
-///
-/// Each subdomain (matrix = region 0, object k = region k) has its own
-/// pressure unknowns, so every interface vertex carries one pressure per
-/// side: pressure may jump across the interface. Velocity is shared across
-/// an interface (no slip: continuous velocity) unless `double_interface_velocity`
-/// is set, in which case interface nodes carry one velocity per side too and
-/// the coupling is left to constraints (slip, later).
-///
-/// Periodic nodes share the unknowns of their representative node.
-///
-/// Numbering: node by node (in representative-node order), each node's
-/// velocity copies (3 dofs each, x y z) then its pressure copies. Unknowns of
-/// one node are therefore contiguous, and contiguous node ranges map to
-/// contiguous dof ranges, which gives each MPI rank a compact block of rows.
-class StokesDofMap {
- public:
-  static constexpr int kVelocityPerTet = 30;  ///< 10 nodes x 3 components
-  static constexpr int kPressurePerTet = 4;
-  static constexpr int kDofsPerTet = kVelocityPerTet + kPressurePerTet;
-  using TetDofs = std::array<int, kDofsPerTet>;
+/// One field of a composed system: a name (used by solvers and output), a
+/// scalar space and the number of components on it (3 for a velocity, 1
+/// for a pressure, 6 for a symmetric tensor).
+struct FieldSpec {
+  std::string name;
+  std::shared_ptr<const Space> space;
+  int components = 1;
+};
 
-  StokesDofMap(const mesh::Mesh& mesh, bool double_interface_velocity);
+/// Contiguous range [begin, end) of dofs owned by this MPI rank.
+struct DofRange {
+  int begin = 0;
+  int end = 0;
+  [[nodiscard]] bool owns(int dof) const { return dof >= begin && dof < end; }
+  [[nodiscard]] int size() const { return end - begin; }
+};
+
+/// The unknowns of several fields numbered together, e.g. the Taylor-Hood
+/// pair (velocity = 3 x P2, pressure = P1 per region, thesis §2.3.1).
+///
+/// Numbering: node by node (representative order); at each node field by
+/// field, each field's copies (regions) in order, each copy's components
+/// in order. All unknowns of one node are contiguous, so contiguous node
+/// ranges give contiguous dof ranges: each MPI rank owns one block of rows.
+///
+/// Element dofs: field by field; within a field node by node in the
+/// element's local order (mesh::Tet10), components innermost. For the
+/// Taylor-Hood pair: velocity of local node k, component c at 3k + c, then
+/// the pressure of vertex i at 30 + i. Sizes follow from the spaces.
+class DofMap {
+ public:
+  DofMap(const mesh::Mesh& mesh, std::vector<FieldSpec> fields);
 
   [[nodiscard]] int n_dofs() const { return n_dofs_; }
-  [[nodiscard]] int n_velocity_dofs() const { return n_velocity_; }
-  [[nodiscard]] int n_pressure_dofs() const { return n_dofs_ - n_velocity_; }
-  [[nodiscard]] bool double_interface_velocity() const { return double_velocity_; }
+  [[nodiscard]] int n_fields() const { return static_cast<int>(fields_.size()); }
+  [[nodiscard]] const FieldSpec& field(int f) const { return fields_[f]; }
+  /// Index of the field called `name`; throws if there is none.
+  [[nodiscard]] int field_index(const std::string& name) const;
+  /// Number of dofs of field f (all components, all copies).
+  [[nodiscard]] int n_field_dofs(int f) const { return n_field_dofs_[f]; }
 
-  /// Element dofs: velocity of local node k, component c at 3k + c; pressure
-  /// of local vertex i at 30 + i.
-  [[nodiscard]] const TetDofs& tet_dofs(int tet) const { return tet_dofs_[tet]; }
+  /// Dof of field f, component c at `node` as seen from `region` (see
+  /// Space::dof for continuous spaces); -1 where the field has no value.
+  [[nodiscard]] int dof(int f, int node, int region, int component = 0) const;
 
-  /// First velocity dof (x component) of `node` as seen from `region`, -1 if
-  /// the node does not touch that region.
-  [[nodiscard]] int velocity_dof(int node, int region) const;
-  /// First velocity dof of `node` in the lowest region touching it (the
-  /// only one for nodes off the interfaces), -1 if the node is unused.
-  [[nodiscard]] int first_velocity_dof(int node) const;
-  /// Pressure dof of vertex `node` as seen from `region`, -1 if none.
-  [[nodiscard]] int pressure_dof(int node, int region) const;
+  /// Dofs of tetrahedron `tet` (element_size() entries, order above).
+  [[nodiscard]] std::span<const int> element_dofs(int tet) const {
+    return {element_dofs_.data() + static_cast<std::size_t>(tet) * element_size_,
+            static_cast<std::size_t>(element_size_)};
+  }
+  [[nodiscard]] int element_size() const { return element_size_; }
+  /// Position of field f's first entry within element_dofs().
+  [[nodiscard]] int element_offset(int f) const { return element_offset_[f]; }
+  /// Entries of field f within element_dofs(): nodes x components.
+  [[nodiscard]] int element_field_size(int f) const {
+    return fields_[f].space->n_element_nodes() * fields_[f].components;
+  }
 
-  /// True for velocity dofs, false for pressure dofs.
-  [[nodiscard]] bool is_velocity(int dof) const { return is_velocity_[dof] != 0; }
-  /// Region whose unknown `dof` is (for a shared velocity: the lowest region).
-  [[nodiscard]] int region_of(int dof) const { return dof_region_[dof]; }
-  /// Geometry node (a representative) that `dof` lives on.
+  [[nodiscard]] int field_of(int dof) const { return dof_field_[dof]; }
+  [[nodiscard]] int component_of(int dof) const { return dof_component_[dof]; }
+  /// Representative geometry node of a dof.
   [[nodiscard]] int node_of(int dof) const { return dof_node_[dof]; }
+  /// Region of a dof (for a continuous space: the lowest region at its node).
+  [[nodiscard]] int region_of(int dof) const { return dof_region_[dof]; }
+  /// Every dof of field f, ascending.
+  [[nodiscard]] std::vector<int> field_dofs(int f) const;
 
-  /// One past the last dof of representative nodes [0, node), for
-  /// splitting dofs into contiguous per-rank ranges.
+  /// This rank's dofs: the contiguous node range whose dofs are closest to
+  /// an equal share of all dofs.
+  [[nodiscard]] DofRange ownership(int rank, int n_ranks) const;
+  /// First dof of representative node `node` (n_dofs() for node == n_nodes).
   [[nodiscard]] int dof_offset_of_node(int node) const { return node_offset_[node]; }
 
  private:
-  struct Copy {
-    int region;
-    int velocity;  // first of 3, or -1
-    int pressure;  // or -1
-  };
-  const std::vector<Copy>& copies(int node) const;
-
-  bool double_velocity_;
+  std::vector<FieldSpec> fields_;
   int n_dofs_ = 0;
-  int n_velocity_ = 0;
-  std::vector<int> master_;                    // node -> representative
-  std::vector<std::vector<Copy>> node_copies_;  // per representative node
+  int element_size_ = 0;
+  std::vector<int> n_field_dofs_;
+  std::vector<int> element_offset_;
+  std::vector<std::vector<int>> space_to_dof_;  // per field: space dof -> first component's dof
   std::vector<int> node_offset_;
-  std::vector<TetDofs> tet_dofs_;
-  std::vector<char> is_velocity_;
-  std::vector<int> dof_region_;
-  std::vector<int> dof_node_;
+  std::vector<int> element_dofs_;
+  std::vector<int> dof_field_, dof_component_, dof_node_, dof_region_;
 };
 
 }  // namespace softflow::fem

@@ -25,8 +25,9 @@ struct StokesErrors {
 using VectorField = std::function<Eigen::Vector3d(const Eigen::Vector3d&, int region)>;
 using ScalarField = std::function<double(const Eigen::Vector3d&, int region)>;
 
-/// Errors with a degree-8 quadrature on the (curved) mesh.
-StokesErrors stokes_errors(const mesh::Mesh& mesh, const StokesDofMap& dofs,
+/// Errors with a degree-8 quadrature on the (curved) mesh, of the fields
+/// "velocity" (3 x P2) and "pressure" (P1) of `dofs`.
+StokesErrors stokes_errors(const mesh::Mesh& mesh, const DofMap& dofs,
                            const std::vector<double>& solution, const VectorField& velocity,
                            const ScalarField& pressure);
 

@@ -52,26 +52,42 @@ void write_data_array(std::ofstream& out, const char* type, const char* name, in
 
 }  // namespace
 
-SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+const PointField& SubdomainPiece::field(const std::string& name) const {
+  for (const auto& f : fields)
+    if (f.name == name) return f;
+  throw Error(fmt::format("no field '{}' in the output piece", name));
+}
+
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs,
                                  const std::vector<double>& solution, int region) {
   SubdomainPiece piece;
   piece.region = region;
+  for (int f = 0; f < dofs.n_fields(); ++f)
+    piece.fields.push_back({dofs.field(f).name, dofs.field(f).components, {}});
   std::vector<int> local(mesh.n_nodes(), -1);
+  std::vector<double> element_values;
   for (int t = 0; t < mesh.n_tets(); ++t) {
     if (mesh.tet_region[t] != region) continue;
-    const auto& d = dofs.tet_dofs(t);
+    const auto d = dofs.element_dofs(t);
     mesh::Tet10 cell{};
-    double vertex_pressure[4];
-    for (int i = 0; i < 4; ++i) vertex_pressure[i] = solution[d[30 + i]];
     for (int k = 0; k < 10; ++k) {
       const int node = mesh.tets[t][k];
       if (local[node] < 0) {
         local[node] = static_cast<int>(piece.points.size());
         piece.points.push_back(mesh.nodes[node]);
-        for (int c = 0; c < 3; ++c) piece.velocity.push_back(solution[d[3 * k + c]]);
-        piece.pressure.push_back(k < 4 ? vertex_pressure[k]
-                                       : 0.5 * (vertex_pressure[mesh::kTetEdges[k - 4][0]] +
-                                                vertex_pressure[mesh::kTetEdges[k - 4][1]]));
+        for (int f = 0; f < dofs.n_fields(); ++f) {
+          const int n_c = dofs.field(f).components;
+          const int* fd = d.data() + dofs.element_offset(f);
+          auto& out = piece.fields[f].values;
+          for (int c = 0; c < n_c; ++c) {
+            if (dofs.field(f).space->degree() == 2 || k < 4) {
+              out.push_back(solution[fd[k * n_c + c]]);
+            } else {  // P1 at an edge node: the mean of the edge's vertices
+              const auto& e = mesh::kTetEdges[k - 4];
+              out.push_back(0.5 * (solution[fd[e[0] * n_c + c]] + solution[fd[e[1] * n_c + c]]));
+            }
+          }
+        }
       }
       cell[k] = local[node];
     }
@@ -103,15 +119,22 @@ void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece) {
   write_data_array(out, "Int32", "connectivity", 1, connectivity);
   write_data_array(out, "Int32", "offsets", 1, offsets);
   write_data_array(out, "UInt8", "types", 1, types);
-  out << "</Cells>\n<PointData Vectors=\"velocity\" Scalars=\"pressure\">\n";
-  write_data_array(out, "Float64", "velocity", 3, piece.velocity);
-  write_data_array(out, "Float64", "pressure", 1, piece.pressure);
+  std::string active;  // ParaView's default vector and scalar: the first of each
+  for (const auto& f : piece.fields) {
+    if (f.components == 3 && active.find("Vectors") == std::string::npos)
+      active += fmt::format(" Vectors=\"{}\"", f.name);
+    if (f.components == 1 && active.find("Scalars") == std::string::npos)
+      active += fmt::format(" Scalars=\"{}\"", f.name);
+  }
+  out << "</Cells>\n<PointData" << active << ">\n";
+  for (const auto& f : piece.fields)
+    write_data_array(out, "Float64", f.name.c_str(), f.components, f.values);
   out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
   if (!out) throw Error(fmt::format("error while writing {}", path.string()));
 }
 
 void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mesh& mesh,
-                         const fem::StokesDofMap& dofs, const std::vector<double>& solution,
+                         const fem::DofMap& dofs, const std::vector<double>& solution,
                          double time) {
   std::ofstream pvd(directory / "fields.pvd");
   pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
@@ -128,7 +151,7 @@ FieldSeries::FieldSeries(std::filesystem::path directory, std::filesystem::path 
   std::filesystem::create_directories(directory_);
 }
 
-void FieldSeries::write(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+void FieldSeries::write(const mesh::Mesh& mesh, const fem::DofMap& dofs,
                         const std::vector<double>& solution, double time, int step) {
   for (int region = 0; region <= mesh.n_objects; ++region) {
     const std::string name = region == 0 ? fmt::format("matrix_{:06d}.vtu", step)

@@ -10,19 +10,34 @@
 
 namespace softflow::io {
 
-/// One subdomain's piece of a Stokes solution on its own copy of the nodes,
-/// so that the pressure (and later the velocity with slip) may jump at the
-/// interface. Cells are VTK_QUADRATIC_TETRA; P1 pressure is interpolated
-/// linearly to the edge nodes so that ParaView shows the P1 field.
+/// Values of one field at the points of a piece.
+struct PointField {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;  ///< `components` per point
+
+  [[nodiscard]] double at(std::size_t point, int component = 0) const {
+    return values[point * components + component];
+  }
+};
+
+/// One subdomain's piece of a solution on its own copy of the nodes, so
+/// that per-region fields (pressure, a conformation tensor, a slip
+/// velocity) may jump at the interface. Cells are VTK_QUADRATIC_TETRA.
+/// Every field of the dof map becomes a point field of the same name; P1
+/// fields are interpolated linearly to the edge nodes, so that ParaView
+/// shows the P1 field.
 struct SubdomainPiece {
   int region = 0;
   std::vector<mesh::Point> points;
-  std::vector<mesh::Tet10> cells;        ///< indices into points
-  std::vector<double> velocity;          ///< 3 per point
-  std::vector<double> pressure;          ///< 1 per point
+  std::vector<mesh::Tet10> cells;  ///< indices into points
+  std::vector<PointField> fields;  ///< in the dof map's field order
+
+  /// The field called `name`; throws if there is none.
+  [[nodiscard]] const PointField& field(const std::string& name) const;
 };
 
-SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs,
                                  const std::vector<double>& solution, int region);
 
 /// Writes `piece` as a binary (base64) XML UnstructuredGrid file.
@@ -31,7 +46,7 @@ void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece);
 /// Writes matrix.vtu, object_1.vtu, ... into `directory` and fields.pvd
 /// listing them as parts of one time step (ParaView opens the PVD).
 void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mesh& mesh,
-                         const fem::StokesDofMap& dofs, const std::vector<double>& solution,
+                         const fem::DofMap& dofs, const std::vector<double>& solution,
                          double time = 0.0);
 
 /// Fields at several times as one ParaView time series: every call to
@@ -41,7 +56,7 @@ void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mes
 class FieldSeries {
  public:
   FieldSeries(std::filesystem::path directory, std::filesystem::path pvd_path);
-  void write(const mesh::Mesh& mesh, const fem::StokesDofMap& dofs,
+  void write(const mesh::Mesh& mesh, const fem::DofMap& dofs,
              const std::vector<double>& solution, double time, int step);
   /// Continues the series of an earlier run (a restart): takes the entries
   /// of the existing PVD file up to `step`, so that later writes extend it.

@@ -1,5 +1,7 @@
 #include "softflow/la/petsc.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
@@ -55,6 +57,20 @@ IndexSet make_index_set(std::span<const PetscInt> owned_indices, PetscInt block_
         "ISCreateGeneral");
   if (block_size > 1) check(ISSetBlockSize(is.get(), block_size), "ISSetBlockSize");
   return is;
+}
+
+NullSpace rigid_body_modes(std::span<const PetscScalar> xyz) {
+  const auto n = static_cast<PetscInt>(xyz.size());
+  Vector coordinates;
+  check(VecCreateMPI(PETSC_COMM_WORLD, n, PETSC_DETERMINE, coordinates.out()), "VecCreateMPI");
+  check(VecSetBlockSize(coordinates.get(), 3), "VecSetBlockSize");
+  PetscScalar* x = nullptr;
+  check(VecGetArray(coordinates.get(), &x), "VecGetArray");
+  std::copy(xyz.begin(), xyz.end(), x);
+  check(VecRestoreArray(coordinates.get(), &x), "VecRestoreArray");
+  NullSpace modes;
+  check(MatNullSpaceCreateRigidBody(coordinates.get(), modes.out()), "MatNullSpaceCreateRigidBody");
+  return modes;
 }
 
 }  // namespace softflow::la

@@ -49,6 +49,7 @@ using Vector = Owned<Vec, VecDestroy>;
 using Matrix = Owned<Mat, MatDestroy>;
 using Solver = Owned<KSP, KSPDestroy>;
 using IndexSet = Owned<IS, ISDestroy>;
+using NullSpace = Owned<MatNullSpace, MatNullSpaceDestroy>;
 
 /// Contiguous ownership of global indices [begin, end) on this rank.
 struct OwnershipRange {
@@ -69,5 +70,17 @@ std::vector<double> gather_to_all(Vec v);
 
 /// An index set of this rank's global indices (sorted, owned).
 IndexSet make_index_set(std::span<const PetscInt> owned_indices, PetscInt block_size = 1);
+
+/// One field of a block system: its name (fieldsplit options address it
+/// as -<prefix>fieldsplit_<name>_...) and this rank's rows of it.
+struct NamedIndexSet {
+  std::string name;
+  IS rows = nullptr;  ///< not owned
+};
+
+/// The six rigid-body modes (3 translations, 3 rotations) of a vector field
+/// given the coordinates of this rank's nodes as x y z triples: the
+/// near-nullspace smoothed-aggregation AMG needs for elasticity-like blocks.
+NullSpace rigid_body_modes(std::span<const PetscScalar> xyz);
 
 }  // namespace softflow::la

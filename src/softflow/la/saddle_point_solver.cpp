@@ -31,7 +31,8 @@ void configure_direct(const SaddlePointSettings& s, KSP ksp) {
   set_default_option("-mat_mumps_icntl_14", "80");
 }
 
-void configure_iterative(const SaddlePointSettings& s, KSP ksp, IS velocity, IS pressure) {
+void configure_iterative(const SaddlePointSettings& s, KSP ksp,
+                         const std::vector<NamedIndexSet>& fields, MatNullSpace near_nullspace) {
   // Settings measured best on this machine (PLATFORM.md): lower-triangular
   // Schur factorisation, Schur complement approximated by the scaled
   // pressure mass matrix (the A11 block of the preconditioning matrix),
@@ -42,31 +43,48 @@ void configure_iterative(const SaddlePointSettings& s, KSP ksp, IS velocity, IS 
   check(KSPGetPC(ksp, &pc), "KSPGetPC");
   check(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
   // Named fields, so every split can be tuned from the command line.
-  check(PCFieldSplitSetIS(pc, "velocity", velocity), "PCFieldSplitSetIS(velocity)");
-  check(PCFieldSplitSetIS(pc, "pressure", pressure), "PCFieldSplitSetIS(pressure)");
-  check(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR), "PCFieldSplitSetType");
-  check(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_LOWER), "SchurFactType");
-  check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_A11, nullptr), "SchurPre");
+  for (const auto& f : fields)
+    check(PCFieldSplitSetIS(pc, f.name.c_str(), f.rows), "PCFieldSplitSetIS");
+  // The first field's near-nullspace reaches its sub-matrix through the
+  // index set (PCFIELDSPLIT looks for "nearnullspace" composed on it); GAMG
+  // uses it, and BoomerAMG when asked for interpolation vectors.
+  if (near_nullspace && !fields.empty())
+    check(PetscObjectCompose(reinterpret_cast<PetscObject>(fields.front().rows), "nearnullspace",
+                             reinterpret_cast<PetscObject>(near_nullspace)),
+          "PetscObjectCompose(nearnullspace)");
+  if (fields.size() == 2) {
+    check(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR), "PCFieldSplitSetType");
+    check(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_LOWER), "SchurFactType");
+    check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_A11, nullptr), "SchurPre");
+  } else {
+    check(PCFieldSplitSetType(pc, PC_COMPOSITE_MULTIPLICATIVE), "PCFieldSplitSetType");
+  }
   // The sub-solvers exist only after setup, so their defaults go through the
   // options database (only fieldsplit solvers with this prefix read them).
-  const std::string v = "-" + s.prefix + "fieldsplit_velocity_";
-  set_default_option(v + "ksp_type", "preonly");
-  set_default_option(v + "pc_type", "hypre");
-  set_default_option(v + "pc_hypre_type", "boomeramg");
-  set_default_option(v + "pc_hypre_boomeramg_strong_threshold", "0.7");
-  set_default_option(v + "pc_hypre_boomeramg_coarsen_type", "HMIS");
-  set_default_option(v + "pc_hypre_boomeramg_interp_type", "ext+i");
-  set_default_option(v + "pc_hypre_boomeramg_P_max", "4");
-  set_default_option(v + "pc_hypre_boomeramg_agg_nl", "1");
-  const std::string q = "-" + s.prefix + "fieldsplit_pressure_";
-  set_default_option(q + "ksp_type", "preonly");
-  set_default_option(q + "pc_type", "jacobi");
+  // The first field is the velocity-like primal block; the others are
+  // constraint-like (pressure: the scaled mass matrix, Jacobi is exact enough).
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const std::string v = "-" + s.prefix + "fieldsplit_" + fields[i].name + "_";
+    set_default_option(v + "ksp_type", "preonly");
+    if (i > 0) {
+      set_default_option(v + "pc_type", "jacobi");
+      continue;
+    }
+    set_default_option(v + "pc_type", "hypre");
+    set_default_option(v + "pc_hypre_type", "boomeramg");
+    set_default_option(v + "pc_hypre_boomeramg_strong_threshold", "0.7");
+    set_default_option(v + "pc_hypre_boomeramg_coarsen_type", "HMIS");
+    set_default_option(v + "pc_hypre_boomeramg_interp_type", "ext+i");
+    set_default_option(v + "pc_hypre_boomeramg_P_max", "4");
+    set_default_option(v + "pc_hypre_boomeramg_agg_nl", "1");
+  }
 }
 
 }  // namespace
 
-SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings, IS velocity_dofs,
-                                     IS pressure_dofs)
+SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings,
+                                     const std::vector<NamedIndexSet>& fields,
+                                     MatNullSpace near_nullspace)
     : settings_(settings) {
   check(KSPCreate(PETSC_COMM_WORLD, ksp_.out()), "KSPCreate");
   check(KSPSetOptionsPrefix(ksp_.get(), settings.prefix.c_str()), "KSPSetOptionsPrefix");
@@ -76,7 +94,7 @@ SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings, IS vel
   if (settings.method == SaddlePointMethod::direct) {
     configure_direct(settings, ksp_.get());
   } else {
-    configure_iterative(settings, ksp_.get(), velocity_dofs, pressure_dofs);
+    configure_iterative(settings, ksp_.get(), fields, near_nullspace);
   }
   check(KSPSetFromOptions(ksp_.get()), "KSPSetFromOptions");
   // -<prefix>lu_reuse_max_its N overrides the reuse threshold (tests use a

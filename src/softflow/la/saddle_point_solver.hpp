@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "softflow/la/petsc.hpp"
 
@@ -45,9 +46,19 @@ struct SolveReport {
 /// approximates the Schur complement -B A^{-1} B^T. The preconditioning
 /// matrix `pmat` carries -M/eta in its pressure block; with the direct
 /// method it is ignored.
+///
+/// The unknowns come as a list of named fields (e.g. "velocity",
+/// "pressure"; later multipliers or a conformation tensor). The iterative
+/// method splits them by name, so -<prefix>fieldsplit_<name>_pc_type etc.
+/// address each one: with two fields a lower Schur factorisation (first =
+/// primal, second = constraint), with more a multiplicative split whose
+/// fields the user may regroup with -<prefix>pc_fieldsplit_<k>_fields.
 class SaddlePointSolver {
  public:
-  SaddlePointSolver(const SaddlePointSettings& settings, IS velocity_dofs, IS pressure_dofs);
+  /// `fields` and `near_nullspace` (the first field's, may be null) are
+  /// referenced by PETSc and must stay alive while the solver does.
+  SaddlePointSolver(const SaddlePointSettings& settings, const std::vector<NamedIndexSet>& fields,
+                    MatNullSpace near_nullspace = nullptr);
 
   /// Sets the operator (and preconditioning matrix) for the next solve.
   void set_operators(Mat a, Mat pmat);

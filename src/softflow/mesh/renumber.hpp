@@ -8,7 +8,7 @@ namespace softflow::mesh {
 /// Renumbers the nodes along a Morton (Z-order) curve of their positions, so
 /// that vertices and edge nodes close in space are close in number. gmsh
 /// numbers every vertex before every edge node; contiguous node ranges (one
-/// per MPI rank, see fem::StokesDofMap) are then spatially scattered, and one
+/// per MPI rank, see fem::DofMap) are then spatially scattered, and one
 /// rank ends up owning the first node of every element. After renumbering,
 /// contiguous ranges are compact subdomains and element loops touch memory
 /// in order. Periodic representatives stay the smallest index of their class.

@@ -136,6 +136,7 @@ void DropSimulation::check_solution_finite() const {
   const auto& dofs = stokes_->dofs();
   const int node = dofs.node_of(dof);
   const int region = dofs.region_of(dof);
+  const std::string& field = dofs.field(dofs.field_of(dof)).name;
   const auto& x = mesh_.nodes[node];
   throw SolverError(fmt::format(
       "step {} (t = {:.4f}): the Stokes solution is not finite ({} {} at node {}, {}, near "
@@ -143,7 +144,7 @@ void DropSimulation::check_solution_finite() const {
       "[solver] and the PETSc options), a time step too large for the surface tension (with "
       "interface.semi_implicit_tension = false) or a tangled mesh: try the default solver, a "
       "smaller time.step or a finer mesh",
-      steps_ + 1, time_, *bad, dofs.is_velocity(dof) ? "velocity" : "pressure", node,
+      steps_ + 1, time_, *bad, field, node,
       region == 0 ? std::string("in the matrix") : fmt::format("in object {}", region), x.x(),
       x.y(), x.z()));
 }
@@ -357,7 +358,7 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
 
 Vec3 DropSimulation::interface_velocity(int node) const {
   // No slip: the matrix-side copy is the shared interface velocity.
-  const int v = stokes_->dofs().velocity_dof(node, 0);
+  const int v = stokes_->dofs().dof(physics::kVelocityField, node, 0);
   return Vec3(solution_[v], solution_[v + 1], solution_[v + 2]);
 }
 

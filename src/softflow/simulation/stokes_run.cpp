@@ -107,7 +107,8 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
   if (!options.quiet && root)
     fmt::print("stokes: {} unknowns ({} velocity, {} pressure), assembly {:.2f} s, solve {:.2f} s, "
                "{} iterations ({})\n",
-               dofs.n_dofs(), dofs.n_velocity_dofs(), dofs.n_pressure_dofs(),
+               dofs.n_dofs(), dofs.n_field_dofs(physics::kVelocityField),
+               dofs.n_field_dofs(physics::kPressureField),
                result.assembly_seconds, result.solve.seconds, result.solve.iterations,
                result.solve.reason);
 
@@ -121,8 +122,8 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
       {"dimensionless_groups", io::to_json(io::dimensionless_groups(config))},
       {"unknowns",
        {{"total", dofs.n_dofs()},
-        {"velocity", dofs.n_velocity_dofs()},
-        {"pressure", dofs.n_pressure_dofs()}}},
+        {"velocity", dofs.n_field_dofs(physics::kVelocityField)},
+        {"pressure", dofs.n_field_dofs(physics::kPressureField)}}},
       {"solver",
        {{"method", config.solver == io::SolverType::direct ? "direct" : "iterative"},
         {"iterations", result.solve.iterations},

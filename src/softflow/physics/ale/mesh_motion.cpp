@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/la/coo_matrix.hpp"
 #include "softflow/la/saddle_point_solver.hpp"  // la::set_default_option
 
 namespace softflow::physics {
@@ -115,72 +116,42 @@ void AleMeshMotion::partition(const mesh::Mesh& mesh) {
 }
 
 void AleMeshMotion::assemble(const mesh::Mesh& mesh) {
-  // Element index lists: -1 entries are skipped by MatSetValues, so the same
-  // element matrix feeds the free-free block A (rows and columns free) and
-  // the coupling block C (rows free, columns interface).
-  auto element_indices = [&](int t, std::array<PetscInt, 10>& rows,
-                             std::array<PetscInt, 10>& interface_cols) {
+  // One element matrix feeds two blocks of the operator: the free-free
+  // block A (rows and columns free) and the coupling block C (rows free,
+  // columns prescribed on the interface). Each block's index lists carry -1
+  // for the other kind of node, which la::CooMatrix drops.
+  la::CooMatrix a(free_range_, n_free_, free_range_, n_free_);
+  la::CooMatrix c(free_range_, n_free_, interface_range_, n_interface_);
+  const bool has_coupling = n_interface_ > 0;
+  std::array<PetscInt, 10> rows{}, interface_columns{};
+  auto element_indices = [&](int t) {
     for (int k = 0; k < 10; ++k) {
       const int rep = master_[mesh.tets[t][k]];
       rows[k] = free_index_[rep];
-      interface_cols[k] = interface_index_[rep];
+      interface_columns[k] = interface_index_[rep];
     }
   };
-  const bool has_coupling = n_interface_ > 0;
-
-  // Exact preallocation through MATPREALLOCATOR (as StokesSystem).
-  auto create = [&](la::Matrix& m, la::OwnershipRange cols, PetscInt n_cols, MatType type) {
-    check(MatCreate(PETSC_COMM_WORLD, m.out()), "MatCreate");
-    check(MatSetSizes(m.get(), free_range_.size(), cols.size(), n_free_, n_cols), "MatSetSizes");
-    check(MatSetType(m.get(), type), "MatSetType");
-  };
-  la::Matrix pattern_a, pattern_c;
-  create(pattern_a, free_range_, n_free_, MATPREALLOCATOR);
-  check(MatSetUp(pattern_a.get()), "MatSetUp");
-  if (has_coupling) {
-    create(pattern_c, interface_range_, n_interface_, MATPREALLOCATOR);
-    check(MatSetUp(pattern_c.get()), "MatSetUp");
-  }
-  const AleTetMatrix zeros = AleTetMatrix::Zero();
-  std::array<PetscInt, 10> rows{}, icols{};
+  std::vector<la::CooMatrix::Block> blocks;
   for (int t : owned_tets_) {
-    element_indices(t, rows, icols);
-    check(MatSetValues(pattern_a.get(), 10, rows.data(), 10, rows.data(), zeros.data(), ADD_VALUES),
-          "MatSetValues(pattern A)");
+    element_indices(t);
+    blocks.push_back(a.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(rows)));
     if (has_coupling)
-      check(MatSetValues(pattern_c.get(), 10, rows.data(), 10, icols.data(), zeros.data(),
-                         ADD_VALUES),
-            "MatSetValues(pattern C)");
+      c.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(interface_columns));
   }
-  auto finish = [](Mat m) {
-    check(MatAssemblyBegin(m, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-    check(MatAssemblyEnd(m, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-  };
-  finish(pattern_a.get());
-  if (has_coupling) finish(pattern_c.get());
-
-  auto preallocate = [&](la::Matrix& m, Mat pattern, la::OwnershipRange cols, PetscInt n_cols) {
-    create(m, cols, n_cols, MATAIJ);
-    check(MatPreallocatorPreallocate(pattern, PETSC_TRUE, m.get()), "MatPreallocatorPreallocate");
-    check(MatSetOption(m.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
-  };
-  preallocate(a_, pattern_a.get(), free_range_, n_free_);
-  if (has_coupling) preallocate(coupling_, pattern_c.get(), interface_range_, n_interface_);
+  a.create();
+  if (has_coupling) c.create();
 
   const fem::TetTabulation tab(kQuadratureDegree);
   AleTetMatrix ke;
-  for (int t : owned_tets_) {
-    ale_tet_matrix(fem::tet_nodes(mesh, t), tab, ke);
-    element_indices(t, rows, icols);
-    // Symmetric element matrix: Eigen's column-major data is the row-major view PETSc reads.
-    check(MatSetValues(a_.get(), 10, rows.data(), 10, rows.data(), ke.data(), ADD_VALUES),
-          "MatSetValues(A)");
-    if (has_coupling)
-      check(MatSetValues(coupling_.get(), 10, rows.data(), 10, icols.data(), ke.data(), ADD_VALUES),
-            "MatSetValues(C)");
+  for (std::size_t e = 0; e < owned_tets_.size(); ++e) {
+    ale_tet_matrix(fem::tet_nodes(mesh, owned_tets_[e]), tab, ke);
+    a.set_block(blocks[e], ke);
+    if (has_coupling) c.set_block(blocks[e], ke);  // same declaration order, same offsets
   }
-  finish(a_.get());
-  if (has_coupling) finish(coupling_.get());
+  a.assemble();
+  if (has_coupling) c.assemble();
+  a_ = a.release();
+  if (has_coupling) coupling_ = c.release();
   check(MatSetOption(a_.get(), MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption(symmetric)");
   check(MatSetOption(a_.get(), MAT_SPD, PETSC_TRUE), "MatSetOption(spd)");
 }

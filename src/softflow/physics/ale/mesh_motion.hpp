@@ -72,10 +72,10 @@ double ale_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
 /// A node on both an interface and the outer boundary (objects never touch
 /// the box, so in principle none) follows the interface.
 ///
-/// Parallel layout as fem::StokesDofMap/StokesSystem: the mesh is
+/// Parallel layout as fem::DofMap/StokesSystem: the mesh is
 /// replicated, each rank owns a contiguous range of representative nodes
 /// (balanced by free unknowns) and assembles the tetrahedra whose first
-/// node's representative it owns into distributed PETSc matrices.
+/// node's representative it owns (la::CooMatrix, as every operator).
 class AleMeshMotion {
  public:
   explicit AleMeshMotion(const mesh::Mesh& reference, const AleSettings& settings = {});

@@ -18,92 +18,87 @@ using la::check;
 constexpr int kQuadratureDegree = 5;
 }  // namespace
 
+fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool double_interface_velocity) {
+  using fem::Continuity;
+  auto velocity = std::make_shared<fem::Space>(
+      mesh, 2, double_interface_velocity ? Continuity::per_region : Continuity::continuous);
+  auto pressure = std::make_shared<fem::Space>(mesh, 1, Continuity::per_region);
+  return fem::DofMap(mesh, {{"velocity", velocity, 3}, {"pressure", pressure, 1}});
+}
+
 StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings& settings,
                            bool double_interface_velocity)
     : mesh_(mesh),
       settings_(settings),
-      dofs_(mesh, double_interface_velocity),
+      dofs_(make_stokes_dof_map(mesh, double_interface_velocity)),
       tabulation_(kQuadratureDegree) {
+  // The element kernels are written for the Taylor-Hood element.
+  if (dofs_.element_size() != TetMatrix::RowsAtCompileTime)
+    throw SolverError(fmt::format("StokesSystem: {} element dofs, the kernels take {}",
+                                  dofs_.element_size(), TetMatrix::RowsAtCompileTime));
   partition();
   create_matrices();
-  solver_ = std::make_unique<la::SaddlePointSolver>(settings_, velocity_is_.get(),
-                                                    pressure_is_.get());
+  std::vector<la::NamedIndexSet> fields;
+  for (int f = 0; f < dofs_.n_fields(); ++f)
+    fields.push_back({dofs_.field(f).name, field_index_sets_[f].get()});
+  const auto near_nullspace = velocity_near_nullspace();
+  solver_ = std::make_unique<la::SaddlePointSolver>(settings_, fields, near_nullspace.get());
 }
 
 StokesSystem::~StokesSystem() = default;
 
 void StokesSystem::partition() {
-  // Contiguous node ranges with about equal numbers of unknowns per rank.
-  const int rank = la::mpi_rank(), size = la::mpi_size();
-  const int n_nodes = mesh_.n_nodes();
-  const long target_begin = static_cast<long>(dofs_.n_dofs()) * rank / size;
-  const long target_end = static_cast<long>(dofs_.n_dofs()) * (rank + 1) / size;
-  auto first_node_at = [&](long dof) {
-    int lo = 0, hi = n_nodes;  // first node whose offset >= dof
-    while (lo < hi) {
-      const int mid = (lo + hi) / 2;
-      if (dofs_.dof_offset_of_node(mid) < dof) lo = mid + 1; else hi = mid;
-    }
-    return lo;
-  };
-  range_.begin = dofs_.dof_offset_of_node(first_node_at(target_begin));
-  range_.end = rank + 1 == size ? dofs_.n_dofs() : dofs_.dof_offset_of_node(first_node_at(target_end));
-
+  const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
+  range_ = {owned.begin, owned.end};
   for (int t = 0; t < mesh_.n_tets(); ++t)
-    if (range_.owns(dofs_.tet_dofs(t)[0])) owned_tets_.push_back(t);
+    if (range_.owns(dofs_.element_dofs(t)[0])) owned_tets_.push_back(t);
   for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) {
     const int node = mesh_.interface_faces[f][0];
-    if (range_.owns(dofs_.velocity_dof(node, 0))) owned_interface_faces_.push_back(f);
+    if (range_.owns(dofs_.dof(kVelocityField, node, 0))) owned_interface_faces_.push_back(f);
   }
-
-  std::vector<PetscInt> velocity, pressure;
+  std::vector<std::vector<PetscInt>> owned_by_field(dofs_.n_fields());
   for (PetscInt i = range_.begin; i < range_.end; ++i)
-    (dofs_.is_velocity(static_cast<int>(i)) ? velocity : pressure).push_back(i);
-  velocity_is_ = la::make_index_set(velocity, 3);
-  pressure_is_ = la::make_index_set(pressure);
+    owned_by_field[dofs_.field_of(static_cast<int>(i))].push_back(i);
+  for (int f = 0; f < dofs_.n_fields(); ++f)
+    field_index_sets_.push_back(la::make_index_set(owned_by_field[f], dofs_.field(f).components));
+}
+
+la::NullSpace StokesSystem::velocity_near_nullspace() const {
+  // Coordinates of the owned velocity nodes, in the velocity block's order
+  // (x, y, z triples, as the dofs come).
+  std::vector<PetscScalar> xyz;
+  for (PetscInt i = range_.begin; i < range_.end; ++i) {
+    const int dof = static_cast<int>(i);
+    if (dofs_.field_of(dof) != kVelocityField) continue;
+    xyz.push_back(mesh_.nodes[dofs_.node_of(dof)](dofs_.component_of(dof)));
+  }
+  return la::rigid_body_modes(xyz);
 }
 
 void StokesSystem::create_matrices() {
-  // Coordinate-format assembly: the (row, column) list of every element
-  // entry is handed to PETSc once; each later assembly passes only the
-  // values, in the same order. PETSc then sums repeated entries and routes
-  // off-rank rows itself. MatSetValues, by contrast, searches every row for
-  // every entry and cost ~40 ns an entry: 5x the element kernels.
-  // The interface blocks of the semi-implicit tension are always in the
-  // pattern (zero when it is off), so that one pattern serves every solve.
-  const std::size_t n = owned_tets_.size() * kTetMatrixSize +
-                        owned_interface_faces_.size() * kInterfaceMatrixSize;
-  auto make = [&](la::Matrix& m) {
-    std::vector<PetscInt> rows(n), cols(n);  // PETSc may reorder them
-    std::size_t e = 0;
+  // One coordinate-format pattern serves every solve (la::CooMatrix). The
+  // interface blocks of the semi-implicit tension are always in it (zero
+  // when the tension is explicit).
+  const int n = dofs_.n_dofs();
+  const bool iterative = settings_.method == la::SaddlePointMethod::iterative;
+  auto declare = [&](la::CooMatrix& m, bool record) {
     for (int t : owned_tets_) {
-      const auto& d = dofs_.tet_dofs(t);
-      for (int i = 0; i < 34; ++i)
-        for (int j = 0; j < 34; ++j, ++e) {
-          rows[e] = d[i];
-          cols[e] = d[j];
-        }
+      const auto d = dofs_.element_dofs(t);
+      const auto b = m.add_block(d, d);
+      if (record) tet_blocks_.push_back(b);
     }
     for (int f : owned_interface_faces_) {
       const auto d = interface_velocity_dofs(f);
-      for (int i = 0; i < 18; ++i)
-        for (int j = 0; j < 18; ++j, ++e) {
-          rows[e] = d[i];
-          cols[e] = d[j];
-        }
+      const auto b = m.add_block(std::span<const PetscInt>(d), std::span<const PetscInt>(d));
+      if (record) interface_blocks_.push_back(b);
     }
-    check(MatCreate(PETSC_COMM_WORLD, m.out()), "MatCreate");
-    check(MatSetSizes(m.get(), range_.size(), range_.size(), dofs_.n_dofs(), dofs_.n_dofs()),
-          "MatSetSizes");
-    check(MatSetType(m.get(), MATAIJ), "MatSetType");
-    check(MatSetPreallocationCOO(m.get(), static_cast<PetscCount>(n), rows.data(), cols.data()),
-          "MatSetPreallocationCOO");
+    m.create();
   };
-  make(a_);
-  values_.resize(n);
-  if (settings_.method == la::SaddlePointMethod::iterative) {
-    make(pmat_);
-    preconditioner_values_.resize(n);
+  a_ = std::make_unique<la::CooMatrix>(range_, n, range_, n);
+  declare(*a_, true);
+  if (iterative) {
+    pmat_ = std::make_unique<la::CooMatrix>(range_, n, range_, n);
+    declare(*pmat_, false);  // same declaration order: same block handles
   }
 }
 
@@ -116,17 +111,14 @@ void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
     const int region = mesh_.tet_region[t];
     const double eta = problem.viscosity.at(region);
     const auto x = fem::tet_nodes(mesh_, t);
-    const auto& d = dofs_.tet_dofs(t);
+    const auto d = dofs_.element_dofs(t);
     ke.setZero();
     PressureMass mass = PressureMass::Zero();
     add_stokes_tet_matrix(x, tabulation_, eta, ke, iterative ? &mass : nullptr);
-    // Eigen is column-major; the element matrix is symmetric, so its data is
-    // also the row-major order of the coordinate list.
-    std::copy(ke.data(), ke.data() + kTetMatrixSize, values_.begin() + e * kTetMatrixSize);
+    a_->set_block(tet_blocks_[e], ke);
     if (iterative) {
       ke.bottomRightCorner<4, 4>() = mass;
-      std::copy(ke.data(), ke.data() + kTetMatrixSize,
-                preconditioner_values_.begin() + e * kTetMatrixSize);
+      pmat_->set_block(tet_blocks_[e], ke);
     }
     if (problem.body_force) {
       fe.setZero();
@@ -136,8 +128,7 @@ void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
     }
   }
   const auto& implicit = problem.semi_implicit_tension;
-  std::size_t e = owned_tets_.size() * kTetMatrixSize;
-  for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i, e += kInterfaceMatrixSize) {
+  for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i) {
     const int f = owned_interface_faces_[i];
     const int object = mesh_.interface_object[f];
     const double gamma = object - 1 < static_cast<int>(problem.interfacial_tension.size())
@@ -168,16 +159,11 @@ void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
       const auto rows = interface_velocity_dofs(f);
       check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
     }
-    // Symmetric, so column-major data is also the coordinate list's row-major order.
-    std::copy(block.data(), block.data() + kInterfaceMatrixSize, values_.begin() + e);
-    if (iterative)
-      std::copy(block.data(), block.data() + kInterfaceMatrixSize,
-                preconditioner_values_.begin() + e);
+    a_->set_block(interface_blocks_[i], block);
+    if (iterative) pmat_->set_block(interface_blocks_[i], block);
   }
-  check(MatSetValuesCOO(a_.get(), values_.data(), INSERT_VALUES), "MatSetValuesCOO(A)");
-  if (iterative)
-    check(MatSetValuesCOO(pmat_.get(), preconditioner_values_.data(), INSERT_VALUES),
-          "MatSetValuesCOO(P)");
+  a_->assemble();
+  if (iterative) pmat_->assemble();
   check(VecAssemblyBegin(rhs), "VecAssemblyBegin");
   check(VecAssemblyEnd(rhs), "VecAssemblyEnd");
 }
@@ -199,11 +185,10 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
       const Vec3 g = problem.boundary_velocity ? problem.boundary_velocity(mesh_.nodes[node])
                                                : Vec3::Zero();
       // Outer boundary nodes lie in one region (objects never touch the box).
-      const int v = dofs_.first_velocity_dof(node);
-      for (int c = 0; c < 3; ++c) constrain(v + c, g(c));
+      for (int c = 0; c < 3; ++c) constrain(dofs_.dof(kVelocityField, node, 0, c), g(c));
     }
   if (problem.pressure_gauge_node >= 0) {
-    const int p = dofs_.pressure_dof(problem.pressure_gauge_node, 0);
+    const int p = dofs_.dof(kPressureField, problem.pressure_gauge_node, 0);
     if (p < 0) throw SolverError("pressure gauge node is not a matrix vertex");
     constrain(p, problem.pressure_gauge_value);
   }
@@ -212,9 +197,9 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
         "VecSetValues(x)");
   check(VecAssemblyBegin(x), "VecAssemblyBegin");
   check(VecAssemblyEnd(x), "VecAssemblyEnd");
-  for (Mat m : {a_.get(), pmat_.get()}) {
+  for (Mat m : {a_->get(), pmat_ ? pmat_->get() : Mat{}}) {
     if (!m) continue;
-    const bool is_operator = m == a_.get();
+    const bool is_operator = m == a_->get();
     check(MatZeroRowsColumns(m, static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
                              is_operator ? x : nullptr, is_operator ? rhs : nullptr),
           "MatZeroRowsColumns");
@@ -241,7 +226,7 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
   StokesResult result;
   result.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  solver_->set_operators(a_.get(), pmat_.get());
+  solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr);
   result.solve = solver_->solve(rhs.get(), x.get());
   result.solution = la::gather_to_all(x.get());
   return result;
@@ -252,7 +237,7 @@ std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face) const {
   const auto& tri = mesh_.interface_faces[face];
   std::array<PetscInt, 18> rows;
   for (int k = 0; k < 6; ++k)
-    for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.velocity_dof(tri[k], 0) + c;
+    for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.dof(kVelocityField, tri[k], 0, c);
   return rows;
 }
 

@@ -7,6 +7,7 @@
 
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/tabulation.hpp"
+#include "softflow/la/coo_matrix.hpp"
 #include "softflow/la/petsc.hpp"
 #include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/mesh/mesh.hpp"
@@ -14,8 +15,18 @@
 
 namespace softflow::physics {
 
+/// Field indices of the Taylor-Hood dof map (make_stokes_dof_map).
+inline constexpr int kVelocityField = 0;
+inline constexpr int kPressureField = 1;
+
+/// The unknowns of thesis §2.3.1: velocity = 3 x P2, continuous across
+/// interfaces (no slip) or one copy per region (`double_interface_velocity`,
+/// for slip constraints); pressure = P1 per region, so it may jump across an
+/// interface. Fields "velocity" (kVelocityField) and "pressure".
+fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool double_interface_velocity);
+
 struct StokesResult {
-  /// Every dof of fem::StokesDofMap, gathered on every rank.
+  /// Every dof of the Stokes dof map, gathered on every rank.
   std::vector<double> solution;
   la::SolveReport solve;
   double assembly_seconds = 0.0;
@@ -31,7 +42,15 @@ struct StokesResult {
 ///
 /// with u = g on the walls and pressure fixed at one matrix vertex. Mesh and
 /// dof map are replicated on every rank; each rank assembles the elements
-/// whose first unknown it owns into distributed PETSc matrices.
+/// whose first unknown it owns (la::CooMatrix).
+///
+/// The block system and the preconditioner of the iterative method:
+///
+///     [ A   B^T ] [u]   [f]          P = [ A    0      ]
+///     [ B   0   ] [p] = [0]              [ B  -M/eta   ]
+///
+/// A = (1) plus the semi-implicit tension's surface Laplacian, B = (4),
+/// M/eta the pressure mass weighted by 1/viscosity per phase.
 class StokesSystem {
  public:
   StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings& settings,
@@ -40,7 +59,7 @@ class StokesSystem {
   StokesSystem(const StokesSystem&) = delete;
   StokesSystem& operator=(const StokesSystem&) = delete;
 
-  [[nodiscard]] const fem::StokesDofMap& dofs() const { return dofs_; }
+  [[nodiscard]] const fem::DofMap& dofs() const { return dofs_; }
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   [[nodiscard]] la::OwnershipRange ownership() const { return range_; }
   /// Preconditioner builds so far (LU factorisations with the direct method).
@@ -54,6 +73,9 @@ class StokesSystem {
  private:
   void partition();
   void create_matrices();
+  /// Rigid-body modes of the owned velocity dofs: the near-nullspace AMG
+  /// needs to coarsen a 3D elasticity-like velocity block well.
+  la::NullSpace velocity_near_nullspace() const;
   void assemble(const StokesProblem& problem, Vec rhs);
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
   /// The 18 velocity unknowns of interface triangle `face` (matrix side).
@@ -61,19 +83,16 @@ class StokesSystem {
 
   const mesh::Mesh& mesh_;
   la::SaddlePointSettings settings_;
-  fem::StokesDofMap dofs_;
+  fem::DofMap dofs_;
   fem::TetTabulation tabulation_;
   la::OwnershipRange range_;
   std::vector<int> owned_tets_;
   std::vector<int> owned_interface_faces_;
-  static constexpr std::size_t kTetMatrixSize = 34 * 34;
-  static constexpr std::size_t kInterfaceMatrixSize = 18 * 18;
   using InterfaceMatrix = Eigen::Matrix<double, 18, 18>;
-  la::Matrix a_;
-  la::Matrix pmat_;  // only for the iterative method
-  std::vector<PetscScalar> values_;                 // element matrices, coordinate order
-  std::vector<PetscScalar> preconditioner_values_;  // the same with -M/eta in the pressure block
-  la::IndexSet velocity_is_, pressure_is_;
+  std::unique_ptr<la::CooMatrix> a_;
+  std::unique_ptr<la::CooMatrix> pmat_;  // only for the iterative method: -M/eta in the pressure block
+  std::vector<la::CooMatrix::Block> tet_blocks_, interface_blocks_;
+  std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
 };
 
