@@ -1,0 +1,275 @@
+#include "softflow/fem/field.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/LU>
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/element/shape_functions.hpp"
+#include "softflow/la/coo_matrix.hpp"
+
+namespace softflow::fem {
+
+using la::check;
+
+std::vector<int> owned_elements(const mesh::Mesh& mesh) {
+  const long n = mesh.n_nodes();
+  const int rank = la::mpi_rank(), size = la::mpi_size();
+  const long begin = n * rank / size, end = n * (rank + 1) / size;
+  std::vector<int> owned;
+  for (int t = 0; t < mesh.n_tets(); ++t) {
+    const long node = mesh.master(mesh.tets[t][0]);
+    if (node >= begin && node < end) owned.push_back(t);
+  }
+  return owned;
+}
+
+std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const TetTabulation& tab,
+                                               int tet) {
+  const auto x = tet_nodes(mesh, tet);
+  std::vector<QuadraturePoint> points(tab.rule.size());
+  for (int q = 0; q < tab.rule.size(); ++q) {
+    QuadraturePoint& p = points[q];
+    p.tab = &tab;
+    p.tet = tet;
+    p.region = mesh.tet_region[tet];
+    p.q = q;
+    p.map = element::tet_map(x, tab.p2_grad[q]);
+    p.weight = tab.rule.weights[q] * p.map.det_jacobian;
+    for (int k = 0; k < 10; ++k) p.x += tab.p2[q][k] * x.col(k);
+  }
+  return points;
+}
+
+Field::Field(const mesh::Mesh& mesh, std::string name, std::shared_ptr<const Space> space,
+             int components)
+    : mesh_(mesh), name_(std::move(name)), dofs_(mesh, {{name_, std::move(space), components}}) {
+  range_ = dofs_.ownership(la::mpi_rank(), la::mpi_size());
+  owned_elements_ = fem::owned_elements(mesh_);
+  std::vector<int> ghosts;
+  for (int t : owned_elements_)
+    for (int dof : dofs_.element_dofs(t))
+      if (!range_.owns(dof)) ghosts.push_back(dof);
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+
+  local_index_.assign(dofs_.n_dofs(), -1);
+  for (int d = range_.begin; d < range_.end; ++d) local_index_[d] = d - range_.begin;
+  for (std::size_t g = 0; g < ghosts.size(); ++g)
+    local_index_[ghosts[g]] = range_.size() + static_cast<int>(g);
+
+  std::vector<PetscInt> ghost_indices(ghosts.begin(), ghosts.end());
+  check(VecCreateGhost(PETSC_COMM_WORLD, range_.size(), dofs_.n_dofs(),
+                       static_cast<PetscInt>(ghost_indices.size()), ghost_indices.data(),
+                       vector_.out()),
+        "VecCreateGhost");
+  check(VecSet(vector_.get(), 0.0), "VecSet");
+  local_.assign(range_.size() + ghosts.size(), 0.0);
+}
+
+void Field::update_ghosts() {
+  check(VecGhostUpdateBegin(vector_.get(), INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  check(VecGhostUpdateEnd(vector_.get(), INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+  Vec local = nullptr;
+  check(VecGhostGetLocalForm(vector_.get(), &local), "VecGhostGetLocalForm");
+  const PetscScalar* a = nullptr;
+  check(VecGetArrayRead(local, &a), "VecGetArrayRead");
+  std::copy(a, a + local_.size(), local_.begin());
+  check(VecRestoreArrayRead(local, &a), "VecRestoreArrayRead");
+  check(VecGhostRestoreLocalForm(vector_.get(), &local), "VecGhostRestoreLocalForm");
+}
+
+void Field::interpolate(
+    const std::function<Eigen::VectorXd(const Eigen::Vector3d&, int region)>& f) {
+  const int n_c = components();
+  PetscScalar* a = nullptr;
+  check(VecGetArray(vector_.get(), &a), "VecGetArray");
+  // Components of one copy are contiguous: one evaluation per copy.
+  for (int d = range_.begin; d < range_.end; d += n_c) {
+    const Eigen::VectorXd v = f(mesh_.nodes[dofs_.node_of(d)], dofs_.region_of(d));
+    if (v.size() != n_c)
+      throw SolverError(fmt::format("Field '{}': interpolated function has {} components, not {}",
+                                    name_, v.size(), n_c));
+    for (int c = 0; c < n_c; ++c) a[d - range_.begin + c] = v(c);
+  }
+  check(VecRestoreArray(vector_.get(), &a), "VecRestoreArray");
+  update_ghosts();
+}
+
+void Field::assign_from(const DofMap& source, int field, std::span<const double> values) {
+  if (source.field(field).components != components() ||
+      source.field(field).space->n_dofs() != space().n_dofs())
+    throw SolverError(fmt::format("Field '{}': source field '{}' has another space", name_,
+                                  source.field(field).name));
+  PetscScalar* a = nullptr;
+  check(VecGetArray(vector_.get(), &a), "VecGetArray");
+  for (int d = range_.begin; d < range_.end; ++d)
+    a[d - range_.begin] = values[source.dof(field, dofs_.node_of(d), dofs_.region_of(d),
+                                            dofs_.component_of(d))];
+  check(VecRestoreArray(vector_.get(), &a), "VecRestoreArray");
+  update_ghosts();
+}
+
+std::vector<double> Field::gather() const { return la::gather_to_all(vector_.get()); }
+
+void Field::scatter(std::span<const double> all) {
+  if (static_cast<int>(all.size()) != dofs_.n_dofs())
+    throw SolverError(fmt::format("Field '{}': {} values for {} dofs", name_, all.size(),
+                                  dofs_.n_dofs()));
+  PetscScalar* a = nullptr;
+  check(VecGetArray(vector_.get(), &a), "VecGetArray");
+  std::copy(all.begin() + range_.begin, all.begin() + range_.end, a);
+  check(VecRestoreArray(vector_.get(), &a), "VecRestoreArray");
+  update_ghosts();
+}
+
+Eigen::VectorXd Field::element_coefficients(int tet) const {
+  const auto d = dofs_.element_dofs(tet);
+  Eigen::VectorXd c(d.size());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const int l = local_index(d[i]);
+    if (l < 0)
+      throw SolverError(fmt::format("Field '{}': element {} is not on this rank", name_, tet));
+    c(static_cast<Eigen::Index>(i)) = local_[l];
+  }
+  return c;
+}
+
+namespace {
+
+// Shape-function values of a space of degree p at a quadrature point.
+std::span<const double> shape_values(const TetTabulation& tab, int q, int degree) {
+  if (degree == 2) return tab.p2[q];
+  return tab.p1[q];
+}
+
+}  // namespace
+
+Eigen::VectorXd Field::value(const QuadraturePoint& p) const {
+  const int n_c = components(), n_k = space().n_element_nodes();
+  const Eigen::VectorXd c = element_coefficients(p.tet);
+  const auto n = shape_values(*p.tab, p.q, space().degree());
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(n_c);
+  for (int k = 0; k < n_k; ++k) v += n[k] * c.segment(k * n_c, n_c);
+  return v;
+}
+
+Eigen::MatrixXd Field::gradient(const QuadraturePoint& p) const {
+  const int n_c = components(), n_k = space().n_element_nodes();
+  const Eigen::VectorXd c = element_coefficients(p.tet);
+  // grad N = (grad_xi N) J^{-1}, one row per function.
+  Eigen::MatrixXd g;
+  if (space().degree() == 2) {
+    g = p.tab->p2_grad[p.q] * p.map.inverse_jacobian;
+  } else {
+    g = element::p1_tet_gradients() * p.map.inverse_jacobian;
+  }
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n_c, 3);
+  for (int k = 0; k < n_k; ++k)
+    for (int comp = 0; comp < n_c; ++comp) out.row(comp) += c(k * n_c + comp) * g.row(k);
+  return out;
+}
+
+Eigen::VectorXd Field::value_at_reference(int tet, const Eigen::Vector3d& xi) const {
+  const int n_c = components();
+  const Eigen::VectorXd c = element_coefficients(tet);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(n_c);
+  if (space().degree() == 2) {
+    const auto n = element::p2_tet_values(xi);
+    for (int k = 0; k < 10; ++k) v += n[k] * c.segment(k * n_c, n_c);
+  } else {
+    const auto n = element::p1_tet_values(xi);
+    for (int k = 0; k < 4; ++k) v += n[k] * c.segment(k * n_c, n_c);
+  }
+  return v;
+}
+
+std::optional<Field::Location> Field::locate(const Eigen::Vector3d& x, double tolerance) const {
+  for (int t : owned_elements_) {
+    const auto nodes = tet_nodes(mesh_, t);
+    const Eigen::Vector3d lo = nodes.rowwise().minCoeff(), hi = nodes.rowwise().maxCoeff();
+    const double slack = 1e-8 * (hi - lo).norm();
+    if ((x.array() < lo.array() - slack).any() || (x.array() > hi.array() + slack).any()) continue;
+    // Newton on x(xi) = x: the curved map is quadratic in xi.
+    Eigen::Vector3d xi(0.25, 0.25, 0.25);
+    for (int it = 0; it < 30; ++it) {
+      const auto n = element::p2_tet_values(xi);
+      Eigen::Vector3d r = -x;
+      for (int k = 0; k < 10; ++k) r += n[k] * nodes.col(k);
+      const Eigen::Matrix3d j = nodes * element::p2_tet_gradients(xi);
+      const Eigen::Vector3d step = j.partialPivLu().solve(r);
+      xi -= step;
+      if (step.norm() < 1e-14) break;
+    }
+    if (xi.minCoeff() >= -tolerance && xi.sum() <= 1.0 + tolerance) return Location{t, xi};
+  }
+  return std::nullopt;
+}
+
+std::optional<Eigen::VectorXd> Field::value_at_point(const Eigen::Vector3d& x) const {
+  const auto where = locate(x);
+  if (!where) return std::nullopt;
+  return value_at_reference(where->tet, where->xi);
+}
+
+void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f, Field& target,
+                int quadrature_degree) {
+  const TetTabulation tab(quadrature_degree);
+  const DofMap& dofs = target.dofs();
+  const int n_c = target.components(), n_k = target.space().n_element_nodes();
+  const int n = n_k * n_c;
+  const auto range = target.ownership();
+  const la::OwnershipRange rows{range.begin, range.end};
+  la::CooMatrix mass(rows, dofs.n_dofs(), rows, dofs.n_dofs());
+  std::vector<la::CooMatrix::Block> blocks;
+  for (int t : target.owned_elements())
+    blocks.push_back(mass.add_block(dofs.element_dofs(t), dofs.element_dofs(t)));
+  mass.create();
+
+  la::Vector rhs = la::make_vector(range.size(), dofs.n_dofs());
+  check(VecSet(rhs.get(), 0.0), "VecSet");
+  Eigen::MatrixXd me(n, n);
+  Eigen::VectorXd fe(n);
+  std::size_t e = 0;
+  for (int t : target.owned_elements()) {
+    me.setZero();
+    fe.setZero();
+    for (const auto& p : quadrature_points(target.mesh(), tab, t)) {
+      const auto phi = shape_values(tab, p.q, target.space().degree());
+      const Eigen::VectorXd fq = f(p);
+      for (int a = 0; a < n_k; ++a) {
+        for (int c = 0; c < n_c; ++c) fe(a * n_c + c) += p.weight * phi[a] * fq(c);
+        for (int b = 0; b < n_k; ++b)
+          for (int c = 0; c < n_c; ++c) me(a * n_c + c, b * n_c + c) += p.weight * phi[a] * phi[b];
+      }
+    }
+    mass.set_block(blocks[e++], me);
+    const auto d = dofs.element_dofs(t);
+    check(VecSetValues(rhs.get(), n, d.data(), fe.data(), ADD_VALUES), "VecSetValues");
+  }
+  mass.assemble();
+  check(VecAssemblyBegin(rhs.get()), "VecAssemblyBegin");
+  check(VecAssemblyEnd(rhs.get()), "VecAssemblyEnd");
+
+  la::Solver ksp;
+  check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
+  check(KSPSetOperators(ksp.get(), mass.get(), mass.get()), "KSPSetOperators");
+  check(KSPSetType(ksp.get(), KSPCG), "KSPSetType");
+  PC pc = nullptr;
+  check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");
+  // The consistent mass matrix is spectrally equivalent to its diagonal:
+  // Jacobi-CG converges in a mesh-independent number of iterations.
+  check(PCSetType(pc, PCJACOBI), "PCSetType");
+  check(KSPSetTolerances(ksp.get(), 1e-12, 0.0, PETSC_DEFAULT, 1000), "KSPSetTolerances");
+  check(KSPSolve(ksp.get(), rhs.get(), target.vector()), "KSPSolve(L2 projection)");
+  KSPConvergedReason reason;
+  check(KSPGetConvergedReason(ksp.get(), &reason), "KSPGetConvergedReason");
+  if (reason < 0)
+    throw SolverError(fmt::format("L2 projection onto '{}' did not converge: {}", target.name(),
+                                  KSPConvergedReasons[reason]));
+  target.update_ghosts();
+}
+
+}  // namespace softflow::fem

@@ -1,0 +1,125 @@
+// Finite-element functions: a space, its components, and a ghosted PETSc vector.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "softflow/fem/dof_map.hpp"
+#include "softflow/fem/tabulation.hpp"
+#include "softflow/la/petsc.hpp"
+#include "softflow/mesh/mesh.hpp"
+
+namespace softflow::fem {
+
+/// One quadrature point of one element: where the integrand is evaluated.
+struct QuadraturePoint {
+  const TetTabulation* tab = nullptr;             ///< the rule and shape functions tabulated on it
+  int tet = 0;
+  int region = 0;
+  int q = 0;                                       ///< index in the tabulation's rule
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();     ///< physical position
+  double weight = 0.0;                             ///< rule weight x |det J|
+  element::TetMapPoint map;                        ///< the P2 map's Jacobian there
+};
+
+/// The elements this rank works on, the same for every field so that one
+/// element loop can read several fields: those whose first vertex's
+/// representative lies in this rank's share of the nodes (contiguous
+/// node ranges of about equal size, the order the dof maps number in).
+std::vector<int> owned_elements(const mesh::Mesh& mesh);
+
+/// The quadrature points of tetrahedron `tet` on the current mesh.
+std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const TetTabulation& tab,
+                                               int tet);
+
+/// A finite-element function u_h = sum_j u_j phi_j with `components`
+/// components on a scalar space (a velocity: 3 x P2; a log-conformation
+/// tensor: 6 x P1 per region).
+///
+/// Storage is a ghosted PETSc vector in the field's own numbering (a
+/// one-field fem::DofMap): each rank owns a contiguous range of dofs and
+/// keeps as ghosts the other dofs of its elements (fem::owned_elements,
+/// common to all fields). After update_ghosts() every field's values on
+/// this rank's elements are readable without communication; evaluation is
+/// only allowed there. (Every rank still holds the whole mesh and dof map;
+/// issue 12 makes those rank-local.)
+class Field {
+ public:
+  Field(const mesh::Mesh& mesh, std::string name, std::shared_ptr<const Space> space,
+        int components);
+
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const Space& space() const { return *dofs_.field(0).space; }
+  [[nodiscard]] int components() const { return dofs_.field(0).components; }
+  /// The field's own numbering (one field, components innermost).
+  [[nodiscard]] const DofMap& dofs() const { return dofs_; }
+  [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
+  [[nodiscard]] DofRange ownership() const { return range_; }
+  [[nodiscard]] std::span<const int> owned_elements() const { return owned_elements_; }
+
+  /// The global (owned) form, for solvers. After writing to it, call update_ghosts().
+  [[nodiscard]] Vec vector() const { return vector_.get(); }
+  /// Refreshes the ghost values and the local copy evaluation reads. Collective.
+  void update_ghosts();
+  /// Sets every owned dof from its node's position and region
+  /// (nodal interpolation), then updates ghosts. Collective.
+  void interpolate(const std::function<Eigen::VectorXd(const Eigen::Vector3d&, int region)>& f);
+  /// Copies this field's values out of a vector over a composed dof map
+  /// (e.g. the velocity out of a Stokes solution, every dof on every rank)
+  /// and updates ghosts. The space must be the one `source` uses for `field`.
+  void assign_from(const DofMap& source, int field, std::span<const double> values);
+  /// Every value, gathered on every rank (checkpoints, small problems). Collective.
+  [[nodiscard]] std::vector<double> gather() const;
+  /// Sets every owned value from a full vector (as gather() returns) and updates ghosts.
+  void scatter(std::span<const double> all);
+
+  /// Coefficients of element `tet` (n_element_nodes x components, node-major).
+  [[nodiscard]] Eigen::VectorXd element_coefficients(int tet) const;
+  /// u_h at a quadrature point of an element of this rank's (components).
+  [[nodiscard]] Eigen::VectorXd value(const QuadraturePoint& p) const;
+  /// grad u_h there: row c = gradient of component c, through the curved
+  /// map's Jacobian (isoparametric: exact for fields linear in x).
+  [[nodiscard]] Eigen::MatrixXd gradient(const QuadraturePoint& p) const;
+  /// u_h at reference point xi of element `tet`.
+  [[nodiscard]] Eigen::VectorXd value_at_reference(int tet, const Eigen::Vector3d& xi) const;
+
+  /// The element of this rank's that contains x, and x's reference
+  /// coordinates in it (Newton on the curved map); nothing if none does.
+  struct Location {
+    int tet;
+    Eigen::Vector3d xi;
+  };
+  [[nodiscard]] std::optional<Location> locate(const Eigen::Vector3d& x,
+                                               double tolerance = 1e-10) const;
+  /// u_h at a physical point owned by this rank (in the lowest-numbered
+  /// element containing it: at an interface, the lower region's side).
+  [[nodiscard]] std::optional<Eigen::VectorXd> value_at_point(const Eigen::Vector3d& x) const;
+
+ private:
+  [[nodiscard]] int local_index(int dof) const { return local_index_[dof]; }
+
+  const mesh::Mesh& mesh_;
+  std::string name_;
+  DofMap dofs_;
+  DofRange range_;
+  std::vector<int> owned_elements_;
+  std::vector<int> local_index_;  // dof -> position in the local form, -1 if not on this rank
+  la::Vector vector_;
+  std::vector<double> local_;     // owned then ghost values, as of the last update_ghosts()
+};
+
+/// L2 projection onto a field's space: find u_h with (u_h, v) = (f, v) for
+/// every v, component by component, with f evaluated at the quadrature
+/// points of the current mesh (degree-`quadrature_degree` rule). Per region
+/// spaces project each region separately, as their basis functions do.
+/// Solved with CG + Jacobi to a relative residual of 1e-12. Collective.
+void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f, Field& target,
+                int quadrature_degree = 5);
+
+}  // namespace softflow::fem
