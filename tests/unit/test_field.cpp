@@ -95,7 +95,9 @@ TEST(Field, QuadraticsAreExactOnStraightElementsAndConvergeOnCurvedOnes) {
         gradient = std::max(gradient,
                             (u.gradient(p).row(0).transpose() - quadratic_gradient(p.x)).norm());
       }
-    return std::pair{value, gradient};
+    double local[2] = {value, gradient}, global[2];
+    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+    return std::pair{global[0], global[1]};
   };
   const auto straight = max_gradient_error(curved_box(2, 0.0));
   EXPECT_LT(straight.first, 1e-13);
