@@ -36,34 +36,24 @@ Checkpoint sample() {
   c.run_json = "{\"a\": 1}";
   c.step = 17;
   c.time = 0.1 * 17;
-  c.dt = 0.1;
-  c.translation_x = 1.0 / 3.0;
   c.reference_mesh = mesh::structured_box({2.0, 1.0, 1.5, true, false}, 2, 1, 2);
-  for (auto& x : c.reference_mesh.nodes)
-    c.nodes.push_back(x * (1.0 + 1e-13) + mesh::Point::Constant(M_PI));
-  c.previous_nodes = c.reference_mesh.nodes;
-  c.mesh_velocity.assign(c.nodes.size(), mesh::Point(1.0 / 9.0, -0.5, 2e-20));
-  c.solution = {1.0 / 7.0, -2e-300, 3e300, 0.0};
-  c.factorization_nodes = c.nodes;
-  c.analysis_nodes = c.reference_mesh.nodes;
-  c.analysis_step = 1;
-  c.factorization_step = 12;
-  c.refactor_next = true;
-  c.n_factorizations = 4;
-  CheckpointObject o;
-  o.x = {mesh::Point(1.0 / 3.0, 2.0, 3.0), mesh::Point(4.0, 5.0, 6.0)};
-  o.x_previous = {mesh::Point(-1.0, -2.0, -3.0), mesh::Point(-4.0, -5.0, 1e-17)};
-  o.centre = mesh::Point(0.1, 0.2, 0.3);
-  o.centre_previous = mesh::Point(0.4, 0.5, 0.6);
-  o.last_centre_velocity = mesh::Point(7.0, 8.0, 9.0);
-  o.steps = 17;
-  o.centre_steps = 16;
-  c.objects = {o};
   c.reference_mesh.n_objects = 1;
+  std::vector<mesh::Point> nodes;
+  for (auto& x : c.reference_mesh.nodes)
+    nodes.push_back(x * (1.0 + 1e-13) + mesh::Point::Constant(M_PI));
+  c.state.set("time_loop/nodes", nodes);
+  c.state.set("time_loop/translation_x", 1.0 / 3.0);
+  c.state.set("time_loop/step", 17);
+  c.state.set("time_loop/solution", std::vector<double>{1.0 / 7.0, -2e-300, 3e300, 0.0});
+  c.state.set("time_loop/empty", std::vector<double>{});
+  c.state.set("stokes/refactor_next", true);
+  c.state.set("objects/1/x", std::vector<mesh::Point>{mesh::Point(1.0 / 3.0, 2.0, 3.0),
+                                                      mesh::Point(-4.0, -5.0, 1e-17)});
+  c.state.set("fields/tracer/values", std::vector<double>{1, 2, 3, 4, 5, 6}, 2);
   return c;
 }
 
-TEST(Checkpoint, RoundTripIsExact) {
+TEST(Checkpoint, RoundTripIsExactForEveryKindOfStateEntry) {
   const auto dir = fresh_directory("roundtrip");
   const Checkpoint c = sample();
   write_checkpoint(dir / "checkpoint.h5", c);
@@ -74,18 +64,19 @@ TEST(Checkpoint, RoundTripIsExact) {
   EXPECT_EQ(r.run_json, c.run_json);
   EXPECT_EQ(r.step, c.step);
   EXPECT_EQ(r.time, c.time);
-  EXPECT_EQ(r.dt, c.dt);
-  EXPECT_EQ(r.translation_x, c.translation_x);
-  EXPECT_EQ(r.nodes, c.nodes);
-  EXPECT_EQ(r.previous_nodes, c.previous_nodes);
-  EXPECT_EQ(r.mesh_velocity, c.mesh_velocity);
-  EXPECT_EQ(r.analysis_step, 1);
-  EXPECT_EQ(r.factorization_step, 12);
-  EXPECT_EQ(r.solution, c.solution);
-  EXPECT_EQ(r.analysis_nodes, c.analysis_nodes);
-  EXPECT_EQ(r.factorization_nodes, c.factorization_nodes);
-  EXPECT_EQ(r.refactor_next, c.refactor_next);
-  EXPECT_EQ(r.n_factorizations, c.n_factorizations);
+  ASSERT_EQ(r.state.entries().size(), c.state.entries().size());
+  for (const auto& [key, entry] : c.state.entries()) {
+    ASSERT_TRUE(r.state.contains(key)) << key;
+    const auto& read = r.state.entries().at(key);
+    EXPECT_EQ(read.kind, entry.kind) << key;
+    EXPECT_EQ(read.columns, entry.columns) << key;
+    EXPECT_EQ(read.values, entry.values) << key;  // bit for bit
+  }
+  EXPECT_EQ(r.state.get_int("time_loop/step"), 17);
+  EXPECT_TRUE(r.state.get_bool("stokes/refactor_next"));
+  EXPECT_EQ(r.state.get_array("fields/tracer/values", 2).size(), 6u);
+  EXPECT_THROW((void)r.state.get_double("time_loop/step"), InputError);  // wrong kind
+  EXPECT_THROW((void)r.state.get_int("time_loop/missing"), InputError);
   const auto &m = r.reference_mesh, &e = c.reference_mesh;
   EXPECT_EQ(m.box.length, e.box.length);
   EXPECT_EQ(m.box.periodic_z, e.box.periodic_z);
@@ -98,15 +89,27 @@ TEST(Checkpoint, RoundTripIsExact) {
   EXPECT_EQ(m.boundary_face_tag, e.boundary_face_tag);
   EXPECT_EQ(m.interface_faces, e.interface_faces);
   EXPECT_EQ(m.periodic_master, e.periodic_master);
-  ASSERT_EQ(r.objects.size(), 1u);
-  EXPECT_EQ(r.objects[0].x, c.objects[0].x);
-  EXPECT_EQ(r.objects[0].x_previous, c.objects[0].x_previous);
-  EXPECT_EQ(r.objects[0].centre, c.objects[0].centre);
-  EXPECT_EQ(r.objects[0].centre_previous, c.objects[0].centre_previous);
-  EXPECT_EQ(r.objects[0].last_centre_velocity, c.objects[0].last_centre_velocity);
-  EXPECT_EQ(r.objects[0].steps, 17);
-  EXPECT_EQ(r.objects[0].centre_steps, 16);
   fs::remove_all(dir);
+}
+
+TEST(StateRegistry, SavesAndRestoresEveryRegisteredPartUnderItsName) {
+  StateRegistry registry;
+  double a = 1.5;
+  std::vector<double> b{1.0, 2.0};
+  registry.add({"a", [&](StateRecord& r, const std::string& p) { r.set(p + "value", a); },
+                [&](const StateRecord& r, const std::string& p) { a = r.get_double(p + "value"); }});
+  registry.add({"b/c", [&](StateRecord& r, const std::string& p) { r.set(p + "v", b); },
+                [&](const StateRecord& r, const std::string& p) { b = r.get_array(p + "v"); }});
+  EXPECT_THROW(registry.add({"a", nullptr, nullptr}), Error);
+  StateRecord record;
+  registry.save(record);
+  EXPECT_TRUE(record.contains("a/value"));
+  EXPECT_TRUE(record.contains("b/c/v"));
+  a = 0.0;
+  b.clear();
+  registry.restore(record);
+  EXPECT_EQ(a, 1.5);
+  EXPECT_EQ(b, (std::vector<double>{1.0, 2.0}));
 }
 
 TEST(Checkpoint, ReplacesThePreviousOneWithoutLeavingTemporaries) {

@@ -137,8 +137,9 @@ TEST(DofMap, OwnershipRangesTileTheDofsAtNodeBoundaries) {
       EXPECT_EQ(range.begin, expected_begin);
       EXPECT_GE(range.end, range.begin);
       // A node's unknowns never straddle two ranks.
-      if (range.begin > 0 && range.begin < dofs.n_dofs())
+      if (range.begin > 0 && range.begin < dofs.n_dofs()) {
         EXPECT_NE(dofs.node_of(range.begin), dofs.node_of(range.begin - 1));
+      }
       expected_begin = range.end;
     }
     EXPECT_EQ(expected_begin, dofs.n_dofs());

@@ -114,7 +114,7 @@ TEST(Field, PointEvaluationFindsTheCurvedElementAndItsReferencePoint) {
   const auto mesh = curved_box(3);
   fem::Field u(mesh, "u", std::make_shared<fem::Space>(mesh, 2, fem::Continuity::per_region), 2);
   u.interpolate(linear);
-  for (const Vector3d x : {Vector3d(0.1, 0.2, -0.3), Vector3d(-0.8, 0.65, 0.7),
+  for (const Vector3d& x : {Vector3d(0.1, 0.2, -0.3), Vector3d(-0.8, 0.65, 0.7),
                            Vector3d(0.9, -0.9, 0.05)}) {
     const auto value = u.value_at_point(x);
     if (!value) continue;  // on another rank

@@ -214,6 +214,18 @@ std::optional<Eigen::VectorXd> Field::value_at_point(const Eigen::Vector3d& x) c
   return value_at_reference(where->tet, where->xi);
 }
 
+StatePart state_part(Field& field) {
+  return {"fields/" + field.name(),
+          [&field](StateRecord& r, const std::string& p) { r.set(p + "values", field.gather()); },
+          [&field](const StateRecord& r, const std::string& p) {
+            const auto& values = r.get_array(p + "values");
+            if (static_cast<int>(values.size()) != field.dofs().n_dofs())
+              throw InputError(fmt::format("the saved field '{}' has {} values, the field {}",
+                                           field.name(), values.size(), field.dofs().n_dofs()));
+            field.scatter(values);
+          }};
+}
+
 void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f, Field& target,
                 int quadrature_degree) {
   const TetTabulation tab(quadrature_degree);

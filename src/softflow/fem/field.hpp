@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "softflow/common/state.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/tabulation.hpp"
 #include "softflow/la/petsc.hpp"
@@ -113,6 +114,10 @@ class Field {
   la::Vector vector_;
   std::vector<double> local_;     // owned then ghost values, as of the last update_ghosts()
 };
+
+/// The field as a part of a run's state ("fields/<name>"): every value,
+/// gathered; restored by scatter() after checking the size. Collective.
+StatePart state_part(Field& field);
 
 /// L2 projection onto a field's space: find u_h with (u_h, v) = (f, v) for
 /// every v, component by component, with f evaluated at the quadrature

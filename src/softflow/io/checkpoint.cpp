@@ -4,6 +4,8 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <system_error>
 
 #include <fcntl.h>
@@ -136,15 +138,6 @@ std::vector<mesh::Point> read_points(hid_t parent, const std::string& name) {
   return points;
 }
 
-void write_point(hid_t parent, const std::string& name, const mesh::Point& p) {
-  write_array(parent, name, H5T_NATIVE_DOUBLE, p.data(), 3, 0);
-}
-
-mesh::Point read_point(hid_t parent, const std::string& name) {
-  const auto v = read_array<double>(parent, name, H5T_NATIVE_DOUBLE, 0);
-  if (v.size() != 3) fail(fmt::format("dataset {} is not a point", name));
-  return mesh::Point(v[0], v[1], v[2]);
-}
 
 template <std::size_t N>
 void write_cells(hid_t parent, const std::string& name,
@@ -283,6 +276,78 @@ void sync_path(const fs::path& path, int flags) {
   if (rc != 0) fail(fmt::format("cannot sync {}: {}", path.string(), std::strerror(err)));
 }
 
+// ---- the state: one dataset per entry, groups from the key's path ----
+
+void write_state(hid_t file, const StateRecord& state) {
+  Handle root = make_group(file, "state");
+  std::map<std::string, std::unique_ptr<Handle>> groups;  // "a", "a/b", ... as created
+  for (const auto& [key, entry] : state.entries()) {
+    hid_t parent = root.get();
+    std::size_t start = 0;
+    for (std::size_t slash = key.find('/'); slash != std::string::npos;
+         slash = key.find('/', slash + 1)) {
+      const std::string path = key.substr(0, slash);
+      auto it = groups.find(path);
+      if (it == groups.end()) {
+        const std::string group = key.substr(start, slash - start);
+        auto handle = std::make_unique<Handle>(
+            checked(H5Gcreate2(parent, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    "cannot create group " + path),
+            H5Gclose);
+        it = groups.emplace(path, std::move(handle)).first;
+      }
+      parent = it->second->get();
+      start = slash + 1;
+    }
+    const std::string name = key.substr(start);
+    const std::size_t columns = static_cast<std::size_t>(entry.columns);
+    write_array(parent, name, H5T_NATIVE_DOUBLE, entry.values.data(),
+                entry.values.size() / columns, columns);
+    Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), "dataset " + key), H5Dclose);
+    write_int(set.get(), "kind", static_cast<int>(entry.kind));
+  }
+}
+
+struct StateVisit {
+  StateRecord* state;
+  std::string failure;
+};
+
+herr_t read_state_entry(hid_t root, const char* name, const H5O_info_t* info, void* data) {
+  auto* visit = static_cast<StateVisit*>(data);
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  try {
+    Handle set(checked(H5Dopen2(root, name, H5P_DEFAULT), std::string("dataset ") + name),
+               H5Dclose);
+    Handle space(checked(H5Dget_space(set.get()), std::string("dataspace ") + name), H5Sclose);
+    hsize_t dims[2] = {0, 0};
+    if (H5Sget_simple_extent_ndims(space.get()) != 2 ||
+        H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0 || dims[1] == 0)
+      fail(fmt::format("state entry {} has the wrong shape", name));
+    StateRecord::Entry entry;
+    const int kind = read_int(set.get(), "kind");
+    if (kind < 0 || kind > 2) fail(fmt::format("state entry {} has an unknown kind {}", name, kind));
+    entry.kind = static_cast<StateRecord::Kind>(kind);
+    entry.columns = static_cast<int>(dims[1]);
+    entry.values = read_array<double>(root, name, H5T_NATIVE_DOUBLE, dims[1]);
+    visit->state->insert(name, std::move(entry));
+  } catch (const Hdf5Failure& e) {
+    visit->failure = e.what;
+    return -1;
+  }
+  return 0;
+}
+
+StateRecord read_state(hid_t file) {
+  Handle root = open_group(file, "state");
+  StateRecord state;
+  StateVisit visit{&state, {}};
+  if (H5Ovisit2(root.get(), H5_INDEX_NAME, H5_ITER_INC, read_state_entry, &visit, H5O_INFO_BASIC) <
+      0)
+    fail(visit.failure.empty() ? "cannot read the state" : visit.failure);
+  return state;
+}
+
 void write_file(const fs::path& path, const Checkpoint& c) {
   Handle file(checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                       "cannot create the file"),
@@ -295,40 +360,8 @@ void write_file(const fs::path& path, const Checkpoint& c) {
   write_string(root, "run_json", c.run_json);
   write_int(root, "step", c.step);
   write_double(root, "time", c.time);
-  write_double(root, "dt", c.dt);
-  write_double(root, "translation_x", c.translation_x);
-  write_int(root, "refactor_next", c.refactor_next ? 1 : 0);
-  write_int(root, "n_factorizations", c.n_factorizations);
-  write_int(root, "analysis_step", c.analysis_step);
-  write_int(root, "factorization_step", c.factorization_step);
   write_mesh(root, c.reference_mesh);
-  {
-    Handle state = make_group(root, "state");
-    write_points(state.get(), "nodes", c.nodes);
-    write_points(state.get(), "previous_nodes", c.previous_nodes);
-    write_points(state.get(), "mesh_velocity", c.mesh_velocity);
-    write_array(state.get(), "solution", H5T_NATIVE_DOUBLE, c.solution.data(), c.solution.size(),
-                0);
-    write_points(state.get(), "analysis_nodes", c.analysis_nodes);
-    write_points(state.get(), "factorization_nodes", c.factorization_nodes);
-    write_points(state.get(), "ale_reference_nodes", c.ale_reference_nodes);
-    write_double(state.get(), "ale_rebuilt_at_quality", c.ale_rebuilt_at_quality);
-    write_int(state.get(), "ale_rebuilds", c.ale_rebuilds);
-  }
-  Handle objects = make_group(root, "objects");
-  write_int(objects.get(), "count", static_cast<int>(c.objects.size()));
-  for (std::size_t k = 0; k < c.objects.size(); ++k) {
-    const auto& o = c.objects[k];
-    Handle g = make_group(objects.get(), std::to_string(k + 1));
-    write_points(g.get(), "x", o.x);
-    write_points(g.get(), "x_previous", o.x_previous);
-    write_point(g.get(), "centre", o.centre);
-    write_point(g.get(), "centre_previous", o.centre_previous);
-    write_point(g.get(), "last_centre_velocity", o.last_centre_velocity);
-    write_int(g.get(), "steps", o.steps);
-    write_int(g.get(), "centre_steps", o.centre_steps);
-  }
-  objects.close();
+  write_state(root, c.state);
   if (file.close() < 0) fail("cannot close the file");
 }
 
@@ -352,48 +385,8 @@ Checkpoint read_file(const fs::path& path) {
   c.run_json = read_string(root, "run_json");
   c.step = read_int(root, "step");
   c.time = read_double(root, "time");
-  c.dt = read_double(root, "dt");
-  c.translation_x = read_double(root, "translation_x");
-  c.refactor_next = read_int(root, "refactor_next") != 0;
-  c.n_factorizations = read_int(root, "n_factorizations");
-  c.analysis_step = read_int(root, "analysis_step");
-  c.factorization_step = read_int(root, "factorization_step");
   c.reference_mesh = read_mesh(root);
-  {
-    Handle state = open_group(root, "state");
-    c.nodes = read_points(state.get(), "nodes");
-    c.previous_nodes = read_points(state.get(), "previous_nodes");
-    c.mesh_velocity = read_points(state.get(), "mesh_velocity");
-    c.solution = read_array<double>(state.get(), "solution", H5T_NATIVE_DOUBLE, 0);
-    c.analysis_nodes = read_points(state.get(), "analysis_nodes");
-    c.factorization_nodes = read_points(state.get(), "factorization_nodes");
-    c.ale_reference_nodes = read_points(state.get(), "ale_reference_nodes");
-    c.ale_rebuilt_at_quality = read_double(state.get(), "ale_rebuilt_at_quality");
-    c.ale_rebuilds = read_int(state.get(), "ale_rebuilds");
-  }
-  const std::size_t n = c.reference_mesh.nodes.size();
-  if (c.nodes.size() != n || (!c.analysis_nodes.empty() && c.analysis_nodes.size() != n) ||
-      (!c.previous_nodes.empty() && c.previous_nodes.size() != n) ||
-      (!c.mesh_velocity.empty() && c.mesh_velocity.size() != n) ||
-      (!c.factorization_nodes.empty() && c.factorization_nodes.size() != n) ||
-      (!c.ale_reference_nodes.empty() && c.ale_reference_nodes.size() != n))
-    fail("the node arrays do not match the mesh");
-  Handle objects = open_group(root, "objects");
-  const int count = read_int(objects.get(), "count");
-  if (count != c.reference_mesh.n_objects) fail("the object count does not match the mesh");
-  for (int k = 1; k <= count; ++k) {
-    Handle g = open_group(objects.get(), std::to_string(k));
-    CheckpointObject o;
-    o.x = read_points(g.get(), "x");
-    o.x_previous = read_points(g.get(), "x_previous");
-    if (o.x.size() != o.x_previous.size()) fail(fmt::format("object {}: history sizes differ", k));
-    o.centre = read_point(g.get(), "centre");
-    o.centre_previous = read_point(g.get(), "centre_previous");
-    o.last_centre_velocity = read_point(g.get(), "last_centre_velocity");
-    o.steps = read_int(g.get(), "steps");
-    o.centre_steps = read_int(g.get(), "centre_steps");
-    c.objects.push_back(std::move(o));
-  }
+  c.state = read_state(root);
   return c;
 }
 

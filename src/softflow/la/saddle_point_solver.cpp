@@ -110,6 +110,16 @@ void SaddlePointSolver::set_operators(Mat a, Mat pmat) {
   check(KSPSetOperators(ksp_.get(), a, pmat ? pmat : a), "KSPSetOperators");
 }
 
+void SaddlePointSolver::set_up() {
+  check(KSPSetReusePreconditioner(ksp_.get(), PETSC_FALSE), "KSPSetReusePreconditioner");
+  check(KSPSetUp(ksp_.get()), "KSPSetUp");
+  PC pc = nullptr;
+  check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
+  check(PCSetUp(pc), "PCSetUp");
+  ++n_setups_;
+  have_preconditioner_ = true;
+}
+
 SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
   const bool reuse = settings_.method == SaddlePointMethod::direct &&
                      settings_.max_reuse_iterations > 0 && have_preconditioner_ && !refactor_next_;

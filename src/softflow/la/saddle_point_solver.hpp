@@ -82,6 +82,9 @@ class SaddlePointSolver {
   }
   /// The next solve builds a fresh preconditioner whatever the policy says.
   void request_fresh_preconditioner() { refactor_next_ = true; }
+  /// Builds the preconditioner (factors) on the current operators now,
+  /// without solving: a restart rebuilding the factors an earlier run had.
+  void set_up();
 
  private:
   SolveReport solve_once(Vec b, Vec x, bool reuse);

@@ -47,6 +47,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
   last_quality_ = mesh::min_quality(mesh_);
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
+  register_state();
 }
 
 DropSimulation::~DropSimulation() = default;
@@ -74,20 +75,11 @@ StepReport DropSimulation::step() {
   const double quality = move_mesh_ale(x_hat, dt);           // Step 3
   r.stages.ale = lap();
   time_ += dt;
-  const int factorizations = stokes_->n_factorizations();
   int iterations = 0;
   try {
     iterations = solve_stokes(x_hat, dt, r.stages);          // Step 4
   } catch (const SolverError& e) {
     throw SolverError(fmt::format("step {} (t = {:.4f}): {}", steps_ + 1, time_, e.what()));
-  }
-  if (config_.solver == io::SolverType::direct && stokes_->n_factorizations() > factorizations) {
-    if (analysis_nodes_.empty()) {
-      analysis_nodes_ = mesh_.nodes;
-      analysis_step_ = steps_ + 1;
-    }
-    factorization_nodes_ = mesh_.nodes;
-    factorization_step_ = steps_ + 1;
   }
   check_solution_finite();
   lap();
@@ -169,112 +161,96 @@ void DropSimulation::check_volumes() const {
   }
 }
 
+void DropSimulation::register_state() {
+  // Restored in this order: the Stokes factors are rebuilt from their own
+  // saved matrices, independent of the time loop's state.
+  registry_.add({"time_loop",
+                 [this](StateRecord& r, const std::string& p) { save_time_loop(r, p); },
+                 [this](const StateRecord& r, const std::string& p) { restore_time_loop(r, p); }});
+  registry_.add(stokes_->state_part());
+  for (std::size_t k = 0; k < trackers_.size(); ++k)
+    registry_.add({fmt::format("objects/{}", k + 1),
+                   [this, k](StateRecord& r, const std::string& p) {
+                     const auto h = trackers_[k].history();
+                     r.set(p + "x", h.x);
+                     r.set(p + "x_previous", h.x_previous);
+                     r.set(p + "centre", std::vector<Vec3>{h.centre, h.centre_previous});
+                     r.set(p + "steps", h.steps);
+                     r.set(p + "centre_steps", h.centre_steps);
+                     r.set(p + "last_centre_velocity", std::vector<Vec3>{last_centre_velocity_[k]});
+                   },
+                   [this, k](const StateRecord& r, const std::string& p) {
+                     const auto centre = r.get_points(p + "centre");
+                     const auto velocity = r.get_points(p + "last_centre_velocity");
+                     auto x = r.get_points(p + "x");
+                     auto x_previous = r.get_points(p + "x_previous");
+                     if (centre.size() != 2 || velocity.size() != 1 ||
+                         x.size() != trackers_[k].positions().size() ||
+                         x_previous.size() != x.size())
+                       throw InputError(fmt::format("the saved state of object {} does not fit "
+                                                    "its interface mesh", k + 1));
+                     trackers_[k].restore({std::move(x), std::move(x_previous), centre[0],
+                                           centre[1], r.get_int(p + "steps"),
+                                           r.get_int(p + "centre_steps")});
+                     last_centre_velocity_[k] = velocity[0];
+                   }});
+}
+
+void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const {
+  r.set(p + "step", steps_);
+  r.set(p + "time", time_);
+  r.set(p + "dt", config_.time.step);
+  r.set(p + "translation_x", translation_x_);
+  r.set(p + "nodes", mesh_.nodes);
+  r.set(p + "previous_nodes", previous_nodes_);
+  r.set(p + "mesh_velocity", mesh_velocity_);
+  r.set(p + "solution", solution_);
+  r.set(p + "ale_reference_nodes", reference_nodes_);
+  r.set(p + "ale_rebuilt_at_quality", ale_rebuilt_at_quality_);
+  r.set(p + "ale_rebuilds", ale_rebuilds_);
+}
+
+void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& p) {
+  const auto n = mesh_.nodes.size();
+  auto nodes = r.get_points(p + "nodes");
+  auto previous = r.get_points(p + "previous_nodes");
+  auto velocity = r.get_points(p + "mesh_velocity");
+  auto reference = r.get_points(p + "ale_reference_nodes");
+  const auto& solution = r.get_array(p + "solution");
+  if (nodes.size() != n || (!previous.empty() && previous.size() != n) ||
+      (!velocity.empty() && velocity.size() != n) || reference.size() != n ||
+      (!solution.empty() && static_cast<int>(solution.size()) != stokes_->dofs().n_dofs()))
+    throw InputError("the checkpoint does not fit the mesh it carries");
+  steps_ = r.get_int(p + "step");
+  time_ = r.get_double(p + "time");
+  translation_x_ = r.get_double(p + "translation_x");
+  mesh_.nodes = std::move(nodes);
+  previous_nodes_ = std::move(previous);
+  mesh_velocity_ = velocity.empty() ? std::vector<mesh::Point>(n, mesh::Point::Zero())
+                                    : std::move(velocity);
+  solution_ = solution;
+  last_quality_ = mesh::min_quality(mesh_);
+  ale_rebuilt_at_quality_ = r.get_double(p + "ale_rebuilt_at_quality");
+  ale_rebuilds_ = r.get_int(p + "ale_rebuilds");
+  if (reference != initial_nodes_) {
+    // The mesh-motion operator was rebuilt on a later mesh: build it there again.
+    reference_nodes_ = std::move(reference);
+    mesh::Mesh rebuilt = mesh_;
+    rebuilt.nodes = reference_nodes_;
+    ale_ = std::make_unique<physics::AleMeshMotion>(rebuilt);
+  }
+}
+
 void DropSimulation::save(io::Checkpoint& c) const {
   c.step = steps_;
   c.time = time_;
-  c.dt = config_.time.step;
-  c.translation_x = translation_x_;
   c.reference_mesh = mesh_;
   c.reference_mesh.nodes = initial_nodes_;
-  c.ale_reference_nodes = reference_nodes_;
-  c.ale_rebuilt_at_quality = ale_rebuilt_at_quality_;
-  c.ale_rebuilds = ale_rebuilds_;
-  c.nodes = mesh_.nodes;
-  c.previous_nodes = previous_nodes_;
-  c.mesh_velocity = mesh_velocity_;
-  c.solution = solution_;
-  c.analysis_nodes = analysis_nodes_;
-  c.analysis_step = analysis_step_;
-  c.factorization_nodes = factorization_nodes_;
-  c.factorization_step = factorization_step_;
-  c.refactor_next = stokes_->solver().refactor_next();
-  c.n_factorizations = stokes_->n_factorizations();
-  c.objects.clear();
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const auto h = trackers_[k].history();
-    c.objects.push_back({h.x, h.x_previous, h.centre, h.centre_previous, h.steps, h.centre_steps,
-                         last_centre_velocity_[k]});
-  }
+  c.state = StateRecord{};
+  registry_.save(c.state);
 }
 
-void DropSimulation::restore(const io::Checkpoint& c) {
-  const auto n = mesh_.nodes.size();
-  if (c.nodes.size() != n || c.objects.size() != trackers_.size() ||
-      (!c.previous_nodes.empty() && c.previous_nodes.size() != n) ||
-      (!c.mesh_velocity.empty() && c.mesh_velocity.size() != n) ||
-      (!c.solution.empty() && static_cast<int>(c.solution.size()) != stokes_->dofs().n_dofs()))
-    throw InputError("the checkpoint does not fit the mesh it carries");
-  time_ = c.time;
-  translation_x_ = c.translation_x;
-  solution_ = c.solution;
-  // The trackers are still at t = 0 here: what the first step's Stokes
-  // matrix depended on (see rebuild_preconditioner).
-  if (c.analysis_step == 1) rebuild_factorization(c.analysis_nodes);
-  steps_ = c.step;
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const auto& o = c.objects[k];
-    trackers_[k].restore({o.x, o.x_previous, o.centre, o.centre_previous, o.steps, o.centre_steps});
-    last_centre_velocity_[k] = o.last_centre_velocity;
-  }
-  rebuild_preconditioner(c);
-  mesh_.nodes = c.nodes;
-  previous_nodes_ = c.previous_nodes;
-  mesh_velocity_ = c.mesh_velocity.empty() ? std::vector<mesh::Point>(n, mesh::Point::Zero())
-                                           : c.mesh_velocity;
-  solution_ = c.solution;
-  last_quality_ = mesh::min_quality(mesh_);
-  ale_rebuilt_at_quality_ = c.ale_rebuilt_at_quality;
-  ale_rebuilds_ = c.ale_rebuilds;
-  if (!c.ale_reference_nodes.empty() && c.ale_reference_nodes != initial_nodes_) {
-    // The mesh-motion operator was rebuilt on a later mesh: build it there again.
-    reference_nodes_ = c.ale_reference_nodes;
-    mesh::Mesh reference = mesh_;
-    reference.nodes = reference_nodes_;
-    ale_ = std::make_unique<physics::AleMeshMotion>(reference);
-  }
-}
-
-void DropSimulation::rebuild_preconditioner(const io::Checkpoint& c) {
-  // Round-off agreement with an uninterrupted run. With the direct method
-  // the solver keeps the LU factors of an earlier matrix and preconditions
-  // GMRES with them until a solve needs more than 25 iterations. Fresh
-  // factors at restart would change every later solve at the level of the
-  // solver tolerance (1e-8), and the iteration counts with it. So the
-  // checkpoint records the mesh nodes at which the factors in use were
-  // built, and the reuse policy's state; here the matrix is assembled on
-  // those nodes and factored again, which gives the same factors: the
-  // matrix depends only on the nodes, the case and (through the
-  // semi-implicit tension's theta dt) on whether it was the first step,
-  // never on the time or the right-hand side.
-  // MUMPS's symbolic analysis (ordering, and a scaling that looks at the
-  // values) is done once, at the first factorisation, and kept for later
-  // numeric ones of the same pattern; so the matrix of the first
-  // factorisation is factored first, as the uninterrupted run did. A
-  // first-step matrix is rebuilt by restore() while the trackers are still
-  // at t = 0. The iterative method builds its preconditioner at every
-  // solve: nothing to do.
-  if (config_.solver != io::SolverType::direct || c.factorization_nodes.empty()) return;
-  if (c.analysis_step != 1) rebuild_factorization(c.analysis_nodes);
-  if (c.factorization_step != c.analysis_step) rebuild_factorization(c.factorization_nodes);
-  analysis_nodes_ = c.analysis_nodes;
-  analysis_step_ = c.analysis_step;
-  factorization_nodes_ = c.factorization_nodes;
-  factorization_step_ = c.factorization_step;
-  stokes_->solver().restore_reuse_state(c.refactor_next, c.n_factorizations);
-}
-
-void DropSimulation::rebuild_factorization(const std::vector<mesh::Point>& nodes) {
-  if (config_.solver != io::SolverType::direct || nodes.empty()) return;
-  // The mesh as it was at that solve: the interfaces on their predicted
-  // positions x_hat, which the moved mesh carries exactly (move_mesh_ale).
-  mesh_.nodes = nodes;
-  std::vector<std::vector<Vec3>> x_hat(trackers_.size());
-  for (std::size_t k = 0; k < trackers_.size(); ++k)
-    for (int node : trackers_[k].surface().volume_node) x_hat[k].push_back(nodes[node]);
-  StageSeconds ignored;
-  stokes_->solver().request_fresh_preconditioner();
-  solve_stokes(x_hat, config_.time.step, ignored);
-}
+void DropSimulation::restore(const io::Checkpoint& c) { registry_.restore(c.state); }
 
 std::vector<std::vector<Vec3>> DropSimulation::predict_interfaces() const {
   std::vector<std::vector<Vec3>> x_hat;

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "softflow/common/state.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/mesh/mesh.hpp"
@@ -80,12 +81,18 @@ class DropSimulation {
   /// step(), so that the offending step is recorded before the run stops.
   void check_volumes() const;
 
-  /// Fills the simulation's part of a checkpoint: time, step, mesh, fields,
-  /// interface histories, and the solver's preconditioner state.
+  /// Fills the simulation's part of a checkpoint: the reference mesh and
+  /// the state of every registered part (registry()).
   void save(io::Checkpoint& checkpoint) const;
   /// Continues from a checkpoint written by save() for the same case and
   /// reference mesh (the one this simulation was constructed with).
   void restore(const io::Checkpoint& checkpoint);
+  /// The parts whose state a checkpoint carries: "time_loop" (time, mesh,
+  /// mesh velocity, solution, ALE reference), "stokes" (the solver's
+  /// factorisation reuse), "objects/<k>" (interface histories). Extra
+  /// fields and histories register here (e.g. fem::state_part of a Field)
+  /// and are checkpointed and restored with no further code.
+  [[nodiscard]] StateRegistry& registry() { return registry_; }
 
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   [[nodiscard]] const physics::StokesSystem& stokes() const { return *stokes_; }
@@ -115,8 +122,9 @@ class DropSimulation {
                           const std::vector<physics::Vec3>& centre_velocity, double dt);
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;
   void check_solution_finite() const;
-  void rebuild_preconditioner(const io::Checkpoint& checkpoint);
-  void rebuild_factorization(const std::vector<mesh::Point>& nodes);
+  void register_state();
+  void save_time_loop(StateRecord& record, const std::string& prefix) const;
+  void restore_time_loop(const StateRecord& record, const std::string& prefix);
 
   io::CaseConfig config_;
   mesh::Mesh mesh_;
@@ -133,14 +141,10 @@ class DropSimulation {
   double last_quality_ = 1.0;  // minimum element quality of the current mesh
   double ale_rebuilt_at_quality_ = std::numeric_limits<double>::infinity();
   int ale_rebuilds_ = 0;
-  // Mesh nodes of the direct solver's first factorisation (its symbolic
-  // analysis) and of the factors in use: see rebuild_preconditioner().
-  std::vector<mesh::Point> analysis_nodes_;
-  std::vector<mesh::Point> factorization_nodes_;
-  int analysis_step_ = 0, factorization_step_ = 0;  // the steps whose solves built them
   double translation_x_ = 0.0;
   double time_ = 0.0;
   int steps_ = 0;
+  StateRegistry registry_;
 };
 
 /// The CSV header and one row per object of a report (timeseries.csv).

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/common/state.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
 
 namespace softflow::physics {
@@ -102,7 +103,7 @@ void StokesSystem::create_matrices() {
   }
 }
 
-void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
+void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& problem, Vec rhs) {
   const bool iterative = static_cast<bool>(pmat_);
   TetMatrix ke;
   TetVector fe;
@@ -110,7 +111,7 @@ void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
     const int t = owned_tets_[e];
     const int region = mesh_.tet_region[t];
     const double eta = problem.viscosity.at(region);
-    const auto x = fem::tet_nodes(mesh_, t);
+    const auto x = fem::tet_nodes(geometry, t);
     const auto d = dofs_.element_dofs(t);
     ke.setZero();
     PressureMass mass = PressureMass::Zero();
@@ -137,7 +138,7 @@ void StokesSystem::assemble(const StokesProblem& problem, Vec rhs) {
     InterfaceMatrix block = InterfaceMatrix::Zero();
     if (gamma != 0.0) {
       const auto& tri = mesh_.interface_faces[f];
-      const auto x = fem::triangle_nodes(mesh_, tri);
+      const auto x = fem::triangle_nodes(geometry, tri);
       TriangleVelocityVector fs = TriangleVelocityVector::Zero();
       add_surface_tension(x, gamma, fs);
       if (implicit.active()) {
@@ -221,15 +222,102 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
   la::Vector x = la::make_vector(range_.size(), dofs_.n_dofs());
   check(VecSet(rhs.get(), 0.0), "VecSet");
   check(VecSet(x.get(), 0.0), "VecSet");
-  assemble(problem, rhs.get());
+  assemble(mesh_, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
   StokesResult result;
   result.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr);
+  const int setups = solver_->n_setups();
   result.solve = solver_->solve(rhs.get(), x.get());
+  if (solver_->n_setups() > setups) record_factorization(problem);
   result.solution = la::gather_to_all(x.get());
   return result;
+}
+
+void StokesSystem::record_factorization(const StokesProblem& problem) {
+  if (settings_.method != la::SaddlePointMethod::direct) return;
+  MatrixRecord r{mesh_.nodes, {}};
+  r.problem.viscosity = problem.viscosity;
+  r.problem.interfacial_tension = problem.interfacial_tension;
+  r.problem.pressure_gauge_node = problem.pressure_gauge_node;
+  r.problem.semi_implicit_tension.theta_dt = problem.semi_implicit_tension.theta_dt;
+  if (problem.semi_implicit_tension.active())
+    r.problem.semi_implicit_tension.node_normal = problem.semi_implicit_tension.node_normal;
+  if (!analysis_) analysis_ = r;
+  factors_ = std::move(r);
+}
+
+void StokesSystem::factor(const MatrixRecord& record) {
+  mesh::Mesh geometry = mesh_;
+  geometry.nodes = record.nodes;
+  StokesProblem problem = record.problem;
+  if (problem.semi_implicit_tension.active())
+    problem.semi_implicit_tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
+  la::Vector rhs = la::make_vector(range_.size(), dofs_.n_dofs());
+  la::Vector x = la::make_vector(range_.size(), dofs_.n_dofs());
+  check(VecSet(rhs.get(), 0.0), "VecSet");
+  check(VecSet(x.get(), 0.0), "VecSet");
+  assemble(geometry, problem, rhs.get());
+  apply_dirichlet(problem, rhs.get(), x.get());
+  solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr);
+  solver_->set_up();
+}
+
+StatePart StokesSystem::state_part() {
+  return {"stokes",
+          [this](StateRecord& r, const std::string& p) { save_state(r, p); },
+          [this](const StateRecord& r, const std::string& p) { restore_state(r, p); }};
+}
+
+namespace {
+
+void save_matrix_record(StateRecord& out, const std::string& prefix,
+                        const std::vector<mesh::Point>& nodes, const StokesProblem& problem) {
+  out.set(prefix + "nodes", nodes);
+  out.set(prefix + "viscosity", problem.viscosity);
+  out.set(prefix + "interfacial_tension", problem.interfacial_tension);
+  out.set(prefix + "pressure_gauge_node", problem.pressure_gauge_node);
+  out.set(prefix + "theta_dt", problem.semi_implicit_tension.theta_dt);
+  out.set(prefix + "node_normal", problem.semi_implicit_tension.node_normal);
+}
+
+}  // namespace
+
+void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const {
+  out.set(prefix + "refactor_next", solver_->refactor_next());
+  out.set(prefix + "n_factorizations", solver_->n_setups());
+  out.set(prefix + "has_factors", factors_.has_value());
+  if (!factors_) return;
+  save_matrix_record(out, prefix + "analysis/", analysis_->nodes, analysis_->problem);
+  save_matrix_record(out, prefix + "factors/", factors_->nodes, factors_->problem);
+}
+
+void StokesSystem::restore_state(const StateRecord& in, const std::string& prefix) {
+  if (in.get_bool(prefix + "has_factors") && settings_.method == la::SaddlePointMethod::direct) {
+    auto read = [&](const std::string& p) {
+      MatrixRecord r{in.get_points(p + "nodes"), {}};
+      if (static_cast<int>(r.nodes.size()) != mesh_.n_nodes())
+        throw InputError(fmt::format("the saved state's {}nodes do not fit the mesh", p));
+      r.problem.viscosity = in.get_array(p + "viscosity");
+      r.problem.interfacial_tension = in.get_array(p + "interfacial_tension");
+      r.problem.pressure_gauge_node = in.get_int(p + "pressure_gauge_node");
+      r.problem.semi_implicit_tension.theta_dt = in.get_double(p + "theta_dt");
+      r.problem.semi_implicit_tension.node_normal = in.get_points(p + "node_normal");
+      return r;
+    };
+    // MUMPS keeps the symbolic analysis of its first factorisation for
+    // later numeric ones of the same pattern: factor that matrix first.
+    analysis_ = read(prefix + "analysis/");
+    factors_ = read(prefix + "factors/");
+    factor(*analysis_);
+    if (factors_->nodes != analysis_->nodes ||
+        factors_->problem.semi_implicit_tension.theta_dt !=
+            analysis_->problem.semi_implicit_tension.theta_dt)
+      factor(*factors_);
+  }
+  solver_->restore_reuse_state(in.get_bool(prefix + "refactor_next"),
+                               in.get_int(prefix + "n_factorizations"));
 }
 
 std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face) const {

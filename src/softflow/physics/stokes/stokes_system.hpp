@@ -3,8 +3,11 @@
 
 #include <array>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "softflow/common/state.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/tabulation.hpp"
 #include "softflow/la/coo_matrix.hpp"
@@ -70,13 +73,37 @@ class StokesSystem {
   /// Assembles the problem on the current mesh and solves it.
   StokesResult solve(const StokesProblem& problem);
 
+  /// The direct method's factorisation reuse as a part of the run's state
+  /// ("stokes"): whether the next solve refactors, the builds so far, and
+  /// for the factors in use and for MUMPS's symbolic analysis (the first
+  /// factorisation) what their matrices were made of (nodes, viscosities,
+  /// tensions, the semi-implicit term's theta dt and normals, the gauge).
+  /// restore_state() assembles and factors those matrices again, in the
+  /// same order, so a restarted run keeps the very same factors and its
+  /// later solves agree with an uninterrupted run's to round-off (fresh
+  /// factors would change every later solve at the solver tolerance).
+  /// Nothing is saved for the iterative method, which rebuilds its
+  /// preconditioner at every solve.
+  [[nodiscard]] StatePart state_part();
+
  private:
+  /// What a matrix (not the right-hand side) depends on.
+  struct MatrixRecord {
+    std::vector<mesh::Point> nodes;
+    StokesProblem problem;  ///< without loads: body force, boundary values, w unused
+  };
+  void save_state(StateRecord& record, const std::string& prefix) const;
+  void restore_state(const StateRecord& record, const std::string& prefix);
+  /// Assembles the matrix of `record` and builds the preconditioner (factors) on it.
+  void factor(const MatrixRecord& record);
+  void record_factorization(const StokesProblem& problem);
   void partition();
   void create_matrices();
   /// Rigid-body modes of the owned velocity dofs: the near-nullspace AMG
   /// needs to coarsen a 3D elasticity-like velocity block well.
   la::NullSpace velocity_near_nullspace() const;
-  void assemble(const StokesProblem& problem, Vec rhs);
+  /// Assembles on `geometry` (the current mesh, or a saved node set of it).
+  void assemble(const mesh::Mesh& geometry, const StokesProblem& problem, Vec rhs);
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
   /// The 18 velocity unknowns of interface triangle `face` (matrix side).
   [[nodiscard]] std::array<PetscInt, 18> interface_velocity_dofs(int face) const;
@@ -94,6 +121,7 @@ class StokesSystem {
   std::vector<la::CooMatrix::Block> tet_blocks_, interface_blocks_;
   std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
+  std::optional<MatrixRecord> analysis_, factors_;  // direct method only
 };
 
 /// The matrix vertex on the bottom wall nearest its centre: where the
