@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "softflow/verification/drop_cases.hpp"
+#include "support/verification/drop_cases.hpp"
 
 using namespace softflow;
 
