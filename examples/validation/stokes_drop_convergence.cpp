@@ -14,7 +14,7 @@
 
 #include <petscsys.h>
 
-#include "softflow/verification/drop_cases.hpp"
+#include "support/verification/drop_cases.hpp"
 
 using namespace softflow;
 

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "softflow/verification/drop_cases.hpp"
+#include "support/verification/drop_cases.hpp"
 
 using namespace softflow;
 
@@ -19,7 +19,35 @@ double slope(double e_coarse, double e_fine, double h_coarse, double h_fine) {
 
 class DropInShear : public ::testing::TestWithParam<double> {};
 
-TEST_P(DropInShear, InstantaneousExactFieldConvergesUnderRefinement) {
+TEST_P(DropInShear, CoarseMeshesApproachTheExactField) {
+  // The default suite's version of DropInShearSlow below, at N = 16 and 24
+  // (about 1 s per viscosity ratio). Still pre-asymptotic for lambda != 1
+  // (measured slopes: velocity 1.7-2.6, pressure 1.2-2.1), so the bounds
+  // only catch a broken solve or coupling: an error that does not fall, or
+  // a Laplace jump off by more than 0.5 %.
+  const double lambda = GetParam(), gamma = 0.5;
+  std::vector<verification::DropSolveResult> runs;
+  for (int n : {16, 24}) {
+    runs.push_back(verification::drop_in_shear(lambda, gamma, n));
+    const auto& r = runs.back();
+    std::printf("lambda %.1f  N %2d  unknowns %7d  |u-u_h| %.3e  |p-p_h|/const %.3e  jump %.6f (exact %.1f)\n",
+                lambda, n, r.unknowns, r.velocity_l2, r.pressure_l2, r.pressure_jump,
+                r.exact_pressure_jump);
+  }
+  const double su = slope(runs[0].velocity_l2, runs[1].velocity_l2, runs[0].h0, runs[1].h0);
+  const double sp = slope(runs[0].pressure_l2, runs[1].pressure_l2, runs[0].h0, runs[1].h0);
+  std::printf("lambda %.1f slopes (N 16 -> 24): velocity %.2f  pressure %.2f\n", lambda, su, sp);
+  EXPECT_GT(su, 1.5);
+  EXPECT_GT(sp, 1.0);
+  EXPECT_LT(std::abs(runs[1].pressure_jump - runs[1].exact_pressure_jump), 0.005 * runs[1].exact_pressure_jump);
+}
+
+INSTANTIATE_TEST_SUITE_P(ViscosityRatios, DropInShear, ::testing::Values(0.5, 1.0, 5.0));
+
+// Meshes up to N = 48: label slow (tests/README.md).
+class DropInShearSlow : public ::testing::TestWithParam<double> {};
+
+TEST_P(DropInShearSlow, InstantaneousExactFieldConvergesUnderRefinement) {
   // Gamma = 0.5: Laplace jump 1 on R = 1. Expected asymptotic slopes 3
   // (velocity L2) and 2 (pressure L2, compared up to a constant: with the
   // velocity given on the whole boundary the pressure is fixed only up to
@@ -46,7 +74,7 @@ TEST_P(DropInShear, InstantaneousExactFieldConvergesUnderRefinement) {
   EXPECT_LT(std::abs(runs[2].pressure_jump - runs[2].exact_pressure_jump), 0.01 * runs[2].exact_pressure_jump);
 }
 
-INSTANTIATE_TEST_SUITE_P(ViscosityRatios, DropInShear, ::testing::Values(0.5, 1.0, 5.0));
+INSTANTIATE_TEST_SUITE_P(ViscosityRatios, DropInShearSlow, ::testing::Values(0.5, 1.0, 5.0));
 
 TEST(StaticDrop, LaplacePressureJumpAndSpuriousCurrentsFallWithRefinement) {
   // No flow, Gamma = 1, R = 1: p_drop - p_matrix = 2 and u = 0 exactly; the

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "softflow/verification/extensional_flow.hpp"
+#include "support/verification/extensional_flow.hpp"
 
 using softflow::verification::track_sphere_in_extension;
 

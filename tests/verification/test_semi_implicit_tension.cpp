@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "softflow/verification/drop_transient.hpp"
+#include "support/verification/drop_transient.hpp"
 
 using softflow::verification::deform_drop_in_shear;
 using softflow::verification::DropTransient;

@@ -15,6 +15,7 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
 #include "softflow/simulation/run_support.hpp"
+#include "softflow/time/bdf.hpp"
 
 namespace softflow::simulation {
 
@@ -347,8 +348,9 @@ physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
   // acts on the velocity increment only (see physics::SemiImplicitTension).
   // At the first step there is no previous velocity; w = 0 is exact there,
   // since the BDF1 predictor does not move the interface.
-  const bool first_step = trackers_.front().steps() == 0;
-  tension.theta_dt = first_step ? dt : 2.0 * dt / 3.0;
+  const int order = time::bdf_order(trackers_.front().steps());
+  const bool first_step = order == 1;
+  tension.theta_dt = time::bdf(order).theta_dt(dt);
   tension.node_normal.assign(mesh_.n_nodes(), Vec3::Zero());
   tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
   for (std::size_t k = 0; k < trackers_.size(); ++k) {

@@ -10,6 +10,7 @@
 #include "softflow/element/isoparametric.hpp"
 #include "softflow/element/quadrature.hpp"
 #include "softflow/element/shape_functions.hpp"
+#include "softflow/time/bdf.hpp"
 
 namespace softflow::physics {
 
@@ -28,14 +29,6 @@ element::TriangleNodes triangle_at(const std::array<int, 6>& tri, const std::vec
   return nodes;
 }
 
-// Gear (BDF) coefficients: x' ~ (a0 x_{n+1} + a1 x_n + a2 x_{n-1}) / dt.
-struct Bdf {
-  double a0, a1, a2;
-};
-Bdf bdf(bool second_order) {
-  return second_order ? Bdf{1.5, -2.0, 0.5} : Bdf{1.0, -1.0, 0.0};
-}
-
 }  // namespace
 
 InterfaceTracker::InterfaceTracker(InterfaceMesh surface, std::vector<Vec3> initial_positions,
@@ -50,15 +43,21 @@ InterfaceTracker::InterfaceTracker(InterfaceMesh surface, std::vector<Vec3> init
 }
 
 std::vector<Vec3> InterfaceTracker::predict() const {
-  if (steps_ == 0) return x_;  // eq. 2.47
+  // x_n at the first step (eq. 2.47): there is no x_{n-1} to extrapolate from.
+  const int order = time::bdf_order(steps_);
+  if (order == 1) return x_;
+  const auto e = time::extrapolation(order);
   std::vector<Vec3> x_hat(x_.size());
-  for (std::size_t i = 0; i < x_.size(); ++i) x_hat[i] = 2.0 * x_[i] - x_previous_[i];  // eq. 2.49
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    x_hat[i] = e.current * x_[i] + e.previous * x_previous_[i];  // eq. 2.49
   return x_hat;
 }
 
 Vec3 InterfaceTracker::centre_velocity(const std::vector<Vec3>& predicted, double dt) {
   const Vec3 x_next = surface_integrals(surface_, predicted).centre_of_volume();
-  const Bdf c = bdf(centre_steps_ > 0);
+  // Its own step count: the centre is recorded at the prediction, the
+  // positions at the correction.
+  const auto c = time::bdf(time::bdf_order(centre_steps_));
   const Vec3 u = (c.a0 * x_next + c.a1 * centre_ + c.a2 * centre_previous_) / dt;  // eqs. 2.51-2.52
   centre_previous_ = centre_;
   centre_ = x_next;
@@ -120,7 +119,7 @@ void InterfaceTracker::correct(const std::vector<Vec3>& predicted,
   // with a = u - U, grad_s on the predicted surface (eq. 2.48 / 2.50). The
   // operator is the same for the three components of x.
   const int n = surface_.n_nodes();
-  const Bdf c = bdf(steps_ > 0);
+  const auto c = time::bdf(time::bdf_order(steps_));
   const bool redistribute = settings_.redistribution_factor != 0.0;
   const std::vector<double> potential =
       redistribute ? redistribution_potential(predicted) : std::vector<double>(n, 0.0);

@@ -1,4 +1,4 @@
-#include "softflow/verification/drop_cases.hpp"
+#include "support/verification/drop_cases.hpp"
 
 #include <cmath>
 

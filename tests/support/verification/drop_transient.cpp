@@ -1,4 +1,4 @@
-#include "softflow/verification/drop_transient.hpp"
+#include "support/verification/drop_transient.hpp"
 
 #include <cmath>
 #include <map>

@@ -1,4 +1,4 @@
-#include "softflow/verification/extensional_flow.hpp"
+#include "support/verification/extensional_flow.hpp"
 
 #include <cmath>
 
