@@ -1,0 +1,183 @@
+// A field the time loop does not know about, registered with the run's state,
+// is checkpointed and restored with no checkpoint code of its own.
+//
+// The field: a scalar, P1 per region (as the log-conformation components
+// will be), transported by the flow in the ALE frame,
+//
+//   d(phi)/dt |_mesh + (u - u_m) . grad phi = 0,
+//
+// by BDF1 + SUPG on the moved mesh after every step (nodal values move with
+// the mesh nodes, so the old values are simply the previous nodal values).
+// A run checkpointed at step 3 and restarted must continue to the same
+// field, and the same flow, as the run that never stopped.
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/element/shape_functions.hpp"
+#include "softflow/fem/field.hpp"
+#include "softflow/fem/supg.hpp"
+#include "softflow/io/case_config.hpp"
+#include "softflow/io/checkpoint.hpp"
+#include "softflow/la/coo_matrix.hpp"
+#include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/run_support.hpp"
+
+using namespace softflow;
+using Eigen::Vector3d;
+
+namespace {
+
+io::CaseConfig drop_case() {
+  return io::parse_case(
+      "[cell]\nlength = 8.0\nheight = 8.0\nwidth = 8.0\n"
+      "[[objects]]\nviscosity_ratio = 1.0\ncapillary_number = 0.1\n"
+      "[mesh]\nequator_nodes = 16\nfar_size = 2.0\n"
+      "[time]\nstep = 0.05\nend = 1.0\n[output]\nfields = false\n",
+      "registered_field");
+}
+
+/// One BDF1 + SUPG transport step of phi with w = u - u_m on the current mesh.
+void transport(const simulation::DropSimulation& sim, fem::Field& phi, double dt) {
+  const auto& mesh = sim.mesh();
+  const auto& stokes = sim.stokes().dofs();
+  fem::Field u(mesh, "u", stokes.field(physics::kVelocityField).space, 3);
+  u.assign_from(stokes, physics::kVelocityField, sim.solution());
+  fem::Field um(mesh, "u_m", stokes.field(physics::kVelocityField).space, 3);
+  std::vector<double> nodal(um.dofs().n_dofs());
+  for (int d = 0; d < um.dofs().n_dofs(); ++d)
+    nodal[d] = sim.mesh_velocity()[um.dofs().node_of(d)](um.dofs().component_of(d));
+  um.scatter(nodal);
+
+  const auto& dofs = phi.dofs();
+  const auto range = phi.ownership();
+  const la::OwnershipRange rows{range.begin, range.end};
+  la::CooMatrix a(rows, dofs.n_dofs(), rows, dofs.n_dofs());
+  std::vector<la::CooMatrix::Block> blocks;
+  for (int t : phi.owned_elements())
+    blocks.push_back(a.add_block(dofs.element_dofs(t), dofs.element_dofs(t)));
+  a.create();
+  la::Vector rhs = la::make_vector(range.size(), dofs.n_dofs());
+  la::check(VecSet(rhs.get(), 0.0), "VecSet");
+  const fem::TetTabulation tab(4);
+  const Eigen::Matrix<double, 4, 3> ref_grad = element::p1_tet_gradients();
+  std::size_t e = 0;
+  for (int t : phi.owned_elements()) {
+    const auto points = fem::quadrature_points(mesh, tab, t);
+    const Eigen::Vector4d old = phi.element_coefficients(t);
+    double volume = 0.0, speed = 0.0;
+    for (const auto& p : points) {
+      volume += p.weight;
+      speed += p.weight * (u.value(p) - um.value(p)).norm();
+    }
+    const double tau = fem::supg_tau(fem::element_length(volume), speed / volume, 0.0);
+    Eigen::Matrix4d ke = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d fe = Eigen::Vector4d::Zero();
+    for (const auto& p : points) {
+      const Vector3d w = u.value(p) - um.value(p);
+      const Eigen::Matrix<double, 4, 3> g = ref_grad * p.map.inverse_jacobian;
+      const Eigen::Vector4d n(tab.p1[p.q][0], tab.p1[p.q][1], tab.p1[p.q][2], tab.p1[p.q][3]);
+      const Eigen::Vector4d test = n + tau * (g * w);  // Petrov-Galerkin test functions
+      ke += p.weight * test * (n.transpose() / dt + (g * w).transpose());
+      fe += p.weight * test * (n.dot(old) / dt);
+    }
+    a.set_block(blocks[e++], ke);
+    const auto d = dofs.element_dofs(t);
+    la::check(VecSetValues(rhs.get(), 4, d.data(), fe.data(), ADD_VALUES), "VecSetValues");
+  }
+  a.assemble();
+  la::check(VecAssemblyBegin(rhs.get()), "VecAssemblyBegin");
+  la::check(VecAssemblyEnd(rhs.get()), "VecAssemblyEnd");
+  la::Solver ksp;
+  la::check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
+  la::check(KSPSetOperators(ksp.get(), a.get(), a.get()), "KSPSetOperators");
+  la::check(KSPSetType(ksp.get(), KSPPREONLY), "KSPSetType");
+  PC pc = nullptr;
+  la::check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");
+  la::check(PCSetType(pc, PCLU), "PCSetType");
+  la::check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  la::check(KSPSolve(ksp.get(), rhs.get(), phi.vector()), "KSPSolve");
+  phi.update_ghosts();
+}
+
+std::shared_ptr<fem::Space> p1_per_region(const mesh::Mesh& mesh) {
+  return std::make_shared<fem::Space>(mesh, 1, fem::Continuity::per_region);
+}
+
+double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+  return worst;
+}
+
+}  // namespace
+
+TEST(RegisteredField, ACheckpointCarriesItAndTheRestartContinuesToRoundOff) {
+  const auto config = drop_case();
+  const double dt = config.time.step;
+  const auto path = std::filesystem::temp_directory_path() /
+                    fmt::format("softflow_registered_field_{}.h5", ::getpid());
+
+  // The run that never stops, checkpointed after step 3.
+  simulation::DropSimulation sim(config, simulation::build_mesh(config).mesh);
+  fem::Field phi(sim.mesh(), "tracer", p1_per_region(sim.mesh()), 1);
+  phi.interpolate([](const Vector3d& x, int region) {
+    return Eigen::VectorXd::Constant(1, x.y() + 0.3 * x.x() * x.z() + 2.0 * region);
+  });
+  sim.registry().add(fem::state_part(phi));
+  const auto initial = phi.gather();
+  io::Checkpoint checkpoint;
+  for (int n = 1; n <= 6; ++n) {
+    sim.step();
+    transport(sim, phi, dt);
+    if (n == 3) {
+      sim.save(checkpoint);
+      checkpoint.softflow_version = SOFTFLOW_VERSION;
+      checkpoint.case_toml = io::to_toml(config);
+      io::write_checkpoint(path, checkpoint);
+    }
+  }
+  EXPECT_TRUE(checkpoint.state.contains("fields/tracer/values"));
+  const auto phi_end = phi.gather();
+  // The flow moved the tracer: the test compares something that changed.
+  EXPECT_GT(max_difference(initial, phi_end), 1e-3);
+
+  // The restarted run: a new simulation and a new field, registered the
+  // same way, restored from the file.
+  const auto saved = io::read_checkpoint(path);
+  simulation::DropSimulation restarted(config, saved.reference_mesh);
+  fem::Field psi(restarted.mesh(), "tracer", p1_per_region(restarted.mesh()), 1);
+  restarted.registry().add(fem::state_part(psi));
+  restarted.restore(saved);
+  EXPECT_EQ(restarted.steps(), 3);
+  for (int n = 4; n <= 6; ++n) {
+    restarted.step();
+    transport(restarted, psi, dt);
+  }
+  EXPECT_LT(max_difference(psi.gather(), phi_end), 1e-10);
+  EXPECT_LT(max_difference(restarted.solution(), sim.solution()), 1e-10);
+  EXPECT_LT((restarted.mesh().nodes.back() - sim.mesh().nodes.back()).norm(), 1e-12);
+  std::filesystem::remove(path);
+}
+
+TEST(RegisteredField, ARestartWithoutTheFieldItWasSavedWithIsRefusedByName) {
+  // A checkpoint of a run that had a field cannot silently restart one that
+  // expects another: the missing entry is named.
+  StateRecord record;
+  record.set("fields/other/values", std::vector<double>{1.0});
+  const auto config = drop_case();
+  const auto mesh = simulation::build_mesh(config).mesh;
+  fem::Field phi(mesh, "tracer", p1_per_region(mesh), 1);
+  const auto part = fem::state_part(phi);
+  try {
+    part.restore(record, part.name + "/");
+    FAIL() << "a missing field was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fields/tracer/values"), std::string::npos) << e.what();
+  }
+}
