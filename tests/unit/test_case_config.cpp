@@ -56,7 +56,15 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.petsc_options, b.petsc_options);
   EXPECT_EQ(a.output_directory, b.output_directory);
   EXPECT_EQ(a.write_fields, b.write_fields);
+  EXPECT_EQ(a.time.step, b.time.step);
+  EXPECT_EQ(a.time.end, b.time.end);
+  EXPECT_EQ(a.time.fields_interval, b.time.fields_interval);
+  EXPECT_EQ(a.time.min_quality, b.time.min_quality);
   EXPECT_EQ(a.time.max_volume_drift, b.time.max_volume_drift);
+  EXPECT_EQ(a.time.ale_rebuild_quality, b.time.ale_rebuild_quality);
+  EXPECT_EQ(a.interface.redistribution_factor, b.interface.redistribution_factor);
+  EXPECT_EQ(a.interface.supg_beta, b.interface.supg_beta);
+  EXPECT_EQ(a.interface.semi_implicit_tension, b.interface.semi_implicit_tension);
   EXPECT_EQ(a.checkpoint.interval_steps, b.checkpoint.interval_steps);
   EXPECT_EQ(a.checkpoint.interval_minutes, b.checkpoint.interval_minutes);
 }
@@ -321,6 +329,16 @@ TEST(CaseConfigErrors, SyntaxErrorNamesFileAndLine) {
 
 TEST(CaseConfigErrors, MissingFile) {
   EXPECT_THROW(read_case_file("/nonexistent/case.toml"), InputError);
+}
+
+// ---- the declarations ----
+
+TEST(CaseKeys, DeclaredDefaultsAreTheStructDefaults) {
+  // Code that builds a CaseConfig itself gets the same case as an empty file.
+  CaseConfig built;
+  built.name = "c";
+  built.output_directory = "output/c";
+  EXPECT_EQ(to_toml(built), to_toml(parse_case("", "c.toml")));
 }
 
 // ---- dimensionless groups ----

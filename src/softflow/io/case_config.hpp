@@ -1,5 +1,6 @@
 // Case files: TOML text -> validated CaseConfig, the resolved case back to TOML, and the
-// dimensionless groups of a case.
+// dimensionless groups of a case. The keys themselves are declared once, in
+// case_keys.cpp.
 #pragma once
 
 #include <filesystem>
@@ -102,8 +103,8 @@ CaseConfig read_case_file(const std::filesystem::path& path);
 /// default case name.
 CaseConfig parse_case(const std::string& toml_text, const std::string& source_name);
 
-/// The resolved case as TOML: every key, defaults filled in. Reading it back
-/// gives the same CaseConfig, bit for bit.
+/// The resolved case as TOML: every key that applies, defaults filled in.
+/// Reading it back gives the same CaseConfig, bit for bit.
 std::string to_toml(const CaseConfig& config);
 
 /// One dimensionless number of a run, as reported in the summary.
