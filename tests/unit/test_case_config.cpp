@@ -1,7 +1,9 @@
-// Case files: defaults, round trip through to_toml, one test per kind of error message,
-// dimensionless groups.
+// Case files: defaults, round trip through to_toml, one test per kind of error message, the key
+// reference, dimensionless groups.
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -339,6 +341,24 @@ TEST(CaseKeys, DeclaredDefaultsAreTheStructDefaults) {
   built.name = "c";
   built.output_directory = "output/c";
   EXPECT_EQ(to_toml(built), to_toml(parse_case("", "c.toml")));
+}
+
+TEST(CaseKeys, TheCommittedKeyReferenceIsTheGeneratedOne) {
+  const std::string path = std::string(SOFTFLOW_SOURCE_DIR) + "/docs/case_file_keys.md";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  std::ostringstream committed;
+  committed << in.rdbuf();
+  EXPECT_TRUE(committed.str() == case_file_keys_markdown())
+      << "docs/case_file_keys.md is out of date: run `build/softflow keys > "
+         "docs/case_file_keys.md`";
+}
+
+TEST(CaseKeys, TheReferenceNamesEveryKeyOfTheExample) {
+  const std::string doc = case_file_keys_markdown();
+  for (const char* key : {"`equator_nodes`", "`capillary_number`", "`semi_axes`", "`[[objects]]`",
+                          "`[flow]`", "`\"ellipsoid\"`", "required"})
+    EXPECT_NE(doc.find(key), std::string::npos) << key;
 }
 
 // ---- dimensionless groups ----

@@ -1,5 +1,5 @@
-// Case files: TOML text -> validated CaseConfig, the resolved case back to TOML, and the
-// dimensionless groups of a case. The keys themselves are declared once, in
+// Case files: TOML text -> validated CaseConfig, the resolved case back to TOML, the key
+// reference, and the dimensionless groups of a case. The keys themselves are declared once, in
 // case_keys.cpp.
 #pragma once
 
@@ -106,6 +106,10 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
 /// The resolved case as TOML: every key that applies, defaults filled in.
 /// Reading it back gives the same CaseConfig, bit for bit.
 std::string to_toml(const CaseConfig& config);
+
+/// The reference of every case-file key as Markdown (docs/case_file_keys.md;
+/// `softflow keys` prints it): generated from the declarations.
+std::string case_file_keys_markdown();
 
 /// One dimensionless number of a run, as reported in the summary.
 struct DimensionlessGroup {
