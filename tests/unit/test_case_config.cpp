@@ -333,6 +333,20 @@ TEST(CaseConfigErrors, MissingFile) {
   EXPECT_THROW(read_case_file("/nonexistent/case.toml"), InputError);
 }
 
+// ---- one Ca for everything ----
+
+TEST(CapillaryNumber, FromInterfacialTensionOrAsGiven) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 2\n[flow]\nshear_rate = 0.5\n"
+      "[[objects]]\nradius = 1.5\ninterfacial_tension = 3\n"
+      "[[objects]]\ncentre = [5, 0, 0]\ncapillary_number = 0.3\n"
+      "[[objects]]\ncentre = [-5, 0, 0]\ninterfacial_tension = 0\n",
+      "c.toml");
+  EXPECT_DOUBLE_EQ(capillary_number(c, c.objects[0]), 2.0 * 0.5 * 1.5 / 3.0);
+  EXPECT_EQ(capillary_number(c, c.objects[1]), 0.3);
+  EXPECT_TRUE(std::isinf(capillary_number(c, c.objects[2])));
+}
+
 // ---- the declarations ----
 
 TEST(CaseKeys, DeclaredDefaultsAreTheStructDefaults) {

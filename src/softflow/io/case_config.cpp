@@ -126,6 +126,14 @@ geometry::ShearCellSpec CaseConfig::shear_cell_spec() const {
   return spec;
 }
 
+double capillary_number(const CaseConfig& c, const ObjectConfig& o) {
+  // The Ca the user gave is reported as given, not re-derived through Gamma.
+  if (o.capillary_number) return *o.capillary_number;
+  if (o.interfacial_tension > 0.0)
+    return c.matrix_viscosity * c.shear_rate * mean_radius(o.geometry) / o.interfacial_tension;
+  return std::numeric_limits<double>::infinity();
+}
+
 CaseConfig parse_case(const std::string& toml_text, const std::string& source_name) {
   const toml::value root_value = parse_toml(toml_text, source_name);
   const toml::table& root = root_value.as_table();
@@ -208,16 +216,12 @@ std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
     const int object = static_cast<int>(k) + 1;
     const double r = mean_radius(o.geometry);
     const double d = 2.0 * r;
-    // The Ca the user gave is reported as given, not re-derived through Gamma.
-    const double ca = o.capillary_number ? *o.capillary_number
-                      : o.interfacial_tension > 0.0
-                          ? c.matrix_viscosity * c.shear_rate * r / o.interfacial_tension
-                          : std::numeric_limits<double>::infinity();
     const auto add = [&](std::string symbol, std::string name, double value,
                          std::string definition) {
       groups.push_back({std::move(symbol), std::move(name), value, std::move(definition), object});
     };
-    add("Ca", "capillary number", ca, "eta_m gamma_dot R / Gamma, R = (abc)^(1/3)");
+    add("Ca", "capillary number", capillary_number(c, o),
+        "eta_m gamma_dot R / Gamma, R = (abc)^(1/3)");
     add("lambda", "viscosity ratio", o.viscosity_ratio, "eta_d / eta_m");
     add("beta", "blockage ratio", d / c.box.height, "2R / H");
     add("L/D", "box length in diameters", c.box.length / d, "L / 2R");

@@ -91,6 +91,12 @@ struct CaseConfig {
   [[nodiscard]] double wall_velocity() const { return shear_rate * box.height / 2.0; }
 };
 
+/// Ca = eta_m gamma_dot R / Gamma of `object` (one of config.objects), with
+/// gamma_dot the case's characteristic shear rate (CaseConfig::shear_rate):
+/// the value the file gave, else computed from Gamma; +inf when Gamma = 0.
+/// Everything that needs an object's Ca (summary, theory, sweeps) asks here.
+[[nodiscard]] double capillary_number(const CaseConfig& config, const ObjectConfig& object);
+
 /// R = (abc)^(1/3): the radius of the sphere of equal volume, the length
 /// scale of every dimensionless group of an object.
 [[nodiscard]] double mean_radius(const geometry::ObjectSpec& object);
