@@ -35,6 +35,41 @@ struct FlowState {
   bool shear_rate_ok = true;
 };
 
+/// The characteristic shear rate of each flow type (oscillatory: the
+/// shear-rate amplitude gamma0 omega), and walls that start or stop must
+/// move at all.
+FlowState resolve_flow(const TableRead& matrix, const TableRead& flow, CaseConfig& c,
+                       Diagnostics& diag) {
+  FlowState state;
+  state.matrix_viscosity_ok = matrix.status("viscosity") != Read::bad;
+  if (flow.status("type") == Read::bad) {
+    state.shear_rate_ok = false;
+    return state;
+  }
+  switch (c.flow.type) {
+    case FlowType::oscillatory:
+      state.shear_rate_ok =
+          flow.status("strain_amplitude") == Read::ok && flow.status("frequency") == Read::ok;
+      if (state.shear_rate_ok) c.shear_rate = c.flow.strain_amplitude * c.flow.frequency;
+      break;
+    case FlowType::start_up:
+    case FlowType::cessation:
+      state.shear_rate_ok = flow.status("shear_rate") != Read::bad;
+      if (state.shear_rate_ok && c.shear_rate == 0.0) {
+        // Only a given value can be 0 (the default is 1).
+        diag.error(flow.path("shear_rate"), *flow.value("shear_rate"),
+                   fmt::format("type = \"{}\" needs a shear rate > 0 (walls at rest have "
+                               "nothing to {}; for a case at rest use type = \"steady\")",
+                               c.flow.type == FlowType::start_up ? "start_up" : "cessation",
+                               c.flow.type == FlowType::start_up ? "start" : "stop"));
+        state.shear_rate_ok = false;
+      }
+      break;
+    case FlowType::steady: state.shear_rate_ok = flow.status("shear_rate") != Read::bad; break;
+  }
+  return state;
+}
+
 /// Gamma from exactly one of capillary_number (Gamma = eta_m gamma_dot R/Ca)
 /// or interfacial_tension; neither means Ca = 0.1.
 void resolve_tension(const TableRead& t, const CaseConfig& c, const FlowState& flow,
@@ -165,8 +200,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
 
   // 2. What several keys decide together.
   if (read["output"].status("directory") != Read::ok) c.output_directory = "output/" + c.name;
-  const FlowState flow{read["matrix"].status("viscosity") != Read::bad,
-                       read["flow"].status("shear_rate") != Read::bad};
+  const FlowState flow = resolve_flow(read["matrix"], read["flow"], c, diag);
   for (std::size_t k = 0; k < c.objects.size(); ++k)
     resolve_tension(objects_read[k], c, flow, c.objects[k], diag);
   diag.throw_if_any();
@@ -209,8 +243,12 @@ std::string to_toml(const CaseConfig& c) {
 
 std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
   std::vector<DimensionlessGroup> groups;
-  // Case-wide groups (Deborah/Weissenberg numbers of a viscoelastic matrix)
-  // go here, before the per-object ones, with object = 0.
+  const bool oscillatory = c.flow.type == FlowType::oscillatory;
+  // Case-wide groups first (object = 0); the Deborah/Weissenberg numbers of a
+  // viscoelastic matrix will go here too.
+  if (oscillatory)
+    groups.push_back({"gamma0", "strain amplitude", c.flow.strain_amplitude,
+                      "flow.strain_amplitude", 0});
   for (std::size_t k = 0; k < c.objects.size(); ++k) {
     const ObjectConfig& o = c.objects[k];
     const int object = static_cast<int>(k) + 1;
@@ -221,7 +259,14 @@ std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
       groups.push_back({std::move(symbol), std::move(name), value, std::move(definition), object});
     };
     add("Ca", "capillary number", capillary_number(c, o),
-        "eta_m gamma_dot R / Gamma, R = (abc)^(1/3)");
+        oscillatory ? "eta_m gamma0 omega R / Gamma, R = (abc)^(1/3)"
+                    : "eta_m gamma_dot R / Gamma, R = (abc)^(1/3)");
+    if (oscillatory)
+      add("omega*", "dimensionless frequency",
+          o.interfacial_tension > 0.0
+              ? c.flow.frequency * c.matrix_viscosity * r / o.interfacial_tension
+              : std::numeric_limits<double>::infinity(),
+          "omega eta_m R / Gamma");
     add("lambda", "viscosity ratio", o.viscosity_ratio, "eta_d / eta_m");
     add("beta", "blockage ratio", d / c.box.height, "2R / H");
     add("L/D", "box length in diameters", c.box.length / d, "L / 2R");

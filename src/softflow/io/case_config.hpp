@@ -17,6 +17,17 @@ namespace softflow::io {
 
 enum class SolverType { direct, iterative };
 
+/// How the walls move in time (SPEC §1); physics::WallMotion has the formulas.
+enum class FlowType { steady, start_up, cessation, oscillatory };
+
+/// [flow] beyond the shear rate: the wall-speed history u_w(t).
+struct FlowConfig {
+  FlowType type = FlowType::steady;
+  double stop_time = 0.0;         ///< cessation: the walls stop at t = stop_time
+  double strain_amplitude = 0.0;  ///< oscillatory: gamma0
+  double frequency = 0.0;         ///< oscillatory: omega, angular (rad per time unit)
+};
+
 /// One suspended object of the case file ([[objects]]).
 struct ObjectConfig {
   geometry::ObjectSpec geometry;
@@ -69,8 +80,12 @@ struct CaseConfig {
   std::string name;                             ///< [case] name; default: the file stem
   mesh::Box box{30.0, 30.0, 30.0, true, true};  ///< [cell]
   double matrix_viscosity = 1.0;                ///< [matrix] viscosity, eta_m
-  /// [flow] shear_rate, gamma_dot >= 0 (0: a static case, e.g. drop relaxation).
+  /// gamma_dot >= 0, the characteristic shear rate: [flow] shear_rate while
+  /// the walls move (0: a static case, e.g. drop relaxation); for oscillatory
+  /// flow the shear-rate amplitude strain_amplitude * frequency (not a key
+  /// then). Ca, the time unit and the redistribution factor use it.
   double shear_rate = 1.0;
+  FlowConfig flow;  ///< [flow] type and the keys of that type
   std::vector<ObjectConfig> objects;       ///< [[objects]], in file order (object k = objects[k-1])
   geometry::MeshSizing sizing;             ///< [mesh]
   SolverType solver = SolverType::direct;  ///< [solver] type
@@ -87,7 +102,8 @@ struct CaseConfig {
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;
-  /// u_w = gamma_dot H / 2: the walls y = +-H/2 move with (+-u_w, 0, 0).
+  /// u_w = gamma_dot H / 2: the walls y = +-H/2 move with (+-u_w, 0, 0)
+  /// (the largest wall speed for start-up, cessation and oscillatory flow).
   [[nodiscard]] double wall_velocity() const { return shear_rate * box.height / 2.0; }
 };
 

@@ -47,13 +47,45 @@ Table<CaseConfig> matrix_table() {
 }
 
 Table<CaseConfig> flow_table() {
-  return {"flow", "The imposed shear flow: the walls y = +-H/2 move with u = (+-u_w, 0, 0).", false,
-          {number("shear_rate", field(&CaseConfig::shear_rate), 1.0, Range::at_least(0),
-                  "gamma_dot; 0 = at rest (e.g. drop relaxation)")
-               .with_comment([](const CaseConfig& c) {
-                 return fmt::format("wall velocity u_w = shear_rate * height / 2 = {}",
-                                    toml_float(c.wall_velocity()));
-               })}};
+  const auto flow = [](auto member) { return field(&CaseConfig::flow, member); };
+  return {
+      "flow",
+      "How the walls y = +-H/2 move: u = (+-u_w(t), 0, 0). Times are in the case's unit; with "
+      "shear_rate = 1 that is 1/gamma_dot.",
+      false,
+      {choice("type", flow(&FlowConfig::type), FlowType::steady,
+              {{"steady", FlowType::steady, "u_w = shear_rate H / 2 at all times"},
+               {"start_up", FlowType::start_up,
+                "at rest before t = 0, then u_w = shear_rate H / 2 (the run starts at t = 0 "
+                "from rest: for t >= 0 the walls of \"steady\")"},
+               {"cessation", FlowType::cessation,
+                "u_w = shear_rate H / 2 until stop_time, then the walls stop (relaxation)"},
+               {"oscillatory", FlowType::oscillatory,
+                "u_w = (H/2) strain_amplitude frequency sin(frequency t)"}},
+              "the wall-speed history u_w(t)"),
+       number("shear_rate", field(&CaseConfig::shear_rate), 1.0, Range::at_least(0),
+              "gamma_dot while the walls move (0 = at rest, steady only); the unit of Ca and "
+              "of the redistribution factor. Oscillatory flow uses its amplitude "
+              "strain_amplitude * frequency instead")
+           .only_when("type", {"steady", "start_up", "cessation"})
+           .with_comment([](const CaseConfig& c) {
+             return fmt::format("wall velocity u_w = shear_rate * height / 2 = {}",
+                                toml_float(c.wall_velocity()));
+           }),
+       number("stop_time", flow(&FlowConfig::stop_time), required, Range::above(0),
+              "t at which the walls stop")
+           .only_when("type", {"cessation"}),
+       number("strain_amplitude", flow(&FlowConfig::strain_amplitude), required,
+              Range::above(0), "gamma0: the strain is gamma0 (1 - cos(frequency t))")
+           .only_when("type", {"oscillatory"}),
+       number("frequency", flow(&FlowConfig::frequency), required, Range::above(0),
+              "omega, angular (rad per time unit). Ca uses the shear-rate amplitude "
+              "strain_amplitude * frequency as gamma_dot")
+           .only_when("type", {"oscillatory"})
+           .with_comment([](const CaseConfig& c) {
+             return fmt::format("shear-rate amplitude strain_amplitude * frequency = {}",
+                                toml_float(c.shear_rate));
+           })}};
 }
 
 Table<CaseConfig> mesh_table() {
@@ -183,8 +215,9 @@ Table<ObjectConfig> objects_table() {
        optional_number(
            "capillary_number", field(&ObjectConfig::capillary_number),
            Computed{"0.1 unless interfacial_tension is given"}, Range::above(0),
-           "Ca = eta_m gamma_dot R / Gamma with R = (abc)^(1/3) and gamma_dot = flow.shear_rate; "
-           "sets Gamma, so it needs gamma_dot > 0. Give this or interfacial_tension, not both")
+           "Ca = eta_m gamma_dot R / Gamma with R = (abc)^(1/3) and gamma_dot = flow.shear_rate "
+           "(oscillatory: strain_amplitude * frequency); sets Gamma, so it needs gamma_dot > 0. "
+           "Give this or interfacial_tension, not both")
            // Written as given, so that re-reading computes the very same Gamma.
            .with_comment([](const ObjectConfig& o) {
              return "interfacial_tension = " + toml_float(o.interfacial_tension);
@@ -216,6 +249,8 @@ CaseKeys build() {
       {"center", "objects", "centre"},
       {"axes", "objects", "semi_axes"},
       {"gamma_dot", "flow", "shear_rate"},
+      {"omega", "flow", "frequency"},
+      {"gamma0", "flow", "strain_amplitude"},
       {"eta", "matrix", "viscosity"},
       {"eta_m", "matrix", "viscosity"},
   };
@@ -250,7 +285,7 @@ std::string case_file_keys_markdown() {
       "`src/softflow/io/case_keys.cpp`; do not edit by hand (a unit test checks that the two "
       "agree).\n\n"
       "Every key is optional unless marked required; a key that does not apply (e.g. `radius` "
-      "of an ellipsoid) is an error rather than ignored. "
+      "of an ellipsoid, `stop_time` of steady flow) is an error rather than ignored. "
       "`softflow check CASE.toml` prints a case with every default filled in; "
       "`examples/drop_shear.toml` is a commented example. Any key may be a list of values, "
       "which makes the file a parameter sweep (`softflow sweep`).\n";
