@@ -5,6 +5,7 @@
 //   softflow sweep examples/sweep_ca.toml -j 2     every combination of listed parameters
 //   softflow mesh examples/drop_shear.toml         mesh only, report sizes and quality
 //   softflow check examples/drop_shear.toml        validate the case file
+//   softflow keys                                  every case-file key (docs/case_file_keys.md)
 //   softflow theory --lambda 1.4 --ca 0.2          Taylor, Chaffey-Brenner, ... values
 //   mpirun -np 2 softflow run CASE.toml            the same, on 2 MPI ranks
 //   softflow run CASE.toml -- -stokes_ksp_monitor  PETSc options after "--"
@@ -202,6 +203,10 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a case file and print the resolved case");
   check->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
 
+  auto* keys = app.add_subcommand(
+      "keys", "print every case-file key: type, allowed values, default, meaning (Markdown, as in "
+              "docs/case_file_keys.md)");
+
   int jobs = 1;
   auto* sweep = app.add_subcommand(
       "sweep",
@@ -279,6 +284,11 @@ int main(int argc, char** argv) {
       std::cerr << "softflow: error: " << e.what() << "\n";
       return kOtherError;
     }
+  }
+
+  if (*keys) {  // no PETSc, no case file: the declarations themselves
+    std::cout << softflow::io::case_file_keys_markdown();
+    return kOk;
   }
 
   if (*theory) {  // no PETSc, no case file: a pure query

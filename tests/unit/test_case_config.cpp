@@ -1,7 +1,9 @@
-// Case files: defaults, round trip through to_toml, one test per kind of error message,
-// dimensionless groups.
+// Case files: defaults, round trip through to_toml, one test per kind of error message, flow
+// types, the key reference, dimensionless groups.
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -44,6 +46,10 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.box.periodic_z, b.box.periodic_z);
   EXPECT_EQ(a.matrix_viscosity, b.matrix_viscosity);
   EXPECT_EQ(a.shear_rate, b.shear_rate);
+  EXPECT_EQ(a.flow.type, b.flow.type);
+  EXPECT_EQ(a.flow.stop_time, b.flow.stop_time);
+  EXPECT_EQ(a.flow.strain_amplitude, b.flow.strain_amplitude);
+  EXPECT_EQ(a.flow.frequency, b.flow.frequency);
   ASSERT_EQ(a.objects.size(), b.objects.size());
   for (std::size_t i = 0; i < a.objects.size(); ++i) expect_same(a.objects[i], b.objects[i]);
   EXPECT_EQ(a.sizing.equator_nodes, b.sizing.equator_nodes);
@@ -56,7 +62,15 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.petsc_options, b.petsc_options);
   EXPECT_EQ(a.output_directory, b.output_directory);
   EXPECT_EQ(a.write_fields, b.write_fields);
+  EXPECT_EQ(a.time.step, b.time.step);
+  EXPECT_EQ(a.time.end, b.time.end);
+  EXPECT_EQ(a.time.fields_interval, b.time.fields_interval);
+  EXPECT_EQ(a.time.min_quality, b.time.min_quality);
   EXPECT_EQ(a.time.max_volume_drift, b.time.max_volume_drift);
+  EXPECT_EQ(a.time.ale_rebuild_quality, b.time.ale_rebuild_quality);
+  EXPECT_EQ(a.interface.redistribution_factor, b.interface.redistribution_factor);
+  EXPECT_EQ(a.interface.supg_beta, b.interface.supg_beta);
+  EXPECT_EQ(a.interface.semi_implicit_tension, b.interface.semi_implicit_tension);
   EXPECT_EQ(a.checkpoint.interval_steps, b.checkpoint.interval_steps);
   EXPECT_EQ(a.checkpoint.interval_minutes, b.checkpoint.interval_minutes);
 }
@@ -323,6 +337,170 @@ TEST(CaseConfigErrors, MissingFile) {
   EXPECT_THROW(read_case_file("/nonexistent/case.toml"), InputError);
 }
 
+// ---- [flow] types ----
+
+TEST(FlowType, SteadyIsTheDefaultAndIsPrinted) {
+  const CaseConfig c = parse_case("", "c.toml");
+  EXPECT_EQ(c.flow.type, FlowType::steady);
+  EXPECT_EQ(c.shear_rate, 1.0);
+  EXPECT_NE(to_toml(c).find("[flow]\ntype = \"steady\"\nshear_rate = 1.0"), std::string::npos)
+      << to_toml(c);
+}
+
+TEST(FlowType, StartUpAndCessationKeepTheShearRate) {
+  const CaseConfig s = parse_case("[flow]\ntype = \"start_up\"\nshear_rate = 0.5\n", "c.toml");
+  EXPECT_EQ(s.flow.type, FlowType::start_up);
+  EXPECT_EQ(s.shear_rate, 0.5);
+  expect_same(s, parse_case(to_toml(s), "c.toml"));
+
+  const CaseConfig c = parse_case(
+      "[flow]\ntype = \"cessation\"\nshear_rate = 2\nstop_time = 7.5\n[[objects]]\n", "c.toml");
+  EXPECT_EQ(c.flow.type, FlowType::cessation);
+  EXPECT_EQ(c.shear_rate, 2.0);
+  EXPECT_EQ(c.flow.stop_time, 7.5);
+  // Ca = 0.1 is meant at the shear rate before the walls stop.
+  EXPECT_DOUBLE_EQ(c.objects[0].interfacial_tension, 1.0 * 2.0 * 1.0 / 0.1);
+  const std::string printed = to_toml(c);
+  EXPECT_NE(printed.find("stop_time = 7.5"), std::string::npos) << printed;
+  expect_same(c, parse_case(printed, "c.toml"));
+  EXPECT_EQ(to_toml(parse_case(printed, "c.toml")), printed);
+}
+
+TEST(FlowType, OscillatoryShearRateIsTheAmplitudeOfTheShearRate) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 2\n[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.5\n"
+      "frequency = 3\n[[objects]]\nradius = 1.5\ncapillary_number = 0.2\n",
+      "c.toml");
+  EXPECT_EQ(c.flow.type, FlowType::oscillatory);
+  EXPECT_EQ(c.flow.strain_amplitude, 0.5);
+  EXPECT_EQ(c.flow.frequency, 3.0);
+  EXPECT_EQ(c.shear_rate, 1.5);  // gamma0 omega
+  // Gamma = eta_m gamma0 omega R / Ca.
+  EXPECT_DOUBLE_EQ(c.objects[0].interfacial_tension, 2.0 * 1.5 * 1.5 / 0.2);
+  const std::string printed = to_toml(c);
+  EXPECT_EQ(printed.find("shear_rate ="), std::string::npos) << printed;  // not a key here
+  EXPECT_NE(printed.find("strain_amplitude = 0.5\nfrequency = 3.0"), std::string::npos) << printed;
+  expect_same(c, parse_case(printed, "c.toml"));
+  EXPECT_EQ(to_toml(parse_case(printed, "c.toml")), printed);
+}
+
+TEST(FlowTypeErrors, KeysOfAnotherTypeNameTheKeyTheValueAndTheType) {
+  EXPECT_ERROR("[flow]\nstop_time = 5.0\n",
+               "case.toml: flow.stop_time = 5.0: only for type = \"cessation\" (type = "
+               "\"steady\" takes 'shear_rate')");
+  EXPECT_ERROR("[flow]\ntype = \"start_up\"\nstop_time = 5.0\n",
+               "flow.stop_time = 5.0: only for type = \"cessation\"");
+  EXPECT_ERROR("[flow]\nstrain_amplitude = 0.1\n",
+               "flow.strain_amplitude = 0.1: only for type = \"oscillatory\"");
+  EXPECT_ERROR("[flow]\ntype = \"cessation\"\nstop_time = 1\nfrequency = 2\n",
+               "flow.frequency = 2: only for type = \"oscillatory\"");
+  EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 1\nfrequency = 1\n"
+               "shear_rate = 1.0\n",
+               "flow.shear_rate = 1.0: only for type = \"steady\", \"start_up\" or \"cessation\" "
+               "(type = \"oscillatory\" takes 'strain_amplitude' and 'frequency')");
+  EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 1\nfrequency = 1\n"
+               "stop_time = 3\n",
+               "flow.stop_time = 3: only for type = \"cessation\"");
+}
+
+TEST(FlowTypeErrors, MissingKeysOfTheType) {
+  EXPECT_ERROR("[flow]\ntype = \"cessation\"\n",
+               "case.toml: flow.stop_time: missing: type = \"cessation\" needs stop_time, a "
+               "number > 0");
+  const std::string e = error_of("[flow]\ntype = \"oscillatory\"\n");
+  EXPECT_NE(e.find("flow.strain_amplitude: missing: type = \"oscillatory\" needs "
+                   "strain_amplitude, a number > 0"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("flow.frequency: missing: type = \"oscillatory\" needs frequency, a number > 0"),
+            std::string::npos)
+      << e;
+  // The object's default Ca cannot be resolved either, but that follows from
+  // the missing keys and is not repeated.
+  EXPECT_EQ(error_of("[flow]\ntype = \"oscillatory\"\nfrequency = 1\n[[objects]]\n")
+                .find("objects[1]"),
+            std::string::npos);
+}
+
+TEST(FlowTypeErrors, OutOfRangeAndBadType) {
+  EXPECT_ERROR("[flow]\ntype = \"cessation\"\nstop_time = 0\n", "flow.stop_time = 0: must be > 0");
+  EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = -0.1\nfrequency = 1\n",
+               "flow.strain_amplitude = -0.1: must be > 0");
+  EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\nfrequency = 0.0\n",
+               "flow.frequency = 0.0: must be > 0");
+  EXPECT_ERROR("[flow]\ntype = \"oscilatory\"\n",
+               "flow.type = \"oscilatory\": must be one of \"steady\", \"start_up\", "
+               "\"cessation\", \"oscillatory\" (did you mean \"oscillatory\"?)");
+  EXPECT_ERROR("[flow]\ntype = 2\n", "flow.type = 2: must be a string");
+  // With the type unknown, which other keys belong is unknown: no follow-up.
+  EXPECT_EQ(error_of("[flow]\ntype = \"sine\"\nfrequency = 1\n").find("frequency"),
+            std::string::npos);
+}
+
+TEST(FlowTypeErrors, StartingOrStoppingWallsAtRest) {
+  EXPECT_ERROR("[flow]\ntype = \"cessation\"\nshear_rate = 0\nstop_time = 1\n",
+               "flow.shear_rate = 0: type = \"cessation\" needs a shear rate > 0");
+  EXPECT_ERROR("[flow]\ntype = \"start_up\"\nshear_rate = 0.0\n",
+               "flow.shear_rate = 0.0: type = \"start_up\" needs a shear rate > 0");
+}
+
+TEST(FlowTypeErrors, SymbolsFromThePapersAreSuggested) {
+  EXPECT_ERROR("[flow]\nomega = 2\n", "unknown key 'flow.omega' (did you mean 'flow.frequency'?)");
+  EXPECT_ERROR("[flow]\ngamma0 = 2\n",
+               "unknown key 'flow.gamma0' (did you mean 'flow.strain_amplitude'?)");
+  EXPECT_ERROR("[flow]\nstop = 2\n", "(did you mean 'flow.stop_time'?)");
+}
+
+// ---- one Ca for everything ----
+
+TEST(CapillaryNumber, FromInterfacialTensionOrAsGiven) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 2\n[flow]\nshear_rate = 0.5\n"
+      "[[objects]]\nradius = 1.5\ninterfacial_tension = 3\n"
+      "[[objects]]\ncentre = [5, 0, 0]\ncapillary_number = 0.3\n"
+      "[[objects]]\ncentre = [-5, 0, 0]\ninterfacial_tension = 0\n",
+      "c.toml");
+  EXPECT_DOUBLE_EQ(capillary_number(c, c.objects[0]), 2.0 * 0.5 * 1.5 / 3.0);
+  EXPECT_EQ(capillary_number(c, c.objects[1]), 0.3);
+  EXPECT_TRUE(std::isinf(capillary_number(c, c.objects[2])));
+}
+
+TEST(CapillaryNumber, OscillatoryUsesTheShearRateAmplitude) {
+  const CaseConfig c = parse_case(
+      "[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.2\nfrequency = 2.5\n"
+      "[[objects]]\ninterfacial_tension = 4\n",
+      "c.toml");
+  EXPECT_DOUBLE_EQ(capillary_number(c, c.objects[0]), 0.2 * 2.5 / 4.0);
+}
+
+// ---- the declarations ----
+
+TEST(CaseKeys, DeclaredDefaultsAreTheStructDefaults) {
+  // Code that builds a CaseConfig itself gets the same case as an empty file.
+  CaseConfig built;
+  built.name = "c";
+  built.output_directory = "output/c";
+  EXPECT_EQ(to_toml(built), to_toml(parse_case("", "c.toml")));
+}
+
+TEST(CaseKeys, TheCommittedKeyReferenceIsTheGeneratedOne) {
+  const std::string path = std::string(SOFTFLOW_SOURCE_DIR) + "/docs/case_file_keys.md";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  std::ostringstream committed;
+  committed << in.rdbuf();
+  EXPECT_TRUE(committed.str() == case_file_keys_markdown())
+      << "docs/case_file_keys.md is out of date: run `build/softflow keys > "
+         "docs/case_file_keys.md`";
+}
+
+TEST(CaseKeys, TheReferenceNamesEveryKeyOfTheExample) {
+  const std::string doc = case_file_keys_markdown();
+  for (const char* key : {"`equator_nodes`", "`capillary_number`", "`stop_time`", "`frequency`",
+                          "`[[objects]]`", "`[flow]`", "`\"oscillatory\"`", "required"})
+    EXPECT_NE(doc.find(key), std::string::npos) << key;
+}
+
 // ---- dimensionless groups ----
 
 const DimensionlessGroup& find_group(const std::vector<DimensionlessGroup>& groups,
@@ -372,6 +550,17 @@ TEST(DimensionlessGroups, CapillaryNumberWithoutTensionIsInfiniteAndNullInJson) 
     EXPECT_TRUE(g.contains("definition"));
   }
   EXPECT_TRUE(seen);
+}
+
+TEST(DimensionlessGroups, OscillatoryFlowReportsStrainAmplitudeAndFrequency) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 2\n[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.5\n"
+      "frequency = 4\n[[objects]]\nradius = 1.5\ninterfacial_tension = 3\n",
+      "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_EQ(find_group(groups, "gamma0", 0).value, 0.5);
+  EXPECT_DOUBLE_EQ(find_group(groups, "omega*", 1).value, 4.0 * 2.0 * 1.5 / 3.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Ca", 1).value, 2.0 * 0.5 * 4.0 * 1.5 / 3.0);
 }
 
 TEST(DimensionlessGroups, NoObjectsNoObjectGroups) {

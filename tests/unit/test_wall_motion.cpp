@@ -1,4 +1,4 @@
-// Wall velocity histories: steady, start-up, oscillatory.
+// Wall velocity histories: steady, start-up, cessation, oscillatory.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -19,6 +19,18 @@ TEST(WallMotion, StartUpIsAtRestBeforeTimeZero) {
   const auto w = WallMotion::start_up(10.0, 1.0);
   EXPECT_DOUBLE_EQ(w.wall_speed(-0.1), 0.0);
   EXPECT_DOUBLE_EQ(w.wall_speed(0.5), 5.0);
+}
+
+TEST(WallMotion, CessationMovesUntilTheStopTimeThenRests) {
+  const auto w = WallMotion::cessation(10.0, 2.0, 3.0);
+  EXPECT_DOUBLE_EQ(w.wall_speed(0.0), 10.0);
+  EXPECT_DOUBLE_EQ(w.wall_speed(2.999), 10.0);
+  EXPECT_DOUBLE_EQ(w.shear_rate(1.0), 2.0);
+  // A step that starts at the stop time already sees walls at rest.
+  EXPECT_DOUBLE_EQ(w.wall_speed(3.0), 0.0);
+  EXPECT_DOUBLE_EQ(w.wall_speed(7.5), 0.0);
+  EXPECT_DOUBLE_EQ(w.velocity(Eigen::Vector3d(1, 5, 2), 4.0).x(), 0.0);
+  EXPECT_DOUBLE_EQ(w.velocity(Eigen::Vector3d(1, -5, 2), 1.0).x(), -10.0);
 }
 
 TEST(WallMotion, OscillatoryFollowsSpecAndIntegratesToTheStrainAmplitude) {

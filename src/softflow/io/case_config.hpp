@@ -1,5 +1,6 @@
-// Case files: TOML text -> validated CaseConfig, the resolved case back to TOML, and the
-// dimensionless groups of a case.
+// Case files: TOML text -> validated CaseConfig, the resolved case back to TOML, the key
+// reference, and the dimensionless groups of a case. The keys themselves are declared once, in
+// case_keys.cpp.
 #pragma once
 
 #include <filesystem>
@@ -15,6 +16,17 @@
 namespace softflow::io {
 
 enum class SolverType { direct, iterative };
+
+/// How the walls move in time (SPEC §1); physics::WallMotion has the formulas.
+enum class FlowType { steady, start_up, cessation, oscillatory };
+
+/// [flow] beyond the shear rate: the wall-speed history u_w(t).
+struct FlowConfig {
+  FlowType type = FlowType::steady;
+  double stop_time = 0.0;         ///< cessation: the walls stop at t = stop_time
+  double strain_amplitude = 0.0;  ///< oscillatory: gamma0
+  double frequency = 0.0;         ///< oscillatory: omega, angular (rad per time unit)
+};
 
 /// One suspended object of the case file ([[objects]]).
 struct ObjectConfig {
@@ -68,8 +80,12 @@ struct CaseConfig {
   std::string name;                             ///< [case] name; default: the file stem
   mesh::Box box{30.0, 30.0, 30.0, true, true};  ///< [cell]
   double matrix_viscosity = 1.0;                ///< [matrix] viscosity, eta_m
-  /// [flow] shear_rate, gamma_dot >= 0 (0: a static case, e.g. drop relaxation).
+  /// gamma_dot >= 0, the characteristic shear rate: [flow] shear_rate while
+  /// the walls move (0: a static case, e.g. drop relaxation); for oscillatory
+  /// flow the shear-rate amplitude strain_amplitude * frequency (not a key
+  /// then). Ca, the time unit and the redistribution factor use it.
   double shear_rate = 1.0;
+  FlowConfig flow;  ///< [flow] type and the keys of that type
   std::vector<ObjectConfig> objects;       ///< [[objects]], in file order (object k = objects[k-1])
   geometry::MeshSizing sizing;             ///< [mesh]
   SolverType solver = SolverType::direct;  ///< [solver] type
@@ -86,9 +102,16 @@ struct CaseConfig {
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;
-  /// u_w = gamma_dot H / 2: the walls y = +-H/2 move with (+-u_w, 0, 0).
+  /// u_w = gamma_dot H / 2: the walls y = +-H/2 move with (+-u_w, 0, 0)
+  /// (the largest wall speed for start-up, cessation and oscillatory flow).
   [[nodiscard]] double wall_velocity() const { return shear_rate * box.height / 2.0; }
 };
+
+/// Ca = eta_m gamma_dot R / Gamma of `object` (one of config.objects), with
+/// gamma_dot the case's characteristic shear rate (CaseConfig::shear_rate):
+/// the value the file gave, else computed from Gamma; +inf when Gamma = 0.
+/// Everything that needs an object's Ca (summary, theory, sweeps) asks here.
+[[nodiscard]] double capillary_number(const CaseConfig& config, const ObjectConfig& object);
 
 /// R = (abc)^(1/3): the radius of the sphere of equal volume, the length
 /// scale of every dimensionless group of an object.
@@ -102,9 +125,13 @@ CaseConfig read_case_file(const std::filesystem::path& path);
 /// default case name.
 CaseConfig parse_case(const std::string& toml_text, const std::string& source_name);
 
-/// The resolved case as TOML: every key, defaults filled in. Reading it back
-/// gives the same CaseConfig, bit for bit.
+/// The resolved case as TOML: every key that applies, defaults filled in.
+/// Reading it back gives the same CaseConfig, bit for bit.
 std::string to_toml(const CaseConfig& config);
+
+/// The reference of every case-file key as Markdown (docs/case_file_keys.md;
+/// `softflow keys` prints it): generated from the declarations.
+std::string case_file_keys_markdown();
 
 /// One dimensionless number of a run, as reported in the summary.
 struct DimensionlessGroup {

@@ -11,15 +11,17 @@
 #include <toml.hpp>
 
 #include "softflow/common/error.hpp"
+#include "softflow/io/case_keys.hpp"
 
 namespace softflow::io {
 
 namespace {
 
-/// Keys whose single value is itself a list of three numbers: varied, they
-/// are lists of such lists.
-bool is_vector_key(const std::string& key) {
-  return key == "centre" || key == "semi_axes" || key == "rotation_deg";
+/// Keys whose single value is itself a list of three numbers (as declared):
+/// varied, they are lists of such lists.
+bool is_vector_key(const std::string& section, const std::string& key) {
+  const schema::KeyInfo* k = case_keys().schema.find(section, key);
+  return k && k->type == schema::KeyType::vector3;
 }
 
 toml::value parse(const std::string& text, const std::string& source) {
@@ -66,10 +68,10 @@ double number_of(const toml::value& v) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-/// Whether `value` of `key` is a list of values rather than one value.
-bool is_varied(const std::string& key, const toml::value& value) {
+/// Whether `value` of `section`.`key` is a list of values rather than one value.
+bool is_varied(const std::string& section, const std::string& key, const toml::value& value) {
   if (!value.is_array()) return false;
-  if (!is_vector_key(key)) return true;
+  if (!is_vector_key(section, key)) return true;
   const auto& a = value.as_array();
   return !a.empty() && a.front().is_array();
 }
@@ -119,7 +121,7 @@ Found find_varied(const toml::value& root, const std::string& source) {
       for (const auto& [key, v] : t) keys.push_back(key);
       std::sort(keys.begin(), keys.end());
       for (const auto& key : keys)
-        if (is_varied(key, t.at(key))) add({section, object, key}, t.at(key));
+        if (is_varied(section, key, t.at(key))) add({section, object, key}, t.at(key));
     };
     if (section == "objects" && value.is_array()) {
       for (std::size_t i = 0; i < value.as_array().size(); ++i)

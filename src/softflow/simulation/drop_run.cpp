@@ -46,10 +46,8 @@ nlohmann::json theory_json(const io::CaseConfig& config) {
   nlohmann::json out = nlohmann::json::array();
   for (std::size_t k = 0; k < config.objects.size(); ++k) {
     const auto& o = config.objects[k];
-    if (!o.capillary_number && o.interfacial_tension <= 0) continue;
-    const double ca = o.capillary_number ? *o.capillary_number
-                                         : config.matrix_viscosity * config.shear_rate *
-                                               io::mean_radius(o.geometry) / o.interfacial_tension;
+    const double ca = io::capillary_number(config, o);
+    if (!std::isfinite(ca)) continue;  // no tension: no small-deformation theory
     out.push_back({{"object", k + 1},
                    {"capillary_number", ca},
                    {"viscosity_ratio", o.viscosity_ratio},

@@ -14,6 +14,7 @@
 #include "softflow/physics/ale/mesh_velocity.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
+#include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "softflow/time/bdf.hpp"
 
@@ -375,7 +376,7 @@ int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, do
     problem.viscosity.push_back(o.viscosity_ratio * config_.matrix_viscosity);
     problem.interfacial_tension.push_back(o.interfacial_tension);
   }
-  const auto walls = physics::WallMotion::steady(config_.box.height, config_.shear_rate);
+  const auto walls = wall_motion(config_);
   const double t = time_;
   problem.boundary_velocity = [walls, t](const Vec3& x) { return walls.velocity(x, t); };
   problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh_);

@@ -16,6 +16,7 @@
 #include "softflow/parallel/mesh_broadcast.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
+#include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/run_support.hpp"
 
@@ -37,7 +38,7 @@ physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::
     p.viscosity.push_back(o.viscosity_ratio * config.matrix_viscosity);
     p.interfacial_tension.push_back(o.interfacial_tension);
   }
-  const auto walls = physics::WallMotion::steady(config.box.height, config.shear_rate);
+  const auto walls = wall_motion(config);
   const double t = 0.0;  // the instantaneous solve of the initial state
   p.boundary_velocity = [walls, t](const Eigen::Vector3d& x) { return walls.velocity(x, t); };
   p.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);

@@ -219,44 +219,10 @@ void write_tables(const io::Sweep& sweep, const std::vector<Row>& rows, const fs
   io::write_text_file_atomically(directory / "sweep.md", intro + md);
 }
 
-/// Taylor and Chaffey-Brenner along the first parameter, when it is object
-/// 1's capillary number or viscosity ratio: one curve per combination of
-/// the other parameters. Returns false when there is no such curve.
+/// sweep_theory.csv, when there is a theory curve.
 bool write_theory_curve(const io::Sweep& sweep, const fs::path& directory) {
-  if (sweep.parameters.empty()) return false;
-  const auto& x = sweep.parameters.front();
-  const bool ca = x.path == "objects[1].capillary_number";
-  const bool lambda = x.path == "objects[1].viscosity_ratio";
-  if (!ca && !lambda) return false;
-  double lo = 0.0, hi = 0.0;
-  for (double v : x.numbers) hi = std::max(hi, v);
-  if (!(hi > 0)) return false;
-  if (lambda) {
-    lo = *std::min_element(x.numbers.begin(), x.numbers.end());
-    lo = std::max(lo / 2, 1e-3);
-  }
-  hi *= 1.1;
-  std::string csv = "group," + x.name + ",taylor_D,chaffey_brenner_theta_deg\n";
-  std::map<std::string, bool> done;
-  for (const auto& c : sweep.cases) {
-    std::string group;
-    for (std::size_t p = 1; p < sweep.parameters.size(); ++p)
-      group += (group.empty() ? "" : " ") + sweep.parameters[p].name + "=" +
-               sweep.parameters[p].labels[c.choice[p]];
-    if (done[group] || c.config.objects.empty()) continue;
-    done[group] = true;
-    const auto& o = c.config.objects.front();
-    const double fixed_ca = o.capillary_number.value_or(0.1);
-    constexpr int kPoints = 60;
-    for (int i = 0; i <= kPoints; ++i) {
-      const double v = ca ? hi * i / kPoints : lo * std::pow(hi / lo, double(i) / kPoints);
-      const double l = lambda ? v : o.viscosity_ratio;
-      const double k = ca ? v : fixed_ca;
-      csv += fmt::format("{},{:.8g},{:.8g},{:.8g}\n", group, v,
-                         analysis::theory::taylor_deformation(l, k),
-                         analysis::theory::chaffey_brenner_angle_deg(l, k));
-    }
-  }
+  const std::string csv = theory_curve_csv(sweep);
+  if (csv.empty()) return false;
   io::write_text_file_atomically(directory / "sweep_theory.csv", csv);
   return true;
 }
@@ -276,6 +242,47 @@ struct Job {
 };
 
 }  // namespace
+
+std::string theory_curve_csv(const io::Sweep& sweep) {
+  if (sweep.parameters.empty()) return "";
+  const auto& x = sweep.parameters.front();
+  const bool ca = x.path == "objects[1].capillary_number";
+  const bool lambda = x.path == "objects[1].viscosity_ratio";
+  if (!ca && !lambda) return "";
+  double lo = 0.0, hi = 0.0;
+  for (double v : x.numbers) hi = std::max(hi, v);
+  if (!(hi > 0)) return "";
+  if (lambda) {
+    lo = *std::min_element(x.numbers.begin(), x.numbers.end());
+    lo = std::max(lo / 2, 1e-3);
+  }
+  hi *= 1.1;
+  std::string csv = "group," + x.name + ",taylor_D,chaffey_brenner_theta_deg\n";
+  std::map<std::string, bool> done;
+  for (const auto& c : sweep.cases) {
+    std::string group;
+    for (std::size_t p = 1; p < sweep.parameters.size(); ++p)
+      group += (group.empty() ? "" : " ") + sweep.parameters[p].name + "=" +
+               sweep.parameters[p].labels[c.choice[p]];
+    if (done[group] || c.config.objects.empty()) continue;
+    done[group] = true;
+    const auto& o = c.config.objects.front();
+    // An object may give interfacial_tension instead of capillary_number: its
+    // Ca then follows from Gamma and the case's shear rate.
+    const double fixed_ca = io::capillary_number(c.config, o);
+    if (!ca && !std::isfinite(fixed_ca)) continue;  // no tension, no theory
+    constexpr int kPoints = 60;
+    for (int i = 0; i <= kPoints; ++i) {
+      const double v = ca ? hi * i / kPoints : lo * std::pow(hi / lo, double(i) / kPoints);
+      const double l = lambda ? v : o.viscosity_ratio;
+      const double k = ca ? v : fixed_ca;
+      csv += fmt::format("{},{:.8g},{:.8g},{:.8g}\n", group, v,
+                         analysis::theory::taylor_deformation(l, k),
+                         analysis::theory::chaffey_brenner_angle_deg(l, k));
+    }
+  }
+  return csv;
+}
 
 int run_sweep(const fs::path& case_file, const SweepOptions& options) {
   std::error_code ec;

@@ -50,4 +50,12 @@ inline constexpr double kMinimumCaseSeconds = 10.0;
 /// for one that failed in an earlier sweep).
 int run_sweep(const std::filesystem::path& case_file, const SweepOptions& options);
 
+/// sweep_theory.csv: Taylor D and Chaffey-Brenner theta along the first
+/// parameter when it is object 1's capillary number or viscosity ratio, one
+/// curve per combination of the other parameters (columns group, the
+/// parameter, taylor_D, chaffey_brenner_theta_deg); the other quantity is
+/// each case's own (io::capillary_number: also when it gives
+/// interfacial_tension). Empty when there is no such curve.
+std::string theory_curve_csv(const io::Sweep& sweep);
+
 }  // namespace softflow::simulation

@@ -18,6 +18,10 @@ class WallMotion {
   static WallMotion steady(double height, double shear_rate);
   /// Start-up at t = 0 (u_w = 0 before), then steady.
   static WallMotion start_up(double height, double shear_rate);
+  /// Cessation: steady until t = stop_time, at rest from then on (the
+  /// relaxation of a deformed drop). The walls stop at once: inertialess
+  /// flow follows them without delay.
+  static WallMotion cessation(double height, double shear_rate, double stop_time);
   /// Oscillatory shear (SPEC §1): u_w = (H/2) gamma0 omega sin(omega t), i.e.
   /// shear rate gamma0 omega sin(omega t) and strain gamma0 (1 - cos(omega t)).
   static WallMotion oscillatory(double height, double strain_amplitude, double frequency);

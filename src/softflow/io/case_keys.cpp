@@ -1,0 +1,299 @@
+#include "softflow/io/case_keys.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace softflow::io {
+
+namespace {
+
+using namespace schema;  // NOLINT: the declarations below read as a table with it
+
+// ---- the tables that fill CaseConfig itself ----
+
+Table<CaseConfig> case_table() {
+  return {"case", "What the run is called.", false,
+          {text("name", field(&CaseConfig::name), Computed{"the case file's name without .toml"},
+                "names the run and its output directory",
+                [](const std::string& s) {
+                  return is_plain_name(s) ? ""
+                                          : "must be a non-empty name without '/' or '\\' (it "
+                                            "names the output directory)";
+                })}};
+}
+
+Table<CaseConfig> cell_table() {
+  const auto box = [](auto member) { return field(&CaseConfig::box, member); };
+  return {"cell",
+          "The box [-L/2, L/2] x [-H/2, H/2] x [-W/2, W/2] between the moving walls y = +-H/2.",
+          false,
+          {number("length", box(&mesh::Box::length), 30.0, Range::above(0),
+                  "L along x, the flow direction"),
+           number("height", box(&mesh::Box::height), 30.0, Range::above(0),
+                  "H along y, the velocity gradient; the walls are at y = +-H/2"),
+           number("width", box(&mesh::Box::width), 30.0, Range::above(0),
+                  "W along z, the vorticity direction"),
+           boolean("periodic_x", box(&mesh::Box::periodic_x), true,
+                   "periodic in x; false puts the undisturbed shear flow on the x faces"),
+           boolean("periodic_z", box(&mesh::Box::periodic_z), true,
+                   "periodic in z; false puts the undisturbed shear flow on the z faces")}};
+}
+
+Table<CaseConfig> matrix_table() {
+  return {"matrix", "The suspending liquid.", false,
+          {number("viscosity", field(&CaseConfig::matrix_viscosity), 1.0, Range::above(0),
+                  "eta_m, its viscosity")}};
+}
+
+Table<CaseConfig> flow_table() {
+  const auto flow = [](auto member) { return field(&CaseConfig::flow, member); };
+  return {
+      "flow",
+      "How the walls y = +-H/2 move: u = (+-u_w(t), 0, 0). Times are in the case's unit; with "
+      "shear_rate = 1 that is 1/gamma_dot.",
+      false,
+      {choice("type", flow(&FlowConfig::type), FlowType::steady,
+              {{"steady", FlowType::steady, "u_w = shear_rate H / 2 at all times"},
+               {"start_up", FlowType::start_up,
+                "at rest before t = 0, then u_w = shear_rate H / 2 (the run starts at t = 0 "
+                "from rest: for t >= 0 the walls of \"steady\")"},
+               {"cessation", FlowType::cessation,
+                "u_w = shear_rate H / 2 until stop_time, then the walls stop (relaxation)"},
+               {"oscillatory", FlowType::oscillatory,
+                "u_w = (H/2) strain_amplitude frequency sin(frequency t)"}},
+              "the wall-speed history u_w(t)"),
+       number("shear_rate", field(&CaseConfig::shear_rate), 1.0, Range::at_least(0),
+              "gamma_dot while the walls move (0 = at rest, steady only); the unit of Ca and "
+              "of the redistribution factor. Oscillatory flow uses its amplitude "
+              "strain_amplitude * frequency instead")
+           .only_when("type", {"steady", "start_up", "cessation"})
+           .with_comment([](const CaseConfig& c) {
+             return fmt::format("wall velocity u_w = shear_rate * height / 2 = {}",
+                                toml_float(c.wall_velocity()));
+           }),
+       number("stop_time", flow(&FlowConfig::stop_time), required, Range::above(0),
+              "t at which the walls stop")
+           .only_when("type", {"cessation"}),
+       number("strain_amplitude", flow(&FlowConfig::strain_amplitude), required,
+              Range::above(0), "gamma0: the strain is gamma0 (1 - cos(frequency t))")
+           .only_when("type", {"oscillatory"}),
+       number("frequency", flow(&FlowConfig::frequency), required, Range::above(0),
+              "omega, angular (rad per time unit). Ca uses the shear-rate amplitude "
+              "strain_amplitude * frequency as gamma_dot")
+           .only_when("type", {"oscillatory"})
+           .with_comment([](const CaseConfig& c) {
+             return fmt::format("shear-rate amplitude strain_amplitude * frequency = {}",
+                                toml_float(c.shear_rate));
+           })}};
+}
+
+Table<CaseConfig> mesh_table() {
+  const auto sizing = [](auto member) { return field(&CaseConfig::sizing, member); };
+  return {
+      "mesh",
+      "Resolution: element size graded from each interface to the walls (gmsh).",
+      false,
+      {integer("equator_nodes", sizing(&geometry::MeshSizing::equator_nodes), 40,
+               Range::at_least(8),
+               "P2 nodes around each object's equator (thesis: 28/40/50); fewer than 8 no longer "
+               "describe a sphere"),
+       number("far_size", sizing(&geometry::MeshSizing::far_size), 3.0, Range::above(0),
+              "element size at the walls, far from the objects"),
+       number("growth", sizing(&geometry::MeshSizing::growth), 0.4, Range::above(0),
+              "the size grows as h0 + growth * distance from the interface"),
+       boolean("optimize_high_order", sizing(&geometry::MeshSizing::optimize_high_order), true,
+               "let gmsh untangle curved P2 elements")}};
+}
+
+Table<CaseConfig> solver_table() {
+  return {"solver", "The Stokes solver; options go to PETSc under the prefix stokes_.", false,
+          {choice("type", field(&CaseConfig::solver), SolverType::direct,
+                  {{"direct", SolverType::direct, "LU (MUMPS)"},
+                   {"iterative", SolverType::iterative, "FGMRES with a Schur-complement fieldsplit"}},
+                  "how the saddle-point system is solved"),
+           number("rtol", field(&CaseConfig::rtol), 1e-8, Range::open(0, 1),
+                  "relative residual tolerance of the iterative solver"),
+           integer("max_iterations", field(&CaseConfig::max_iterations), 500,
+                   Range::at_least(1), "iteration limit of the iterative solver"),
+           text("petsc_options", field(&CaseConfig::petsc_options), "",
+                "extra PETSc options, passed as is, e.g. \"-stokes_ksp_monitor\"")}};
+}
+
+Table<CaseConfig> output_table() {
+  return {
+      "output",
+      "Where and what a run writes.",
+      false,
+      {text("directory", field(&CaseConfig::output_directory), Computed{"`\"output/<name>\"`"},
+            "where results go; a relative path is taken from the working directory, not from "
+            "the case file's folder",
+            [](const std::string& s) { return s.empty() ? "must not be empty" : ""; }),
+       boolean("fields", field(&CaseConfig::write_fields), true,
+               "write velocity and pressure fields for ParaView (VTU/PVD)")}};
+}
+
+Table<CaseConfig> time_table() {
+  const auto time = [](auto member) { return field(&CaseConfig::time, member); };
+  return {
+      "time",
+      "The time loop (thesis Steps 1-5).",
+      false,
+      {number("step", time(&TimeConfig::step), 0.005, Range::above(0), "dt"),
+       number("end", time(&TimeConfig::end), 0.0, Range::at_least(0),
+              "t_end; 0 = one Stokes solve of the initial state, no time loop"),
+       integer("fields_interval", time(&TimeConfig::fields_interval), 0, Range::at_least(0),
+               "write fields every this many steps (0: at the end only)"),
+       number("min_quality", time(&TimeConfig::min_quality), 0.02, Range::open(0, 1),
+              "stop with a diagnosis once an element's quality falls below this"),
+       number("max_volume_drift", time(&TimeConfig::max_volume_drift), 0.01, Range::open(0, 1),
+              "stop with a diagnosis once an object's volume differs from its initial volume by "
+              "more than this fraction"),
+       number("ale_rebuild_quality", time(&TimeConfig::ale_rebuild_quality), 0.2,
+              Range::right_open(0, 1),
+              "below this element quality the mesh-motion operator is rebuilt on the current "
+              "mesh (and after each further 5 % drop); 0 = never")}};
+}
+
+Table<CaseConfig> checkpoint_table() {
+  const auto checkpoint = [](auto member) { return field(&CaseConfig::checkpoint, member); };
+  return {"checkpoint",
+          "When a run in time saves its state (checkpoint.h5 in the output directory); also at "
+          "the end, on SIGINT/SIGTERM/SIGUSR1 and before --wall-time-limit.",
+          false,
+          {integer("interval_steps", checkpoint(&CheckpointConfig::interval_steps), 0,
+                   Range::at_least(0), "every this many steps (0: not by step count)"),
+           number("interval_minutes", checkpoint(&CheckpointConfig::interval_minutes), 10.0,
+                  Range::at_least(0), "at most this much wall time apart (0: not by time)")}};
+}
+
+Table<CaseConfig> interface_table() {
+  const auto interface = [](auto member) { return field(&CaseConfig::interface, member); };
+  return {
+      "interface",
+      "Interface tracking (thesis §2.2.3, §2.3.2).",
+      false,
+      {number("redistribution_factor", interface(&InterfaceConfig::redistribution_factor), 10.0,
+              Range::at_least(0),
+              "k / gamma_dot of the tangential redistribution (thesis eq. 2.30); with "
+              "gamma_dot = 0, k itself"),
+       number("supg_beta", interface(&InterfaceConfig::supg_beta), 0.5, Range::at_least(0),
+              "beta of the SUPG parameter tau = beta h / (2 U_t); 0.5 for P2"),
+       boolean("semi_implicit_tension", interface(&InterfaceConfig::semi_implicit_tension), true,
+               "tension at the end-of-step interface position: no capillary time-step limit; "
+               "false = the thesis's explicit tension")}};
+}
+
+// ---- [[objects]] ----
+
+Table<ObjectConfig> objects_table() {
+  const auto geometry = [](auto member) { return field(&ObjectConfig::geometry, member); };
+  // A sphere's one size fills all three semi-axes.
+  const Field<ObjectConfig, double> radius{
+      [](const ObjectConfig& o) { return o.geometry.semi_axes.x(); },
+      [](ObjectConfig& o, const double& r) { o.geometry.semi_axes.setConstant(r); }};
+  return {
+      "objects",
+      "One entry per suspended object (a drop); none = the undisturbed shear flow.",
+      true,
+      {choice("shape", geometry(&geometry::ObjectSpec::shape), geometry::ObjectShape::sphere,
+              {{"sphere", geometry::ObjectShape::sphere, ""},
+               {"ellipsoid", geometry::ObjectShape::ellipsoid, ""}},
+              "the initial shape"),
+       vector3("centre", geometry(&geometry::ObjectSpec::centre), Eigen::Vector3d(0, 0, 0),
+               Range::any(), "the centre [x, y, z]"),
+       number("radius", radius, 1.0, Range::above(0), "R").only_when("shape", {"sphere"}),
+       vector3("semi_axes", geometry(&geometry::ObjectSpec::semi_axes), required,
+               Range::above(0), "semi-axes [a, b, c] along the body axes")
+           .only_when("shape", {"ellipsoid"}),
+       vector3("rotation_deg", geometry(&geometry::ObjectSpec::rotation_deg),
+               Eigen::Vector3d(0, 0, 0), Range::any(),
+               "body orientation in degrees: R = Rz(rz) Ry(ry) Rx(rx)")
+           .only_when("shape", {"ellipsoid"}),
+       number("viscosity_ratio", field(&ObjectConfig::viscosity_ratio), 1.0, Range::above(0),
+              "lambda = eta_d / eta_m"),
+       optional_number(
+           "capillary_number", field(&ObjectConfig::capillary_number),
+           Computed{"0.1 unless interfacial_tension is given"}, Range::above(0),
+           "Ca = eta_m gamma_dot R / Gamma with R = (abc)^(1/3) and gamma_dot = flow.shear_rate "
+           "(oscillatory: strain_amplitude * frequency); sets Gamma, so it needs gamma_dot > 0. "
+           "Give this or interfacial_tension, not both")
+           // Written as given, so that re-reading computes the very same Gamma.
+           .with_comment([](const ObjectConfig& o) {
+             return "interfacial_tension = " + toml_float(o.interfacial_tension);
+           }),
+       number("interfacial_tension", field(&ObjectConfig::interfacial_tension),
+              Computed{"from capillary_number"}, Range::at_least(0),
+              "Gamma, the interfacial tension (0: none); give this or capillary_number, not both")
+           .printed_if([](const ObjectConfig& o) { return !o.capillary_number; })}};
+}
+
+CaseKeys build() {
+  CaseKeys k;
+  k.tables = {case_table(),   cell_table(), matrix_table(), flow_table(),
+              mesh_table(),   solver_table(), output_table(), time_table(),
+              checkpoint_table(), interface_table()};
+  k.objects = objects_table();
+  // [[objects]] after [flow]: the objects come after what sets their Gamma.
+  for (const auto& t : k.tables) {
+    k.schema.tables.push_back(t.info());
+    if (t.name == "flow") k.schema.tables.push_back(k.objects.info());
+  }
+  k.schema.aliases = {
+      {"ca", "objects", "capillary_number"},
+      {"capillary", "objects", "capillary_number"},
+      {"gamma", "objects", "interfacial_tension"},
+      {"sigma", "objects", "interfacial_tension"},
+      {"surface_tension", "objects", "interfacial_tension"},
+      {"lambda", "objects", "viscosity_ratio"},
+      {"center", "objects", "centre"},
+      {"axes", "objects", "semi_axes"},
+      {"gamma_dot", "flow", "shear_rate"},
+      {"omega", "flow", "frequency"},
+      {"gamma0", "flow", "strain_amplitude"},
+      {"eta", "matrix", "viscosity"},
+      {"eta_m", "matrix", "viscosity"},
+  };
+  return k;
+}
+
+}  // namespace
+
+bool is_plain_name(std::string_view name) {
+  if (name.empty() || name == "." || name == "..") return false;
+  return std::none_of(name.begin(), name.end(), [](char c) {
+    return c == '/' || c == '\\' || static_cast<unsigned char>(c) < 0x20;
+  });
+}
+
+const schema::Table<CaseConfig>* CaseKeys::table(std::string_view name) const {
+  for (const auto& t : tables)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+const CaseKeys& case_keys() {
+  // The schema's TableInfo point into the tables: built in place, never copied.
+  static const CaseKeys keys = build();
+  return keys;
+}
+
+std::string case_file_keys_markdown() {
+  std::string s =
+      "# Case-file keys\n\n"
+      "Generated by `softflow keys > docs/case_file_keys.md` from the declarations in\n"
+      "`src/softflow/io/case_keys.cpp`; do not edit by hand (a unit test checks that the two "
+      "agree).\n\n"
+      "Every key is optional unless marked required; a key that does not apply (e.g. `radius` "
+      "of an ellipsoid, `stop_time` of steady flow) is an error rather than ignored. "
+      "`softflow check CASE.toml` prints a case with every default filled in; "
+      "`examples/drop_shear.toml` is a commented example. Any key may be a list of values, "
+      "which makes the file a parameter sweep (`softflow sweep`).\n";
+  for (const auto& t : case_keys().schema.tables) {
+    s += '\n';
+    s += schema::markdown(t);
+  }
+  return s;
+}
+
+}  // namespace softflow::io
