@@ -1,5 +1,7 @@
 #include "softflow/simulation/case_flow.hpp"
 
+#include "softflow/physics/stokes/stokes_system.hpp"
+
 namespace softflow::simulation {
 
 physics::WallMotion wall_motion(const io::CaseConfig& config) {
@@ -14,6 +16,24 @@ physics::WallMotion wall_motion(const io::CaseConfig& config) {
       return physics::WallMotion::oscillatory(h, flow.strain_amplitude, flow.frequency);
   }
   return physics::WallMotion::steady(h, config.shear_rate);  // not reached: every type above
+}
+
+std::vector<physics::Material> materials(const io::CaseConfig& config) {
+  std::vector<physics::Material> m{{config.matrix_viscosity}};
+  for (const auto& o : config.objects) m.push_back({o.viscosity_ratio * config.matrix_viscosity});
+  return m;
+}
+
+physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh,
+                                      double t) {
+  physics::StokesProblem p;
+  for (const auto& m : materials(config)) p.viscosity.push_back(m.viscosity);
+  for (const auto& o : config.objects) p.interfacial_tension.push_back(o.interfacial_tension);
+  const auto walls = wall_motion(config);
+  p.boundary_velocity = [walls, t](const Eigen::Vector3d& x) { return walls.velocity(x, t); };
+  p.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
+  p.pressure_gauge_value = 0.0;
+  return p;
 }
 
 }  // namespace softflow::simulation

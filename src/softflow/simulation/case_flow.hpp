@@ -1,7 +1,12 @@
-// The case's [flow] as the physics needs it: the wall motion of every run.
+// The case as the physics needs it: materials per region, wall motion, and the
+// Stokes problem at a time t. Every run builds its Stokes problem here.
 #pragma once
 
+#include <vector>
+
 #include "softflow/io/case_config.hpp"
+#include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/stokes/stokes_problem.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
 
 namespace softflow::simulation {
@@ -11,5 +16,15 @@ namespace softflow::simulation {
 /// takes its boundary velocity from here, so a new flow type is added in one
 /// place.
 physics::WallMotion wall_motion(const io::CaseConfig& config);
+
+/// The material of each region (0 = matrix, k = object k), from the case.
+std::vector<physics::Material> materials(const io::CaseConfig& config);
+
+/// The instantaneous Stokes problem of the case at time t on `mesh`:
+/// materials, interfacial tensions, walls at t, the pressure gauge. Loads
+/// that depend on the time loop's state (the semi-implicit tension) are
+/// added by the caller.
+physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh,
+                                      double t);
 
 }  // namespace softflow::simulation

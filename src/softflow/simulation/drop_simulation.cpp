@@ -369,17 +369,9 @@ physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
 
 int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, double dt,
                                  StageSeconds& stages) {
-  physics::StokesProblem problem;
+  // time_ is already t_{n+1}: the walls of the end of the step.
+  physics::StokesProblem problem = stokes_problem(config_, mesh_, time_);
   problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
-  problem.viscosity.push_back(config_.matrix_viscosity);
-  for (const auto& o : config_.objects) {
-    problem.viscosity.push_back(o.viscosity_ratio * config_.matrix_viscosity);
-    problem.interfacial_tension.push_back(o.interfacial_tension);
-  }
-  const auto walls = wall_motion(config_);
-  const double t = time_;
-  problem.boundary_velocity = [walls, t](const Vec3& x) { return walls.velocity(x, t); };
-  problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh_);
   auto result = stokes_->solve(problem);
   solution_ = std::move(result.solution);
   stages.stokes_assembly = result.assembly_seconds;

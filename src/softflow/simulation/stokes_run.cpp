@@ -29,23 +29,6 @@ double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-// The walls move with u = (+-gamma_dot H/2, 0, 0); box faces that are not
-// periodic carry the undisturbed shear u = (gamma_dot y, 0, 0).
-physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh) {
-  physics::StokesProblem p;
-  p.viscosity.push_back(config.matrix_viscosity);
-  for (const auto& o : config.objects) {
-    p.viscosity.push_back(o.viscosity_ratio * config.matrix_viscosity);
-    p.interfacial_tension.push_back(o.interfacial_tension);
-  }
-  const auto walls = wall_motion(config);
-  const double t = 0.0;  // the instantaneous solve of the initial state
-  p.boundary_velocity = [walls, t](const Eigen::Vector3d& x) { return walls.velocity(x, t); };
-  p.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
-  p.pressure_gauge_value = 0.0;
-  return p;
-}
-
 nlohmann::json object_summary(const io::CaseConfig& config,
                               const std::vector<analysis::ObjectMeasures>& measures) {
   nlohmann::json objects = nlohmann::json::array();
@@ -103,7 +86,7 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
                meshed.report["min_quality"].get<double>());
 
   physics::StokesSystem stokes(mesh, solver_settings(config));  // step 2
-  const auto result = stokes.solve(stokes_problem(config, mesh));
+  const auto result = stokes.solve(stokes_problem(config, mesh, 0.0));  // the initial state
   const auto& dofs = stokes.dofs();
   if (!options.quiet && root)
     fmt::print("stokes: {} unknowns ({} velocity, {} pressure), assembly {:.2f} s, solve {:.2f} s, "

@@ -57,8 +57,15 @@ Vec3 InterfaceTracker::centre_velocity(const std::vector<Vec3>& predicted, doubl
   const Vec3 x_next = surface_integrals(surface_, predicted).centre_of_volume();
   // Its own step count: the centre is recorded at the prediction, the
   // positions at the correction.
-  const auto c = time::bdf(time::bdf_order(centre_steps_));
-  const Vec3 u = (c.a0 * x_next + c.a1 * centre_ + c.a2 * centre_previous_) / dt;  // eqs. 2.51-2.52
+  // The history is the corrected surfaces' centres X_n, X_{n-1}, not the
+  // earlier predictions: the first prediction does not move (x_hat_1 = x_0),
+  // so a history of predicted centres makes the second step's BDF2 see
+  // X_0, X_0, 2 X_1 - X_0 and report three times the true velocity, which
+  // slides the interface nodes of a translating object sideways.
+  const auto c = time::bdf(time::bdf_order(steps_));
+  const Vec3 x_n = surface_integrals(surface_, x_).centre_of_volume();
+  Vec3 u = (c.a0 * x_next + c.a1 * x_n) / dt;  // eqs. 2.51-2.52
+  if (c.a2 != 0.0) u += c.a2 * surface_integrals(surface_, x_previous_).centre_of_volume() / dt;
   centre_previous_ = centre_;
   centre_ = x_next;
   ++centre_steps_;

@@ -42,6 +42,16 @@ struct SemiImplicitTension {
   [[nodiscard]] bool active() const { return theta_dt > 0.0; }
 };
 
+/// The constitutive law of one region (phase) as the Stokes step sees it.
+/// Newtonian today: the viscosity. A viscoelastic phase (SPEC §1) will add
+/// its model (Oldroyd-B, Giesekus, UCM, neo-Hookean), modulus, relaxation
+/// time and mobility here; the Stokes operator then takes viscosity (the
+/// solvent's) plus the DEVSS-G/D'Avino-Hulsen terms, and its polymer
+/// stress enters the right-hand side.
+struct Material {
+  double viscosity = 1.0;  ///< Newtonian (or solvent) viscosity
+};
+
 /// Everything that defines one instantaneous Stokes problem on a given mesh:
 ///
 ///   -div(2 eta_r D(u)) + grad p = f,  div u = 0   in every region r,
