@@ -194,7 +194,12 @@ Table<ObjectConfig> objects_table() {
       [](ObjectConfig& o, const double& r) { o.geometry.semi_axes.setConstant(r); }};
   return {
       "objects",
-      "One entry per suspended object (a drop); none = the undisturbed shear flow.",
+      "One entry per suspended object (a drop); none = the undisturbed shear flow. With one "
+      "object the mesh is translated along x with it every step (Step 2), so it never drifts "
+      "towards the periodic faces; with several the mesh is not translated (it can follow only "
+      "one), so objects moving relative to each other deform the mesh, and a run lasts until "
+      "they have travelled about an element size near their interfaces (time.min_quality stops "
+      "it with a diagnosis). timeseries.csv has one row per object and step.",
       true,
       {choice("shape", geometry(&geometry::ObjectSpec::shape), geometry::ObjectShape::sphere,
               {{"sphere", geometry::ObjectShape::sphere, ""},
