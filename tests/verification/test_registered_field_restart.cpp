@@ -1,5 +1,6 @@
-// A field the time loop does not know about, registered with the run's state,
-// is checkpointed and restored with no checkpoint code of its own.
+// A field the time loop does not know about, added to the run, is
+// checkpointed, restored and written to the ParaView output with no code of
+// its own in the checkpoint, restart or output paths.
 //
 // The field: a scalar, P1 per region (as the log-conformation components
 // will be), transported by the flow in the ALE frame,
@@ -23,6 +24,7 @@
 #include "softflow/fem/supg.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/checkpoint.hpp"
+#include "softflow/io/vtu_writer.hpp"
 #include "softflow/la/coo_matrix.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
@@ -129,7 +131,7 @@ TEST(RegisteredField, ACheckpointCarriesItAndTheRestartContinuesToRoundOff) {
   phi.interpolate([](const Vector3d& x, int region) {
     return Eigen::VectorXd::Constant(1, x.y() + 0.3 * x.x() * x.z() + 2.0 * region);
   });
-  sim.registry().add(fem::state_part(phi));
+  sim.add_field(phi);
   const auto initial = phi.gather();
   io::Checkpoint checkpoint;
   for (int n = 1; n <= 6; ++n) {
@@ -152,7 +154,7 @@ TEST(RegisteredField, ACheckpointCarriesItAndTheRestartContinuesToRoundOff) {
   const auto saved = io::read_checkpoint(path);
   simulation::DropSimulation restarted(config, saved.reference_mesh);
   fem::Field psi(restarted.mesh(), "tracer", p1_per_region(restarted.mesh()), 1);
-  restarted.registry().add(fem::state_part(psi));
+  restarted.add_field(psi);
   restarted.restore(saved);
   EXPECT_EQ(restarted.steps(), 3);
   for (int n = 4; n <= 6; ++n) {
@@ -163,6 +165,23 @@ TEST(RegisteredField, ACheckpointCarriesItAndTheRestartContinuesToRoundOff) {
   EXPECT_LT(max_difference(restarted.solution(), sim.solution()), 1e-10);
   EXPECT_LT((restarted.mesh().nodes.back() - sim.mesh().nodes.back()).norm(), 1e-12);
   std::filesystem::remove(path);
+
+  // The ParaView output carries the added field next to velocity and
+  // pressure, per region (P1 per region: its own value on each side).
+  const auto sources = restarted.output_fields();
+  ASSERT_EQ(sources.size(), 2u);
+  for (int region : {0, 1}) {
+    const auto piece = io::extract_subdomain(restarted.mesh(), sources, region);
+    const auto& tracer = piece.field("tracer");
+    ASSERT_EQ(tracer.values.size(), piece.points.size());
+    EXPECT_NO_THROW((void)piece.field("velocity"));
+    // The drop's copy started at y + 0.3 x z + 2: its values stay near that.
+    double mean = 0.0;
+    for (double v : tracer.values) mean += v / tracer.values.size();
+    if (region == 1) {
+      EXPECT_NEAR(mean, 2.0, 0.5);
+    }
+  }
 }
 
 TEST(RegisteredField, ARestartWithoutTheFieldItWasSavedWithIsRefusedByName) {

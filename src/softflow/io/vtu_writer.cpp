@@ -58,33 +58,38 @@ const PointField& SubdomainPiece::field(const std::string& name) const {
   throw Error(fmt::format("no field '{}' in the output piece", name));
 }
 
-SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs,
-                                 const std::vector<double>& solution, int region) {
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const std::vector<FieldData>& sources,
+                                 int region) {
   SubdomainPiece piece;
   piece.region = region;
-  for (int f = 0; f < dofs.n_fields(); ++f)
-    piece.fields.push_back({dofs.field(f).name, dofs.field(f).components, {}});
+  for (const auto& source : sources)
+    for (int f = 0; f < source.dofs->n_fields(); ++f)
+      piece.fields.push_back({source.dofs->field(f).name, source.dofs->field(f).components, {}});
   std::vector<int> local(mesh.n_nodes(), -1);
-  std::vector<double> element_values;
   for (int t = 0; t < mesh.n_tets(); ++t) {
     if (mesh.tet_region[t] != region) continue;
-    const auto d = dofs.element_dofs(t);
     mesh::Tet10 cell{};
     for (int k = 0; k < 10; ++k) {
       const int node = mesh.tets[t][k];
       if (local[node] < 0) {
         local[node] = static_cast<int>(piece.points.size());
         piece.points.push_back(mesh.nodes[node]);
-        for (int f = 0; f < dofs.n_fields(); ++f) {
-          const int n_c = dofs.field(f).components;
-          const int* fd = d.data() + dofs.element_offset(f);
-          auto& out = piece.fields[f].values;
-          for (int c = 0; c < n_c; ++c) {
-            if (dofs.field(f).space->degree() == 2 || k < 4) {
-              out.push_back(solution[fd[k * n_c + c]]);
-            } else {  // P1 at an edge node: the mean of the edge's vertices
-              const auto& e = mesh::kTetEdges[k - 4];
-              out.push_back(0.5 * (solution[fd[e[0] * n_c + c]] + solution[fd[e[1] * n_c + c]]));
+        std::size_t out_field = 0;
+        for (const auto& source : sources) {
+          const fem::DofMap& dofs = *source.dofs;
+          const auto d = dofs.element_dofs(t);
+          for (int f = 0; f < dofs.n_fields(); ++f, ++out_field) {
+            const int n_c = dofs.field(f).components;
+            const int* fd = d.data() + dofs.element_offset(f);
+            auto& out = piece.fields[out_field].values;
+            for (int c = 0; c < n_c; ++c) {
+              if (dofs.field(f).space->degree() == 2 || k < 4) {
+                out.push_back(source.values[fd[k * n_c + c]]);
+              } else {  // P1 at an edge node: the mean of the edge's vertices
+                const auto& e = mesh::kTetEdges[k - 4];
+                out.push_back(0.5 * (source.values[fd[e[0] * n_c + c]] +
+                                     source.values[fd[e[1] * n_c + c]]));
+              }
             }
           }
         }
@@ -94,6 +99,11 @@ SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs
     piece.cells.push_back(cell);
   }
   return piece;
+}
+
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs,
+                                 const std::vector<double>& solution, int region) {
+  return extract_subdomain(mesh, std::vector<FieldData>{{&dofs, solution}}, region);
 }
 
 void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece) {
@@ -151,12 +161,12 @@ FieldSeries::FieldSeries(std::filesystem::path directory, std::filesystem::path 
   std::filesystem::create_directories(directory_);
 }
 
-void FieldSeries::write(const mesh::Mesh& mesh, const fem::DofMap& dofs,
-                        const std::vector<double>& solution, double time, int step) {
+void FieldSeries::write(const mesh::Mesh& mesh, const std::vector<FieldData>& sources,
+                        double time, int step) {
   for (int region = 0; region <= mesh.n_objects; ++region) {
     const std::string name = region == 0 ? fmt::format("matrix_{:06d}.vtu", step)
                                          : fmt::format("object_{}_{:06d}.vtu", region, step);
-    write_vtu(directory_ / name, extract_subdomain(mesh, dofs, solution, region));
+    write_vtu(directory_ / name, extract_subdomain(mesh, sources, region));
     const auto relative = std::filesystem::relative(directory_ / name, pvd_path_.parent_path());
     entries_.push_back({time, region, relative.string()});
   }

@@ -37,6 +37,17 @@ struct SubdomainPiece {
   [[nodiscard]] const PointField& field(const std::string& name) const;
 };
 
+/// Values of every field of a dof map (all dofs, as gathered on this rank):
+/// one source of output fields. A run's output is a list of sources, e.g.
+/// the Stokes solution and each field added to the run.
+struct FieldData {
+  const fem::DofMap* dofs = nullptr;
+  std::vector<double> values;
+};
+
+/// The piece of `region` with every field of every source.
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const std::vector<FieldData>& sources,
+                                 int region);
 SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs,
                                  const std::vector<double>& solution, int region);
 
@@ -56,8 +67,8 @@ void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mes
 class FieldSeries {
  public:
   FieldSeries(std::filesystem::path directory, std::filesystem::path pvd_path);
-  void write(const mesh::Mesh& mesh, const fem::DofMap& dofs,
-             const std::vector<double>& solution, double time, int step);
+  void write(const mesh::Mesh& mesh, const std::vector<FieldData>& sources, double time,
+             int step);
   /// Continues the series of an earlier run (a restart): takes the entries
   /// of the existing PVD file up to `step`, so that later writes extend it.
   void resume(int step);

@@ -324,7 +324,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         files.series << timeseries_rows(last) << std::flush;
         if (files.fields && config.time.fields_interval > 0 &&
             last.step % config.time.fields_interval == 0)
-          files.fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(),
+          files.fields->write(sim.mesh(), sim.output_fields(), sim.time(),
                               last.step);
         io::write_text_file_atomically(
             directory / "progress.json",
@@ -397,7 +397,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
     const bool written =
         config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;
     if (files.fields && sim.steps() > first_step && !written && !failure)
-      files.fields->write(sim.mesh(), sim.stokes().dofs(), sim.solution(), sim.time(), sim.steps());
+      files.fields->write(sim.mesh(), sim.output_fields(), sim.time(), sim.steps());
     io::write_text_file_atomically(directory / "summary.json", summary.dump(2) + "\n");
     io::write_text_file_atomically(
         directory / "progress.json",

@@ -9,6 +9,7 @@
 
 #include "softflow/analysis/ellipsoid_fit.hpp"
 #include "softflow/common/error.hpp"
+#include "softflow/fem/field.hpp"
 #include "softflow/mesh/quality.hpp"
 #include "softflow/physics/ale/mesh_motion.hpp"
 #include "softflow/physics/ale/mesh_velocity.hpp"
@@ -196,6 +197,19 @@ void DropSimulation::register_state() {
                                            r.get_int(p + "centre_steps")});
                      last_centre_velocity_[k] = velocity[0];
                    }});
+}
+
+void DropSimulation::add_field(fem::Field& field) {
+  if (&field.mesh() != &mesh_)
+    throw Error(fmt::format("field '{}' lives on another mesh than the simulation's", field.name()));
+  registry_.add(fem::state_part(field));
+  added_fields_.push_back(&field);
+}
+
+std::vector<io::FieldData> DropSimulation::output_fields() const {
+  std::vector<io::FieldData> out{{&stokes_->dofs(), solution_}};
+  for (const fem::Field* f : added_fields_) out.push_back({&f->dofs(), f->gather()});
+  return out;
 }
 
 void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const {

@@ -11,9 +11,14 @@
 #include "softflow/common/state.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/checkpoint.hpp"
+#include "softflow/io/vtu_writer.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
+
+namespace softflow::fem {
+class Field;
+}  // namespace softflow::fem
 
 namespace softflow::physics {
 class StokesSystem;
@@ -93,6 +98,14 @@ class DropSimulation {
   /// fields and histories register here (e.g. fem::state_part of a Field)
   /// and are checkpointed and restored with no further code.
   [[nodiscard]] StateRegistry& registry() { return registry_; }
+  /// Adds a field to the run: registered for checkpoints (fem::state_part)
+  /// and written with the ParaView output. The field must outlive the
+  /// simulation and live on its mesh (mesh()); its evolution is the
+  /// caller's (e.g. a transport step after each step()).
+  void add_field(fem::Field& field);
+  /// The fields the ParaView output writes: the Stokes solution (velocity,
+  /// pressure), then every added field, gathered. Collective.
+  [[nodiscard]] std::vector<io::FieldData> output_fields() const;
 
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   [[nodiscard]] const physics::StokesSystem& stokes() const { return *stokes_; }
@@ -145,6 +158,7 @@ class DropSimulation {
   double time_ = 0.0;
   int steps_ = 0;
   StateRegistry registry_;
+  std::vector<fem::Field*> added_fields_;
 };
 
 /// The CSV header and one row per object of a report (timeseries.csv).
