@@ -320,12 +320,13 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       longest_step = std::max(longest_step, last.step_seconds);
       const double elapsed = seconds_since(session_start);
       const double eta = elapsed / (last.step - first_step) * (n_steps - last.step);
+      // Gathering a field is collective: every rank takes part, rank 0 writes.
+      const bool fields_due = config.write_fields && config.time.fields_interval > 0 &&
+                              last.step % config.time.fields_interval == 0;
+      const auto fields = fields_due ? sim.output_fields() : std::vector<io::FieldData>{};
       on_root_sharing_failure([&] {
         files.series << timeseries_rows(last) << std::flush;
-        if (files.fields && config.time.fields_interval > 0 &&
-            last.step % config.time.fields_interval == 0)
-          files.fields->write(sim.mesh(), sim.output_fields(), sim.time(),
-                              last.step);
+        if (files.fields && fields_due) files.fields->write(sim.mesh(), fields, sim.time(), last.step);
         io::write_text_file_atomically(
             directory / "progress.json",
             progress_json(last, n_steps, config, "running", earlier_wall_seconds + elapsed, eta,
@@ -393,11 +394,12 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   auto summary = make_summary(config, sim, ledger, last, status, stop_reason, checkpoint);
   if (checkpoint_bytes > 0)  // what a checkpoint costs: the last one written in this session
     summary["checkpoint_cost"] = {{"bytes", checkpoint_bytes}, {"seconds", checkpoint_seconds}};
+  const bool written =
+      config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;
+  const bool final_fields = config.write_fields && sim.steps() > first_step && !written && !failure;
+  const auto fields = final_fields ? sim.output_fields() : std::vector<io::FieldData>{};  // collective
   on_root_sharing_failure([&] {
-    const bool written =
-        config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;
-    if (files.fields && sim.steps() > first_step && !written && !failure)
-      files.fields->write(sim.mesh(), sim.output_fields(), sim.time(), sim.steps());
+    if (files.fields && final_fields) files.fields->write(sim.mesh(), fields, sim.time(), sim.steps());
     io::write_text_file_atomically(directory / "summary.json", summary.dump(2) + "\n");
     io::write_text_file_atomically(
         directory / "progress.json",
