@@ -79,16 +79,21 @@ std::vector<int> DofMap::field_dofs(int f) const {
   return out;
 }
 
-DofRange DofMap::ownership(int rank, int n_ranks) const {
-  // Node boundaries nearest to an equal share of dofs: the first node whose
-  // offset reaches the target.
-  auto boundary = [&](long target) {
-    return *std::lower_bound(node_offset_.begin(), node_offset_.end(), target);
+std::pair<int, int> balanced_node_range(std::span<const int> offsets, int rank, int n_ranks) {
+  const int n_nodes = static_cast<int>(offsets.size()) - 1;
+  const long total = offsets.back();
+  auto first_node_reaching = [&](long target) {
+    return static_cast<int>(std::lower_bound(offsets.begin(), offsets.end(), target) -
+                            offsets.begin());
   };
-  const long n = n_dofs_;
-  const int begin = rank == 0 ? 0 : boundary(n * rank / n_ranks);
-  const int end = rank + 1 == n_ranks ? n_dofs_ : boundary(n * (rank + 1) / n_ranks);
-  return {begin, end};
+  const int first = rank == 0 ? 0 : first_node_reaching(total * rank / n_ranks);
+  const int last = rank + 1 == n_ranks ? n_nodes : first_node_reaching(total * (rank + 1) / n_ranks);
+  return {first, last};
+}
+
+DofRange DofMap::ownership(int rank, int n_ranks) const {
+  const auto [first, last] = balanced_node_range(node_offset_, rank, n_ranks);
+  return {node_offset_[first], rank + 1 == n_ranks ? n_dofs_ : node_offset_[last]};
 }
 
 }  // namespace softflow::fem

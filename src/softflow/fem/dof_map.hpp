@@ -4,6 +4,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "softflow/fem/space.hpp"
@@ -27,6 +28,13 @@ struct DofRange {
   [[nodiscard]] bool owns(int dof) const { return dof >= begin && dof < end; }
   [[nodiscard]] int size() const { return end - begin; }
 };
+
+/// The node range [first, last) of `rank` out of `n_ranks`: contiguous, with
+/// boundaries at the first nodes whose prefix count reaches an equal share
+/// of the total. `offsets[n]` counts what lies before node n (dofs, free
+/// unknowns, ...) and has one entry per node plus the total. Every
+/// node-numbered unknown set (dof maps, the ALE's free unknowns) splits this way.
+std::pair<int, int> balanced_node_range(std::span<const int> offsets, int rank, int n_ranks);
 
 /// The unknowns of several fields numbered together, e.g. the Taylor-Hood
 /// pair (velocity = 3 x P2, pressure = P1 per region, thesis §2.3.1).

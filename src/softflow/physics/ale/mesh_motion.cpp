@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/fem/dof_map.hpp"
 #include "softflow/la/coo_matrix.hpp"
 #include "softflow/la/saddle_point_solver.hpp"  // la::set_default_option
 
@@ -95,15 +96,9 @@ void AleMeshMotion::partition(const mesh::Mesh& mesh) {
     if (kind[i] == kInterface) interface_index_[i] = interface_before[i];
   }
 
-  // This rank's node range, balanced by free unknowns.
-  const int rank = la::mpi_rank(), size = la::mpi_size();
-  auto first_node_at = [&](long target) {  // first node with free_before >= target
-    return static_cast<int>(std::lower_bound(free_before.begin(), free_before.end(), target) -
-                            free_before.begin());
-  };
-  const int node_begin = rank == 0 ? 0 : first_node_at(static_cast<long>(n_free_) * rank / size);
-  const int node_end =
-      rank + 1 == size ? n : first_node_at(static_cast<long>(n_free_) * (rank + 1) / size);
+  // This rank's node range, balanced by free unknowns (as every dof map).
+  const auto [node_begin, node_end] =
+      fem::balanced_node_range(free_before, la::mpi_rank(), la::mpi_size());
   free_range_ = {free_before[node_begin], free_before[node_end]};
   interface_range_ = {interface_before[node_begin], interface_before[node_end]};
 
