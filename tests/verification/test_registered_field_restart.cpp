@@ -7,8 +7,8 @@
 //
 //   d(phi)/dt |_mesh + (u - u_m) . grad phi = 0,
 //
-// by BDF1 + SUPG on the moved mesh after every step (nodal values move with
-// the mesh nodes, so the old values are simply the previous nodal values).
+// by physics::AleTransport (SUPG, BDF1 then BDF2) after every step; its BDF2
+// history is registered too, so the restart tests both.
 // A run checkpointed at step 3 and restarted must continue to the same
 // field, and the same flow, as the run that never stopped.
 #include <cmath>
@@ -19,14 +19,12 @@
 #include <unistd.h>
 
 #include "softflow/common/error.hpp"
-#include "softflow/element/shape_functions.hpp"
 #include "softflow/fem/field.hpp"
-#include "softflow/fem/supg.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/io/vtu_writer.hpp"
-#include "softflow/la/coo_matrix.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/physics/transport/ale_transport.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
 #include "softflow/simulation/run_support.hpp"
 
@@ -44,8 +42,9 @@ io::CaseConfig drop_case() {
       "registered_field");
 }
 
-/// One BDF1 + SUPG transport step of phi with w = u - u_m on the current mesh.
-void transport(const simulation::DropSimulation& sim, fem::Field& phi, double dt) {
+/// One transport step of phi (physics::AleTransport: SUPG, BDF1 then BDF2)
+/// with w = u - u_m of the step just taken.
+void transport(const simulation::DropSimulation& sim, physics::AleTransport& transport, double dt) {
   const auto& mesh = sim.mesh();
   const auto& stokes = sim.stokes().dofs();
   fem::Field u(mesh, "u", stokes.field(physics::kVelocityField).space, 3);
@@ -55,56 +54,7 @@ void transport(const simulation::DropSimulation& sim, fem::Field& phi, double dt
   for (int d = 0; d < um.dofs().n_dofs(); ++d)
     nodal[d] = sim.mesh_velocity()[um.dofs().node_of(d)](um.dofs().component_of(d));
   um.scatter(nodal);
-
-  const auto& dofs = phi.dofs();
-  const auto range = phi.ownership();
-  const la::OwnershipRange rows{range.begin, range.end};
-  la::CooMatrix a(rows, dofs.n_dofs(), rows, dofs.n_dofs());
-  std::vector<la::CooMatrix::Block> blocks;
-  for (int t : phi.owned_elements())
-    blocks.push_back(a.add_block(dofs.element_dofs(t), dofs.element_dofs(t)));
-  a.create();
-  la::Vector rhs = la::make_vector(range.size(), dofs.n_dofs());
-  la::check(VecSet(rhs.get(), 0.0), "VecSet");
-  const fem::TetTabulation tab(4);
-  const Eigen::Matrix<double, 4, 3> ref_grad = element::p1_tet_gradients();
-  std::size_t e = 0;
-  for (int t : phi.owned_elements()) {
-    const auto points = fem::quadrature_points(mesh, tab, t);
-    const Eigen::Vector4d old = phi.element_coefficients(t);
-    double volume = 0.0, speed = 0.0;
-    for (const auto& p : points) {
-      volume += p.weight;
-      speed += p.weight * (u.value(p) - um.value(p)).norm();
-    }
-    const double tau = fem::supg_tau(fem::element_length(volume), speed / volume, 0.0);
-    Eigen::Matrix4d ke = Eigen::Matrix4d::Zero();
-    Eigen::Vector4d fe = Eigen::Vector4d::Zero();
-    for (const auto& p : points) {
-      const Vector3d w = u.value(p) - um.value(p);
-      const Eigen::Matrix<double, 4, 3> g = ref_grad * p.map.inverse_jacobian;
-      const Eigen::Vector4d n(tab.p1[p.q][0], tab.p1[p.q][1], tab.p1[p.q][2], tab.p1[p.q][3]);
-      const Eigen::Vector4d test = n + tau * (g * w);  // Petrov-Galerkin test functions
-      ke += p.weight * test * (n.transpose() / dt + (g * w).transpose());
-      fe += p.weight * test * (n.dot(old) / dt);
-    }
-    a.set_block(blocks[e++], ke);
-    const auto d = dofs.element_dofs(t);
-    la::check(VecSetValues(rhs.get(), 4, d.data(), fe.data(), ADD_VALUES), "VecSetValues");
-  }
-  a.assemble();
-  la::check(VecAssemblyBegin(rhs.get()), "VecAssemblyBegin");
-  la::check(VecAssemblyEnd(rhs.get()), "VecAssemblyEnd");
-  la::Solver ksp;
-  la::check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
-  la::check(KSPSetOperators(ksp.get(), a.get(), a.get()), "KSPSetOperators");
-  la::check(KSPSetType(ksp.get(), KSPPREONLY), "KSPSetType");
-  PC pc = nullptr;
-  la::check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");
-  la::check(PCSetType(pc, PCLU), "PCSetType");
-  la::check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-  la::check(KSPSolve(ksp.get(), rhs.get(), phi.vector()), "KSPSolve");
-  phi.update_ghosts();
+  transport.step(u, &um, {}, dt, sim.time());
 }
 
 std::shared_ptr<fem::Space> p1_per_region(const mesh::Mesh& mesh) {
@@ -132,11 +82,13 @@ TEST(RegisteredField, ACheckpointCarriesItAndTheRestartContinuesToRoundOff) {
     return Eigen::VectorXd::Constant(1, x.y() + 0.3 * x.x() * x.z() + 2.0 * region);
   });
   sim.add_field(phi);
+  physics::AleTransport phi_transport(phi);
+  sim.registry().add(phi_transport.state_part());  // its BDF2 history
   const auto initial = phi.gather();
   io::Checkpoint checkpoint;
   for (int n = 1; n <= 6; ++n) {
     sim.step();
-    transport(sim, phi, dt);
+    transport(sim, phi_transport, dt);
     if (n == 3) {
       sim.save(checkpoint);
       checkpoint.softflow_version = SOFTFLOW_VERSION;
@@ -145,6 +97,7 @@ TEST(RegisteredField, ACheckpointCarriesItAndTheRestartContinuesToRoundOff) {
     }
   }
   EXPECT_TRUE(checkpoint.state.contains("fields/tracer/values"));
+  EXPECT_TRUE(checkpoint.state.contains("transport/tracer/previous"));
   const auto phi_end = phi.gather();
   // The flow moved the tracer: the test compares something that changed.
   EXPECT_GT(max_difference(initial, phi_end), 1e-3);
@@ -155,13 +108,31 @@ TEST(RegisteredField, ACheckpointCarriesItAndTheRestartContinuesToRoundOff) {
   simulation::DropSimulation restarted(config, saved.reference_mesh);
   fem::Field psi(restarted.mesh(), "tracer", p1_per_region(restarted.mesh()), 1);
   restarted.add_field(psi);
+  physics::AleTransport psi_transport(psi);
+  restarted.registry().add(psi_transport.state_part());
   restarted.restore(saved);
+  EXPECT_EQ(psi_transport.steps(), 3);
   EXPECT_EQ(restarted.steps(), 3);
   for (int n = 4; n <= 6; ++n) {
     restarted.step();
-    transport(restarted, psi, dt);
+    transport(restarted, psi_transport, dt);
   }
   EXPECT_LT(max_difference(psi.gather(), phi_end), 1e-10);
+  {
+    // Without its history registered the transport restarts with BDF1 and
+    // lands elsewhere: what the registration is for (and what the check
+    // above would catch).
+    simulation::DropSimulation forgetful(config, saved.reference_mesh);
+    fem::Field chi(forgetful.mesh(), "tracer", p1_per_region(forgetful.mesh()), 1);
+    forgetful.add_field(chi);
+    physics::AleTransport chi_transport(chi);
+    forgetful.restore(saved);
+    for (int n = 4; n <= 6; ++n) {
+      forgetful.step();
+      transport(forgetful, chi_transport, dt);
+    }
+    EXPECT_GT(max_difference(chi.gather(), phi_end), 1e-6);
+  }
   EXPECT_LT(max_difference(restarted.solution(), sim.solution()), 1e-10);
   EXPECT_LT((restarted.mesh().nodes.back() - sim.mesh().nodes.back()).norm(), 1e-12);
   std::filesystem::remove(path);

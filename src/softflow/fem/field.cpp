@@ -46,7 +46,14 @@ std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const Tet
 Field::Field(const mesh::Mesh& mesh, std::string name, std::shared_ptr<const Space> space,
              int components)
     : mesh_(mesh), name_(std::move(name)), dofs_(mesh, {{name_, std::move(space), components}}) {
-  range_ = dofs_.ownership(la::mpi_rank(), la::mpi_size());
+  // Node ranges balanced by the space's dofs, not by dofs x components: every
+  // field on one space then has the same node ranges, so a scalar operator
+  // of the space can be solved once and copied into each component locally.
+  const int n_nodes = mesh_.n_nodes();
+  std::vector<int> scalar_offsets(n_nodes + 1);
+  for (int n = 0; n <= n_nodes; ++n) scalar_offsets[n] = dofs_.dof_offset_of_node(n) / components;
+  const auto [first, last] = balanced_node_range(scalar_offsets, la::mpi_rank(), la::mpi_size());
+  range_ = {dofs_.dof_offset_of_node(first), dofs_.dof_offset_of_node(last)};
   owned_elements_ = fem::owned_elements(mesh_);
   std::vector<int> ghosts;
   for (int t : owned_elements_)

@@ -20,6 +20,9 @@ void CooMatrix::create() {
   check(MatSetPreallocationCOO(matrix_.get(), static_cast<PetscCount>(n_entries_), rows_.data(),
                                columns_.data()),
         "MatSetPreallocationCOO");
+  // Dirichlet rows are zeroed between assemblies (MatZeroRows); the pattern
+  // must survive that, or the next MatSetValuesCOO writes through a stale map.
+  check(MatSetOption(matrix_.get(), MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE), "MatSetOption");
   std::vector<PetscInt>().swap(rows_);
   std::vector<PetscInt>().swap(columns_);
   values_.assign(n_entries_, 0.0);

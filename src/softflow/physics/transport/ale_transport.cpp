@@ -1,0 +1,193 @@
+#include "softflow/physics/transport/ale_transport.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/element/shape_functions.hpp"
+#include "softflow/fem/supg.hpp"
+#include "softflow/time/bdf.hpp"
+
+namespace softflow::physics {
+
+namespace {
+
+using la::check;
+// P1 (or P2) trial functions times a P2 velocity on curved elements: degree 4
+// is exact on straight elements and accurate below discretisation error.
+constexpr int kQuadratureDegree = 4;
+
+}  // namespace
+
+AleTransport::AleTransport(fem::Field& s)
+    : s_(s),
+      previous_(s.mesh(), s.name() + "_previous", s.dofs().field(0).space, s.components()),
+      scalar_(s.mesh(), s.name() + "_component", s.dofs().field(0).space, 1) {
+  const auto range = scalar_.ownership();
+  const la::OwnershipRange rows{range.begin, range.end};
+  const int n = scalar_.dofs().n_dofs();
+  matrix_ = std::make_unique<la::CooMatrix>(rows, n, rows, n);
+  for (int t : scalar_.owned_elements())
+    blocks_.push_back(
+        matrix_->add_block(scalar_.dofs().element_dofs(t), scalar_.dofs().element_dofs(t)));
+  matrix_->create();
+}
+
+AleTransport::~AleTransport() = default;
+
+void AleTransport::set_dirichlet(
+    std::vector<int> nodes,
+    std::function<Eigen::VectorXd(const Eigen::Vector3d&, int, double)> g) {
+  constrained_scalar_dofs_.clear();
+  const auto range = scalar_.ownership();
+  const auto& space = scalar_.space();
+  for (int node : nodes)
+    for (const auto& copy : space.copies(node))
+      if (range.owns(copy.dof)) constrained_scalar_dofs_.push_back(copy.dof);
+  std::sort(constrained_scalar_dofs_.begin(), constrained_scalar_dofs_.end());
+  constrained_scalar_dofs_.erase(
+      std::unique(constrained_scalar_dofs_.begin(), constrained_scalar_dofs_.end()),
+      constrained_scalar_dofs_.end());
+  boundary_values_ = std::move(g);
+}
+
+void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
+                        const Source& source, double dt, double t_new) {
+  const auto c = time::bdf(time::bdf_order(steps_));
+  const int n_c = s_.components();
+  const int n_k = s_.space().n_element_nodes();
+  const bool p2 = s_.space().degree() == 2;
+  const auto& mesh = s_.mesh();
+  const fem::TetTabulation tab(kQuadratureDegree);
+  const auto range = scalar_.ownership();
+  const int n_scalar = scalar_.dofs().n_dofs();
+
+  std::vector<la::Vector> rhs(n_c);
+  for (auto& b : rhs) {
+    b = la::make_vector(range.size(), n_scalar);
+    check(VecSet(b.get(), 0.0), "VecSet");
+  }
+
+  // (v + tau w.grad v, (a0 s_{n+1} + a1 s_n + a2 s_{n-1}) / dt + w.grad s_{n+1} - r) = 0
+  Eigen::MatrixXd ke(n_k, n_k), fe(n_k, n_c), grad(n_k, 3);
+  Eigen::VectorXd phi(n_k), test(n_k), w_grad(n_k);
+  std::size_t e = 0;
+  for (int t : scalar_.owned_elements()) {
+    const auto points = fem::quadrature_points(mesh, tab, t);
+    std::vector<Eigen::Vector3d> w(points.size());
+    double volume = 0.0, speed = 0.0;
+    for (std::size_t q = 0; q < points.size(); ++q) {
+      w[q] = u.value(points[q]);
+      if (mesh_velocity) w[q] -= mesh_velocity->value(points[q]);
+      volume += points[q].weight;
+      speed += points[q].weight * w[q].norm();
+    }
+    const double tau = fem::supg_tau(fem::element_length(volume), speed / volume, 0.0);
+    ke.setZero();
+    fe.setZero();
+    for (std::size_t q = 0; q < points.size(); ++q) {
+      const auto& p = points[q];
+      if (p2) {
+        for (int k = 0; k < 10; ++k) phi(k) = tab.p2[p.q][k];
+        grad = tab.p2_grad[p.q] * p.map.inverse_jacobian;
+      } else {
+        for (int k = 0; k < 4; ++k) phi(k) = tab.p1[p.q][k];
+        grad = element::p1_tet_gradients() * p.map.inverse_jacobian;
+      }
+      w_grad = grad * w[q];
+      test = phi + tau * w_grad;  // Petrov-Galerkin test functions
+      ke.noalias() += p.weight * test * (c.a0 / dt * phi + w_grad).transpose();
+      Eigen::VectorXd known = -(c.a1 * s_.value(p)) / dt;
+      if (c.a2 != 0.0) known -= c.a2 * previous_.value(p) / dt;
+      if (source) known += source(p);
+      fe.noalias() += p.weight * test * known.transpose();
+    }
+    matrix_->set_block(blocks_[e++], ke);
+    const auto d = scalar_.dofs().element_dofs(t);
+    for (int comp = 0; comp < n_c; ++comp) {
+      const Eigen::VectorXd column = fe.col(comp);
+      check(VecSetValues(rhs[comp].get(), n_k, d.data(), column.data(), ADD_VALUES),
+            "VecSetValues");
+    }
+  }
+  matrix_->assemble();
+  for (auto& b : rhs) {
+    check(VecAssemblyBegin(b.get()), "VecAssemblyBegin");
+    check(VecAssemblyEnd(b.get()), "VecAssemblyEnd");
+  }
+
+  // Constrained rows become identity rows; their right-hand sides the values.
+  std::vector<PetscInt> rows(constrained_scalar_dofs_.begin(), constrained_scalar_dofs_.end());
+  check(MatZeroRows(matrix_->get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
+                    nullptr, nullptr),
+        "MatZeroRows");
+  if (!rows.empty()) {
+    std::vector<std::vector<PetscScalar>> values(n_c, std::vector<PetscScalar>(rows.size()));
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const int d = static_cast<int>(rows[i]);
+      const Eigen::VectorXd g = boundary_values_(mesh.nodes[scalar_.dofs().node_of(d)],
+                                                 scalar_.dofs().region_of(d), t_new);
+      for (int comp = 0; comp < n_c; ++comp) values[comp][i] = g(comp);
+    }
+    for (int comp = 0; comp < n_c; ++comp) {
+      check(VecSetValues(rhs[comp].get(), static_cast<PetscInt>(rows.size()), rows.data(),
+                         values[comp].data(), INSERT_VALUES),
+            "VecSetValues");
+      check(VecAssemblyBegin(rhs[comp].get()), "VecAssemblyBegin");
+      check(VecAssemblyEnd(rhs[comp].get()), "VecAssemblyEnd");
+    }
+  }
+
+  // One factorisation, one solve per component.
+  la::Solver ksp;
+  check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
+  check(KSPSetOptionsPrefix(ksp.get(), "transport_"), "KSPSetOptionsPrefix");
+  check(KSPSetOperators(ksp.get(), matrix_->get(), matrix_->get()), "KSPSetOperators");
+  check(KSPSetType(ksp.get(), KSPPREONLY), "KSPSetType");
+  PC pc = nullptr;
+  check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");
+  check(PCSetType(pc, PCLU), "PCSetType");
+  check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  check(KSPSetFromOptions(ksp.get()), "KSPSetFromOptions");
+
+  check(VecCopy(s_.vector(), previous_.vector()), "VecCopy");  // s_n becomes the history
+  PetscScalar* out = nullptr;
+  check(VecGetArray(s_.vector(), &out), "VecGetArray");
+  for (int comp = 0; comp < n_c; ++comp) {
+    check(KSPSolve(ksp.get(), rhs[comp].get(), scalar_.vector()), "KSPSolve(transport)");
+    KSPConvergedReason reason;
+    check(KSPGetConvergedReason(ksp.get(), &reason), "KSPGetConvergedReason");
+    if (reason < 0)
+      throw SolverError(fmt::format("transport of '{}' failed: {}", s_.name(),
+                                    KSPConvergedReasons[reason]));
+    // The same node ranges (fem::Field): owned scalar dof i is owned
+    // component dof i * n_c + comp.
+    const PetscScalar* in = nullptr;
+    check(VecGetArrayRead(scalar_.vector(), &in), "VecGetArrayRead");
+    for (int i = 0; i < range.size(); ++i) out[i * n_c + comp] = in[i];
+    check(VecRestoreArrayRead(scalar_.vector(), &in), "VecRestoreArrayRead");
+  }
+  check(VecRestoreArray(s_.vector(), &out), "VecRestoreArray");
+  s_.update_ghosts();
+  previous_.update_ghosts();
+  ++steps_;
+}
+
+StatePart AleTransport::state_part() {
+  return {"transport/" + s_.name(),
+          [this](StateRecord& r, const std::string& p) {
+            r.set(p + "steps", steps_);
+            r.set(p + "previous", previous_.gather());
+          },
+          [this](const StateRecord& r, const std::string& p) {
+            const auto& values = r.get_array(p + "previous");
+            if (static_cast<int>(values.size()) != previous_.dofs().n_dofs())
+              throw InputError(fmt::format("the saved transport history of '{}' does not fit",
+                                           s_.name()));
+            previous_.scatter(values);
+            steps_ = r.get_int(p + "steps");
+          }};
+}
+
+}  // namespace softflow::physics

@@ -1,0 +1,80 @@
+// Transport of a (multi-component) field by the flow in the ALE frame, with
+// SUPG and BDF1/BDF2: the equation the log-conformation tensor obeys.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "softflow/common/state.hpp"
+#include "softflow/fem/field.hpp"
+#include "softflow/la/coo_matrix.hpp"
+
+namespace softflow::physics {
+
+/// Advances a field s with any number of components on a scalar space (P1
+/// per region for the log-conformation tensor, thesis §2.3.2) through
+///
+///   ds/dt|_mesh + w . grad s = r,       w = u - u_m,
+///
+/// where d/dt|_mesh is the time derivative at a moving mesh node (so the
+/// old nodal values are simply the previous ones) and r a source evaluated
+/// at quadrature points by the caller (for the log-conformation: the
+/// Fattal-Kupferman terms, from the latest s and grad u). In time BDF1 at
+/// the first step, BDF2 after (time::bdf, eqs. 2.47-2.50's Gear scheme); in
+/// space SUPG, test functions v + tau w . grad v with tau = h / (2 |w|)
+/// (SPEC §2 part 5, fem::supg_tau without diffusion).
+///
+/// The operator (a0/dt) M + C(w) + SUPG is the same for every component:
+/// it is assembled once per step (la::CooMatrix; non-symmetric), factored
+/// once (MUMPS LU) and solved for each component. No boundary conditions
+/// are needed where w . n = 0 (walls moving tangentially, periodic faces,
+/// interfaces the mesh follows); inflow values can be imposed with
+/// `set_dirichlet`.
+///
+/// The BDF history s_{n-1} lives here and is part of the run's state
+/// (state_part()).
+class AleTransport {
+ public:
+  using Source = std::function<Eigen::VectorXd(const fem::QuadraturePoint&)>;
+  /// Values g(x, region) imposed at the constrained nodes after each step.
+  using BoundaryValues = std::function<Eigen::VectorXd(const Eigen::Vector3d&, int region)>;
+
+  /// `s` is the transported field (its space and components); it must
+  /// outlive this object.
+  explicit AleTransport(fem::Field& s);
+  ~AleTransport();
+  AleTransport(const AleTransport&) = delete;
+  AleTransport& operator=(const AleTransport&) = delete;
+
+  /// Constrains the dofs at these mesh nodes (every copy, every component)
+  /// to g(x, region, t_{n+1}) at each step; e.g. an inflow boundary.
+  void set_dirichlet(std::vector<int> nodes, std::function<Eigen::VectorXd(
+                                                 const Eigen::Vector3d&, int region, double t)> g);
+
+  /// One step of length dt to time t_new: s (at t_n on entry) becomes
+  /// s_{n+1}. `u` and `mesh_velocity` are vector fields (3 components) on
+  /// the current (moved) mesh; `source` may be empty. Collective.
+  void step(const fem::Field& u, const fem::Field* mesh_velocity, const Source& source, double dt,
+            double t_new);
+
+  /// Steps done (BDF1 first, then BDF2).
+  [[nodiscard]] int steps() const { return steps_; }
+  /// The history as a part of the run's state: "transport/<field name>".
+  [[nodiscard]] StatePart state_part();
+
+ private:
+  fem::Field& s_;
+  fem::Field previous_;  // s_{n-1}
+  fem::Field scalar_;    // one component's solution
+  std::unique_ptr<la::CooMatrix> matrix_;
+  std::vector<la::CooMatrix::Block> blocks_;
+  std::vector<int> constrained_scalar_dofs_;  // owned, scalar numbering
+  std::function<Eigen::VectorXd(const Eigen::Vector3d&, int, double)> boundary_values_;
+  int steps_ = 0;
+};
+
+}  // namespace softflow::physics
