@@ -1,0 +1,146 @@
+// Constitutive models of one phase (thesis §2.2.1-2.2.2, SPEC §1): their
+// validated parameters, the extra stress, and the conformation equation
+// written pointwise (no convection).
+//
+//   Newtonian            T = 2 eta D                                   eq. 2.4
+//   viscoelastic liquid  T = 2 mu D + tau,  tau = G (c - I)            eqs. 2.5-2.6
+//     Giesekus           lambda c_UC + (c - I) + alpha (c - I)^2 = 0   eq. 2.7
+//     Oldroyd-B          alpha = 0;  UCM: alpha = 0 and mu = 0
+//   elastic solid        c_UC = 0 (lambda -> infinity): c is the Finger
+//                        tensor B, tau = G (B - I)                     eqs. 2.21-2.22
+//     neo-Hookean        mu = 0;  Kelvin-Voigt: mu > 0
+//
+// with D = (L + L^T)/2, L_ij = du_i/dx_j, and the upper-convected derivative
+// (eq. 2.8, where (grad u)_ij = du_j/dx_i, so (grad u)^T = L)
+//
+//   c_UC = dc/dt - L c - c L^T        (dc/dt the material derivative).
+//
+// Solving eq. 2.7 for dc/dt gives the conformation equation of every model:
+//
+//   dc/dt = L c + c L^T - (1/lambda) ((c - I) + alpha (c - I)^2),
+//
+// whose relaxation part vanishes for the solids. Every flow starts from
+// c = I (eq. 2.20).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "softflow/physics/viscoelastic/symmetric_tensor.hpp"
+
+namespace softflow::physics::viscoelastic {
+
+enum class ConstitutiveModel { newtonian, oldroyd_b, giesekus, ucm, neo_hookean, kelvin_voigt };
+
+/// "newtonian", "oldroyd_b", "giesekus", "ucm", "neo_hookean", "kelvin_voigt":
+/// the names a case file uses.
+[[nodiscard]] std::string_view to_string(ConstitutiveModel model);
+/// The inverse of to_string. Throws softflow::InputError listing the names.
+[[nodiscard]] ConstitutiveModel constitutive_model_from_string(std::string_view name);
+
+/// The parameters a user gives for one phase, as read (units of the case:
+/// viscosities in stress * time, G in stress, lambda in time). Unset means
+/// not given; Constitutive::create decides what each model needs.
+struct ConstitutiveValues {
+  std::optional<double> viscosity = std::nullopt;          ///< eta: Newtonian only
+  std::optional<double> solvent_viscosity = std::nullopt;  ///< mu
+  std::optional<double> modulus = std::nullopt;            ///< G
+  std::optional<double> polymer_viscosity = std::nullopt;  ///< eta_p = G lambda, instead of G
+  std::optional<double> relaxation_time = std::nullopt;    ///< lambda: liquids only
+  std::optional<double> mobility = std::nullopt;           ///< alpha: Giesekus only
+};
+
+/// A validated constitutive model with its parameters. Immutable; made only
+/// by the factories, which throw softflow::InputError naming the parameter
+/// (e.g. "the mobility alpha = 1.5 must lie in [0, 1]") for a value that is
+/// missing, not finite, out of range, or not a parameter of the model.
+///
+/// Stored for every model: mu (the whole viscosity eta of a Newtonian
+/// phase, so T = 2 mu D + tau holds throughout), G, lambda, alpha. A
+/// Newtonian phase has G = 0 and no conformation; a solid has
+/// lambda = +infinity and alpha = 0.
+class Constitutive {
+ public:
+  /// The general factory (for case files): checks that `values` gives
+  /// exactly the parameters `model` needs and that each is admissible:
+  ///   newtonian      viscosity > 0
+  ///   oldroyd_b      solvent_viscosity >= 0, G > 0 or eta_p > 0, lambda > 0
+  ///   giesekus       as oldroyd_b, and mobility in [0, 1]
+  ///   ucm            G > 0 or eta_p > 0, lambda > 0 (solvent viscosity 0 if given)
+  ///   neo_hookean    G > 0 (solvent viscosity 0 if given)
+  ///   kelvin_voigt   solvent_viscosity > 0, G > 0
+  /// G and eta_p are alternatives (G = eta_p / lambda); a parameter the model
+  /// does not have is refused rather than ignored, so that a typo in the
+  /// model name cannot silently drop a parameter.
+  [[nodiscard]] static Constitutive create(ConstitutiveModel model,
+                                           const ConstitutiveValues& values);
+
+  [[nodiscard]] static Constitutive newtonian(double viscosity);
+  [[nodiscard]] static Constitutive oldroyd_b(double solvent_viscosity, double modulus,
+                                              double relaxation_time);
+  [[nodiscard]] static Constitutive giesekus(double solvent_viscosity, double modulus,
+                                             double relaxation_time, double mobility);
+  [[nodiscard]] static Constitutive ucm(double modulus, double relaxation_time);
+  [[nodiscard]] static Constitutive neo_hookean(double modulus);
+  [[nodiscard]] static Constitutive kelvin_voigt(double solvent_viscosity, double modulus);
+
+  [[nodiscard]] ConstitutiveModel model() const { return model_; }
+  /// mu; the viscosity eta for a Newtonian phase.
+  [[nodiscard]] double solvent_viscosity() const { return solvent_viscosity_; }
+  /// G (0 for a Newtonian phase).
+  [[nodiscard]] double modulus() const { return modulus_; }
+  /// lambda (+infinity for a solid, 0 for a Newtonian phase).
+  [[nodiscard]] double relaxation_time() const { return relaxation_time_; }
+  /// alpha (0 except for Giesekus).
+  [[nodiscard]] double mobility() const { return mobility_; }
+  /// eta_p = G lambda (+infinity for a solid).
+  [[nodiscard]] double polymer_viscosity() const;
+  /// eta = mu + G lambda (eq. 2.9): the zero-shear viscosity of a liquid,
+  /// the viscosity of a Newtonian phase, +infinity for a solid.
+  [[nodiscard]] double zero_shear_viscosity() const;
+
+  /// True unless Newtonian: the phase carries a conformation tensor c.
+  [[nodiscard]] bool has_conformation() const { return model_ != ConstitutiveModel::newtonian; }
+  /// True for the liquids with a finite relaxation time (Oldroyd-B,
+  /// Giesekus, UCM); false for the solids (no relaxation, g = 0) and Newtonian.
+  [[nodiscard]] bool relaxes() const;
+
+ private:
+  Constitutive(ConstitutiveModel model, double mu, double g, double lambda, double alpha)
+      : model_(model),
+        solvent_viscosity_(mu),
+        modulus_(g),
+        relaxation_time_(lambda),
+        mobility_(alpha) {}
+
+  ConstitutiveModel model_;
+  double solvent_viscosity_;
+  double modulus_;
+  double relaxation_time_;
+  double mobility_;
+};
+
+/// tau = G (c - I) (eq. 2.6; eq. 2.22 for a solid); zero for a Newtonian phase.
+[[nodiscard]] Mat3 polymer_stress(const Constitutive& model, const Mat3& c);
+
+/// T = 2 mu D + tau (eqs. 2.4-2.5), D the rate of strain; c is not read for
+/// a Newtonian phase.
+[[nodiscard]] Mat3 extra_stress(const Constitutive& model, const Mat3& rate_of_strain,
+                                const Mat3& c);
+
+/// L c + c L^T: the upper-convected terms of eq. 2.8 moved to the right-hand
+/// side; linear in L.
+[[nodiscard]] Mat3 upper_convected_terms(const Mat3& velocity_gradient, const Mat3& c);
+
+/// -(1/lambda) ((c - I) + alpha (c - I)^2): the relaxation of eq. 2.7;
+/// zero for a solid. Throws softflow::Error for a Newtonian phase.
+[[nodiscard]] Mat3 conformation_relaxation(const Constitutive& model, const Mat3& c);
+
+/// dc/dt = L c + c L^T - (1/lambda) ((c - I) + alpha (c - I)^2): the
+/// conformation equation without convection, L_ij = du_i/dx_j.
+/// Throws softflow::Error for a Newtonian phase.
+[[nodiscard]] Mat3 conformation_rate(const Constitutive& model, const Mat3& velocity_gradient,
+                                     const Mat3& c);
+
+}  // namespace softflow::physics::viscoelastic
