@@ -9,7 +9,7 @@
 
 #include "softflow/fem/field.hpp"
 #include "softflow/la/coo_matrix.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/curved_box.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 
 using namespace softflow;
@@ -18,22 +18,8 @@ using Eigen::VectorXd;
 
 namespace {
 
-// [-1, 1]^3 in n^3 cubes, the central cubes (|x|_inf < 1/2) object 1, and
-// the nodes moved by a smooth map that vanishes on the box faces, so that
-// the elements (and the interface) are genuinely curved.
 mesh::Mesh curved_box(int n, double amplitude = 0.08) {
-  auto mesh = mesh::structured_box({2.0, 2.0, 2.0, false, false}, n, n, n);
-  mesh.n_objects = 1;
-  for (int t = 0; t < mesh.n_tets(); ++t) {
-    Vector3d c = Vector3d::Zero();
-    for (int k = 0; k < 4; ++k) c += 0.25 * mesh.nodes[mesh.tets[t][k]];
-    mesh.tet_region[t] = c.cwiseAbs().maxCoeff() < 0.5 ? 1 : 0;
-  }
-  mesh::map_nodes(mesh, [amplitude](const mesh::Point& x) {
-    const double s = std::sin(M_PI * x.x()) * std::sin(M_PI * x.y()) * std::sin(M_PI * x.z());
-    return mesh::Point(x + amplitude * s * Vector3d(1.0, -0.7, 0.4));
-  });
-  return mesh;
+  return verification::curved_box_with_block(n, amplitude);
 }
 
 VectorXd linear(const Vector3d& x, int region) {

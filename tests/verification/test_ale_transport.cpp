@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "softflow/fem/field.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/curved_box.hpp"
 #include "softflow/physics/transport/ale_transport.hpp"
 
 using namespace softflow;
@@ -36,23 +36,8 @@ VectorXd source(const Vector3d& x, double t) {
   return r;
 }
 
-mesh::Mesh curved_box(int n) {
-  auto mesh = mesh::structured_box({2.0, 2.0, 2.0, false, false}, n, n, n);
-  mesh.n_objects = 1;
-  for (int t = 0; t < mesh.n_tets(); ++t) {
-    Vector3d c = Vector3d::Zero();
-    for (int k = 0; k < 4; ++k) c += 0.25 * mesh.nodes[mesh.tets[t][k]];
-    mesh.tet_region[t] = c.cwiseAbs().maxCoeff() < 0.5 ? 1 : 0;
-  }
-  mesh::map_nodes(mesh, [](const mesh::Point& x) {
-    const double s = std::sin(M_PI * x.x()) * std::sin(M_PI * x.y()) * std::sin(M_PI * x.z());
-    return mesh::Point(x + 0.1 * s * Vector3d(1.0, -0.7, 0.4));
-  });
-  return mesh;
-}
-
 double transport_error(int n) {
-  const auto mesh = curved_box(n);
+  const auto mesh = verification::curved_box_with_block(n, 0.1);
   auto p1 = std::make_shared<fem::Space>(mesh, 1, fem::Continuity::per_region);
   auto p2 = std::make_shared<fem::Space>(mesh, 2, fem::Continuity::continuous);
   fem::Field s(mesh, "s", p1, 2);

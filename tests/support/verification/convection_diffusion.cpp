@@ -6,7 +6,7 @@
 #include "softflow/fem/field.hpp"
 #include "softflow/fem/supg.hpp"
 #include "softflow/la/coo_matrix.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/curved_box.hpp"
 
 namespace softflow::verification {
 
@@ -37,26 +37,11 @@ double source(const Vector3d& x, int region, double eps) {
   return -eps * exact_laplacian(x, region) + kVelocity.dot(exact_gradient(x, region));
 }
 
-mesh::Mesh distorted_box(int n) {
-  auto mesh = mesh::structured_box({2.0, 2.0, 2.0, false, false}, n, n, n);
-  mesh.n_objects = 1;
-  for (int t = 0; t < mesh.n_tets(); ++t) {
-    Vector3d c = Vector3d::Zero();
-    for (int k = 0; k < 4; ++k) c += 0.25 * mesh.nodes[mesh.tets[t][k]];
-    mesh.tet_region[t] = c.cwiseAbs().maxCoeff() < 0.5 ? 1 : 0;
-  }
-  // Curves every element and the interface; the box faces stay put.
-  mesh::map_nodes(mesh, [](const mesh::Point& x) {
-    const double s = std::sin(M_PI * x.x()) * std::sin(M_PI * x.y()) * std::sin(M_PI * x.z());
-    return mesh::Point(x + 0.1 * s * Vector3d(1.0, -0.7, 0.4));
-  });
-  return mesh;
-}
 
 }  // namespace
 
 ConvectionDiffusionErrors solve_convection_diffusion(int n, double eps, bool supg) {
-  const auto mesh = distorted_box(n);
+  const auto mesh = curved_box_with_block(n, 0.1);
   auto space = std::make_shared<fem::Space>(mesh, 1, fem::Continuity::per_region);
   fem::Field phi(mesh, "phi", space, 1);
   const auto& dofs = phi.dofs();
