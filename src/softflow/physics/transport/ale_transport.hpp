@@ -63,6 +63,9 @@ class AleTransport {
 
   /// Steps done (BDF1 first, then BDF2).
   [[nodiscard]] int steps() const { return steps_; }
+  /// s_{n-1} (meaningful once steps() > 0): for sources extrapolated to
+  /// t_{n+1}, 2 s_n - s_{n-1}, which keeps an explicit source second order.
+  [[nodiscard]] const fem::Field& previous() const { return previous_; }
   /// The history as a part of the run's state: "transport/<field name>".
   [[nodiscard]] StatePart state_part();
 
