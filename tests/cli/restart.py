@@ -19,7 +19,9 @@ forwards it to every rank; SIGTERM it does not), and "round-off" allows
    not the first ones.
 3. A run killed with SIGKILL (no chance to checkpoint) continues from its
    last periodic checkpoint; its rows past that checkpoint are recomputed.
-   A fresh `run` refuses to overwrite the unfinished directory.
+   A fresh `run` refuses to overwrite the unfinished directory and says it
+   was killed (progress.json's "running" with a dead pid); the restart says
+   so too and removes the killed writer's stale checkpoint temporary.
 4. A run stopped by --wall-time-limit exits with 5 and continues too.
 5. A restart refuses a case.toml changed after the checkpoint, and does
    nothing for a run that is complete.
@@ -168,11 +170,22 @@ def main(softflow, case_source, work):
     progress = read_json(killed, "progress.json")
     if progress["status"] != "running" or progress["last_checkpoint"] is None:
         fail(f"after SIGKILL progress.json says {progress}")
+    # Nothing can be written on SIGKILL: the recorded pid, now dead, tells.
+    if "pid" not in progress or "host" not in progress:
+        fail(f"progress.json records no pid and host: {progress}")
+    # A stale temporary of a writer killed mid-checkpoint goes at the next write.
+    stale = os.path.join(killed, f"checkpoint.h5.tmp-{progress['pid']}")
+    with open(stale, "w") as f:
+        f.write("partial")
     result = run([softflow, "run", case, "-o", killed, "-q"], 1)
-    if "softflow restart" not in result.stderr:
-        fail(f"a fresh run over an unfinished one does not point to restart: {result.stderr}")
+    if "softflow restart" not in result.stderr or "killed" not in result.stderr:
+        fail(f"a fresh run over a killed one does not say so and point to restart: {result.stderr}")
     print(f"SIGKILL at step {progress['step']}, checkpoint at {progress['last_checkpoint']['step']}")
-    run([softflow, "restart", killed, "-q"] + PETSC, 0)
+    result = run([softflow, "restart", killed] + PETSC, 0)
+    if "killed" not in result.stdout:
+        fail(f"the restart does not report the killed session:\n{result.stdout[:500]}")
+    if os.path.exists(stale):
+        fail("the killed writer's checkpoint.h5.tmp-<pid> is still there")
     compare(reference, rows(killed), "SIGKILL + restart")
 
     # 4. The wall-time limit: a limit shorter than the run.

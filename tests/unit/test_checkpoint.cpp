@@ -1,11 +1,16 @@
 // Checkpoints: an exact round trip through HDF5, atomic replacement, and refusal of files
 // that are not checkpoints of this format or of this softflow version.
 #include <filesystem>
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 #include <fmt/format.h>
 
@@ -165,6 +170,112 @@ TEST(Checkpoint, RestartRefusesAnotherSoftflowVersion) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("written by softflow 0.0.1-old"), std::string::npos)
         << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+/// Flips one byte of `path` inside the first occurrence of the 8 bytes of `marker`.
+bool flip_byte_inside(const fs::path& path, double marker) {
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  char pattern[sizeof(double)];
+  std::memcpy(pattern, &marker, sizeof(double));
+  const auto at = bytes.find(std::string(pattern, sizeof(double)));
+  if (at == std::string::npos) return false;
+  bytes[at + 3] = static_cast<char>(bytes[at + 3] ^ 0x10);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  return true;
+}
+
+TEST(Checkpoint, RefusesAFlippedByteInTheDataAsCorrupt) {
+  const auto dir = fresh_directory("corrupt");
+  const fs::path path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample());
+  ASSERT_TRUE(flip_byte_inside(path, 1.0 / 7.0));  // /state/time_loop/solution[0]
+  const std::string message = read_error(path);
+  EXPECT_NE(message.find("corrupt checkpoint"), std::string::npos) << message;
+  EXPECT_NE(message.find("checksum"), std::string::npos) << message;
+  EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+  // The mesh is checksummed too: the first node's shifted coordinate.
+  write_checkpoint(path, sample());
+  const double first = sample().reference_mesh.nodes.front().x();
+  ASSERT_TRUE(flip_byte_inside(path, first));
+  EXPECT_NE(read_error(path).find("checksum"), std::string::npos) << read_error(path);
+  fs::remove_all(dir);
+}
+
+TEST(Checkpoint, RefusesADamagedAttribute) {
+  const auto dir = fresh_directory("corrupt_attribute");
+  const fs::path path = dir / "checkpoint.h5";
+  Checkpoint c = sample();
+  c.time = 1.0 / 3.0 + 1e-9;  // a value found once in the file: the time attribute
+  write_checkpoint(path, c);
+  ASSERT_TRUE(flip_byte_inside(path, c.time));
+  const std::string message = read_error(path);
+  EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("checksum"), std::string::npos) << message;
+  fs::remove_all(dir);
+}
+
+/// A pid that no process has: a child that has exited and been reaped.
+pid_t dead_pid() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
+}
+
+TEST(Checkpoint, RemovesTemporariesOfDeadWritersOnly) {
+  const auto dir = fresh_directory("stale");
+  const fs::path path = dir / "checkpoint.h5";
+  const fs::path stale = dir / fmt::format("checkpoint.h5.tmp-{}", dead_pid());
+  const fs::path live = dir / fmt::format("checkpoint.h5.tmp-{}", ::getppid());
+  const fs::path other = dir / fmt::format("other.h5.tmp-{}", dead_pid());
+  const fs::path not_pid = dir / "checkpoint.h5.tmp-abc";
+  for (const auto& f : {stale, live, other, not_pid}) std::ofstream(f) << "partial";
+  write_checkpoint(path, sample());
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(live));
+  EXPECT_TRUE(fs::exists(other));
+  EXPECT_TRUE(fs::exists(not_pid));
+  EXPECT_FALSE(fs::exists(dir / fmt::format("checkpoint.h5.tmp-{}", ::getpid())));
+  EXPECT_EQ(read_checkpoint(path).step, 17);
+  fs::remove_all(dir);
+}
+
+TEST(RunStatus, ARunningStatusWhosePidIsDeadIsReportedAsKilled) {
+  const auto dir = fresh_directory("status");
+  EXPECT_EQ(simulation::run_status(dir), "");
+  auto progress = [&](const std::string& status, long pid) {
+    nlohmann::json j = {{"status", status}, {"step", 3}, {"pid", pid},
+                        {"host", simulation::host_name()}};
+    std::ofstream(dir / "progress.json") << j.dump();
+  };
+  progress("running", ::getpid());
+  EXPECT_EQ(simulation::run_status(dir), "running");
+  progress("running", dead_pid());
+  EXPECT_EQ(simulation::run_status(dir), "killed");
+  progress("interrupted", dead_pid());
+  EXPECT_EQ(simulation::run_status(dir), "interrupted");
+  // On another host the pid says nothing: still "running".
+  nlohmann::json elsewhere = {{"status", "running"}, {"pid", dead_pid()}, {"host", "elsewhere."}};
+  std::ofstream(dir / "progress.json") << elsewhere.dump();
+  EXPECT_EQ(simulation::run_status(dir), "running");
+  // The summary, written last, has the final word.
+  progress("running", dead_pid());
+  std::ofstream(dir / "summary.json") << R"({"status": "completed"})";
+  EXPECT_EQ(simulation::run_status(dir), "completed");
+  // `softflow run` refuses to replace a killed run and says so.
+  fs::remove(dir / "summary.json");
+  std::ofstream(dir / simulation::kCheckpointFile) << "x";
+  try {
+    simulation::refuse_to_replace_unfinished_run(dir);
+    FAIL() << "a killed run was replaced";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("killed"), std::string::npos) << e.what();
   }
   fs::remove_all(dir);
 }

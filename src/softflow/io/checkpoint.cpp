@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <csignal>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <memory>
 #include <system_error>
 
 #include <fcntl.h>
+#include <signal.h>
 #include <hdf5.h>
 #include <unistd.h>
 
@@ -30,7 +33,27 @@ struct Hdf5Failure {
   std::string what;
 };
 
-[[noreturn]] void fail(std::string what) { throw Hdf5Failure{std::move(what)}; }
+/// Thrown inside this file when a checksum does not match: the file was damaged.
+struct ChecksumFailure {
+  std::string what;
+};
+
+herr_t find_checksum_error(unsigned, const H5E_error2_t* error, void* found) {
+  // HDF5 1.10 has no error class of its own for it: "incorrect metadata
+  // checksum ...", "data error detected by Fletcher32 checksum".
+  if (error->desc != nullptr && std::strstr(error->desc, "checksum") != nullptr)
+    *static_cast<bool*>(found) = true;
+  return 0;
+}
+
+/// Throws for a failed HDF5 call, right after it: its error stack is still
+/// there to tell a failed metadata checksum (a damaged file) from the rest.
+[[noreturn]] void fail(std::string what) {
+  bool checksum = false;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, find_checksum_error, &checksum);
+  if (checksum) throw ChecksumFailure{what + ": HDF5's metadata checksum does not match"};
+  throw Hdf5Failure{std::move(what)};
+}
 
 hid_t checked(hid_t id, const std::string& what) {
   if (id < 0) fail(what);
@@ -93,13 +116,36 @@ Handle open_group(hid_t parent, const std::string& name) {
 
 // ---- datasets: rows x cols (cols = 0: one-dimensional) ----
 
+/// Chunks of about 1 MiB: each has its own checksum.
+constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
+
+bool has_checksum(hid_t set) {
+  Handle properties(H5Dget_create_plist(set), H5Pclose);
+  if (properties.get() < 0) return false;
+  unsigned flags = 0;
+  return H5Pget_filter_by_id2(properties.get(), H5Z_FILTER_FLETCHER32, &flags, nullptr, nullptr,
+                              0, nullptr, nullptr) >= 0;
+}
+
 void write_array(hid_t parent, const std::string& name, hid_t type, const void* data,
                  std::size_t rows, std::size_t cols) {
   const hsize_t dims[2] = {rows, cols};
-  Handle space(checked(H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr), "dataspace " + name),
-               H5Sclose);
-  Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
-                                H5P_DEFAULT),
+  const int rank = cols > 0 ? 2 : 1;
+  Handle space(checked(H5Screate_simple(rank, dims, nullptr), "dataspace " + name), H5Sclose);
+  // Every dataset with data carries a Fletcher32 checksum per chunk, which
+  // HDF5 checks on every read. A dataset of zero rows cannot be chunked, and
+  // has no data to damage: it stays contiguous.
+  Handle properties(checked(H5Pcreate(H5P_DATASET_CREATE), "properties " + name), H5Pclose);
+  if (rows > 0) {
+    const std::size_t row_bytes = H5Tget_size(type) * std::max<std::size_t>(cols, 1);
+    const std::size_t rows_per_chunk =
+        std::clamp<std::size_t>(kChunkBytes / std::max<std::size_t>(row_bytes, 1), 1, rows);
+    const hsize_t chunk[2] = {rows_per_chunk, cols};
+    checked(H5Pset_chunk(properties.get(), rank, chunk), "cannot chunk", name);
+    checked(H5Pset_fletcher32(properties.get()), "cannot checksum", name);
+  }
+  Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT,
+                                properties.get(), H5P_DEFAULT),
                      "cannot create dataset " + name),
              H5Dclose);
   if (rows > 0)
@@ -118,9 +164,12 @@ std::vector<T> read_array(hid_t parent, const std::string& name, hid_t type, std
       (cols > 0 && dims[1] != cols))
     fail(fmt::format("dataset {} has the wrong shape", name));
   std::vector<T> out(dims[0] * (cols > 0 ? cols : 1));
-  if (!out.empty())
-    checked(H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "cannot read",
-            name);
+  if (out.empty()) return out;
+  // Written by this file, every dataset with data has a checksum; one
+  // without was not written by us, or its header was damaged.
+  if (!has_checksum(set.get())) fail(fmt::format("dataset {} has no checksum", name));
+  if (H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    throw ChecksumFailure{fmt::format("dataset {} fails its checksum", name)};
   return out;
 }
 
@@ -311,6 +360,7 @@ void write_state(hid_t file, const StateRecord& state) {
 struct StateVisit {
   StateRecord* state;
   std::string failure;
+  bool checksum = false;  ///< the failure is a checksum's
 };
 
 herr_t read_state_entry(hid_t root, const char* name, const H5O_info_t* info, void* data) {
@@ -334,6 +384,10 @@ herr_t read_state_entry(hid_t root, const char* name, const H5O_info_t* info, vo
   } catch (const Hdf5Failure& e) {
     visit->failure = e.what;
     return -1;
+  } catch (const ChecksumFailure& e) {
+    visit->failure = e.what;
+    visit->checksum = true;
+    return -1;
   }
   return 0;
 }
@@ -343,13 +397,70 @@ StateRecord read_state(hid_t file) {
   StateRecord state;
   StateVisit visit{&state, {}};
   if (H5Ovisit2(root.get(), H5_INDEX_NAME, H5_ITER_INC, read_state_entry, &visit, H5O_INFO_BASIC) <
-      0)
+      0) {
+    if (visit.checksum) throw ChecksumFailure{"state " + visit.failure};
     fail(visit.failure.empty() ? "cannot read the state" : visit.failure);
+  }
   return state;
 }
 
+/// FNV-1a, 64 bits: a checksum of what the file keeps in attributes (the
+/// datasets have Fletcher32; HDF5's own metadata checksums catch most, not
+/// all, damage to object headers, and say nothing of it clearly).
+class Hash {
+ public:
+  void bytes(const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) {
+      value_ ^= p[i];
+      value_ *= 1099511628211ULL;
+    }
+  }
+  template <class T>
+  void scalar(T x) {
+    bytes(&x, sizeof x);
+  }
+  void text(const std::string& s) {
+    scalar(s.size());
+    bytes(s.data(), s.size());
+  }
+  [[nodiscard]] std::uint64_t value() const { return value_; }
+
+ private:
+  std::uint64_t value_ = 14695981039346656037ULL;
+};
+
+/// The attributes: the header, the mesh's box, each state entry's key, kind and shape.
+std::uint64_t attributes_checksum(const Checkpoint& c) {
+  Hash h;
+  h.scalar(c.format_version);
+  h.text(c.softflow_version);
+  h.text(c.case_toml);
+  h.text(c.run_json);
+  h.scalar(c.step);
+  h.scalar(c.time);
+  const auto& m = c.reference_mesh;
+  h.scalar(m.box.length);
+  h.scalar(m.box.height);
+  h.scalar(m.box.width);
+  h.scalar(static_cast<int>(m.box.periodic_x));
+  h.scalar(static_cast<int>(m.box.periodic_z));
+  h.scalar(m.n_objects);
+  for (const auto& [key, entry] : c.state.entries()) {
+    h.text(key);
+    h.scalar(static_cast<int>(entry.kind));
+    h.scalar(entry.columns);
+    h.scalar(entry.values.size());
+  }
+  return h.value();
+}
+
 void write_file(const fs::path& path, const Checkpoint& c) {
-  Handle file(checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+  // HDF5 1.8 object headers and later carry checksums of the file's metadata.
+  Handle access(checked(H5Pcreate(H5P_FILE_ACCESS), "file access properties"), H5Pclose);
+  checked(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V18, H5F_LIBVER_LATEST),
+          "cannot set the format bounds of", path.string());
+  Handle file(checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()),
                       "cannot create the file"),
               H5Fclose);
   const hid_t root = file.get();
@@ -362,6 +473,8 @@ void write_file(const fs::path& path, const Checkpoint& c) {
   write_double(root, "time", c.time);
   write_mesh(root, c.reference_mesh);
   write_state(root, c.state);
+  const std::uint64_t checksum = attributes_checksum(c);
+  write_attribute(root, "attributes_checksum", H5T_NATIVE_UINT64, &checksum);
   if (file.close() < 0) fail("cannot close the file");
 }
 
@@ -387,13 +500,40 @@ Checkpoint read_file(const fs::path& path) {
   c.time = read_double(root, "time");
   c.reference_mesh = read_mesh(root);
   c.state = read_state(root);
+  std::uint64_t stored = 0;
+  {
+    Handle attribute = open_attribute(root, "attributes_checksum");
+    checked(H5Aread(attribute.get(), H5T_NATIVE_UINT64, &stored), "cannot read attribute",
+            "attributes_checksum");
+  }
+  if (stored != attributes_checksum(c))
+    throw ChecksumFailure{"its attributes (header, mesh box, state keys) fail their checksum"};
   return c;
 }
 
 }  // namespace
 
+void remove_stale_temporaries(const fs::path& path) {
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const std::string prefix = path.filename().string() + ".tmp-";
+  std::error_code ec;
+  for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::stol(digits);
+    if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+    // Only a writer known to be gone: EPERM means alive under another user.
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code ignored;
+    fs::remove(it->path(), ignored);
+  }
+}
+
 void write_checkpoint(const fs::path& path, const Checkpoint& checkpoint) {
   QuietHdf5Errors quiet;
+  remove_stale_temporaries(path);
   fs::path tmp = path;
   tmp += fmt::format(".tmp-{}", ::getpid());
   try {
@@ -432,6 +572,11 @@ Checkpoint read_checkpoint(const fs::path& path) {
     return read_file(path);
   } catch (const Hdf5Failure& e) {
     throw InputError(fmt::format("{}: cannot read the checkpoint: {}", path.string(), e.what));
+  } catch (const ChecksumFailure& e) {
+    throw InputError(fmt::format(
+        "{}: corrupt checkpoint: {} (the file was damaged after it was written); restart from "
+        "an intact copy, or run the case afresh",
+        path.string(), e.what));
   }
 }
 

@@ -14,14 +14,18 @@ namespace softflow::io {
 /// Bumped whenever the layout below changes; a checkpoint of another format
 /// version is refused rather than misread. Version 3: the state is the
 /// generic StateRecord of the run's registry (versions 1-2 had one
-/// hand-written group per part).
-inline constexpr int kCheckpointFormatVersion = 3;
+/// hand-written group per part). Version 4: every dataset with data is
+/// chunked with a Fletcher32 checksum, the attributes have a checksum of
+/// their own (attributes_checksum), and the file's metadata has HDF5's.
+inline constexpr int kCheckpointFormatVersion = 4;
 
 /// Everything a run in time needs to continue as if never stopped.
 ///
 /// File layout (HDF5):
 ///   /          attributes format = "softflow-checkpoint", format_version,
-///              softflow_version, case_toml, run_json, step, time
+///              softflow_version, case_toml, run_json, step, time,
+///              attributes_checksum (FNV-1a 64 of the attributes of the file,
+///              the box's and the state entries' keys, kinds and shapes)
 ///   /mesh/     the reference (initial) mesh: box, nodes, is_vertex, tets,
 ///              tet_region, boundary_faces, boundary_face_tag,
 ///              interface_faces, interface_object, periodic_master
@@ -30,6 +34,8 @@ inline constexpr int kCheckpointFormatVersion = 3;
 ///              rows x columns doubles with an attribute kind (0 integer,
 ///              1 real, 2 array). What is there is decided by the parts
 ///              registered in the run's StateRegistry, not by this file.
+///   Every dataset with data is chunked (about 1 MiB a chunk) with HDF5's
+///   Fletcher32 filter; empty datasets are contiguous.
 struct Checkpoint {
   std::string softflow_version;
   int format_version = kCheckpointFormatVersion;
@@ -43,11 +49,18 @@ struct Checkpoint {
 
 /// Writes `checkpoint` to `path` atomically: into `<path>.tmp-<pid>`, flushed
 /// to disk, then renamed over `path`. A crash at any moment leaves the
-/// previous checkpoint intact. Throws softflow::Error.
+/// previous checkpoint intact. Temporaries of `path` left by writers that
+/// were killed are removed first. Throws softflow::Error.
 void write_checkpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);
 
+/// Removes `<path>.tmp-<pid>` files whose process is gone (kill(pid, 0)
+/// fails with ESRCH): what a writer killed mid-write leaves. Never the
+/// current process's. A pid is only meaningful on this host.
+void remove_stale_temporaries(const std::filesystem::path& path);
+
 /// Reads a checkpoint; throws InputError naming the file if it is missing,
-/// not a softflow checkpoint, of another format version, or damaged.
+/// not a softflow checkpoint, of another format version, or damaged (a
+/// checksum that does not match: "corrupt checkpoint").
 Checkpoint read_checkpoint(const std::filesystem::path& path);
 
 }  // namespace softflow::io

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -12,6 +13,9 @@
 #include <memory>
 #include <sstream>
 #include <string>
+
+#include <signal.h>
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <mpi.h>
@@ -264,7 +268,9 @@ nlohmann::json progress_json(const StepReport& r, int n_steps, const io::CaseCon
                       {"steps", n_steps},          {"t", r.time},
                       {"t_end", config.time.end},  {"dt", config.time.step},
                       {"objects", objects},        {"wall_seconds", wall_seconds},
-                      {"eta_seconds", eta_seconds}};
+                      {"eta_seconds", eta_seconds},
+                      {"pid", static_cast<long>(::getpid())},
+                      {"host", host_name()}};
   // The first object's D and theta at the top level: what a batch script greps for.
   if (!r.objects.empty()) {
     j["D"] = r.objects.front().deformation;
@@ -480,22 +486,59 @@ void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpo
 
 }  // namespace
 
+std::string host_name() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0) return "";
+  return name;
+}
+
+namespace {
+
+nlohmann::json read_json_file(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) return nullptr;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nullptr;
+  }
+}
+
+}  // namespace
+
+std::string run_status(const fs::path& directory) {
+  const auto summary = read_json_file(directory / "summary.json");
+  if (summary.is_object() && summary.contains("status") && summary["status"].is_string())
+    return summary["status"];
+  const auto progress = read_json_file(directory / "progress.json");
+  if (!progress.is_object() || !progress.contains("status") || !progress["status"].is_string())
+    return "";
+  const std::string status = progress["status"];
+  if (status != "running") return status;
+  // A process killed outright (SIGKILL, the machine's OOM killer, a node
+  // lost) writes nothing more: its last word is "running". Its pid tells,
+  // on the host that ran it.
+  if (!progress.contains("pid") || !progress["pid"].is_number_integer()) return status;
+  const long pid = progress["pid"];
+  if (progress.value("host", std::string()) != host_name() || pid <= 0) return status;
+  if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) return "killed";
+  return status;
+}
+
 void refuse_to_replace_unfinished_run(const fs::path& directory) {
   std::error_code ec;
   if (!fs::exists(directory / kCheckpointFile, ec)) return;
-  std::string status = "interrupted";
-  std::ifstream in(directory / "summary.json");
-  if (in) {
-    try {
-      status = nlohmann::json::parse(in).value("status", status);
-    } catch (const nlohmann::json::exception&) {
-    }
-  }
+  std::string status = run_status(directory);
+  if (status.empty()) status = "interrupted";
   if (status == "completed" || status == "stopped") return;
+  const std::string what =
+      status == "killed"    ? "a run that was killed (stopped without a final checkpoint)"
+      : status == "running" ? "a run that is still running, or was killed on another host"
+                            : fmt::format("an unfinished run (status \"{}\")", status);
   throw InputError(
-      fmt::format("{} holds an unfinished run (status \"{}\", with a checkpoint): continue it with "
-                  "`softflow restart {}`, or start afresh with `softflow run ... --overwrite`",
-                  directory.string(), status, directory.string()));
+      fmt::format("{} holds {}, with a checkpoint: continue it with `softflow restart {}`, or "
+                  "start afresh with `softflow run ... --overwrite`",
+                  directory.string(), what, directory.string()));
 }
 
 nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
@@ -530,6 +573,8 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
 nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& directory,
                                  const RunOptions& options) {
   const bool root = is_root();
+  if (root) io::remove_stale_temporaries(directory / kCheckpointFile);
+  const std::string previous = root ? run_status(directory) : std::string();
   // Every rank reads the checkpoint: each holds the full replicated state.
   const io::Checkpoint checkpoint = io::read_checkpoint(directory / kCheckpointFile);
   check_same_case(config, checkpoint, directory);
@@ -562,7 +607,10 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
     }
   });
   if (!options.quiet && root)
-    fmt::print("restarting {} from its checkpoint: step {}/{}, t = {:.4f}\n", directory.string(),
+    fmt::print("restarting {} ({}) from its checkpoint: step {}/{}, t = {:.4f}\n",
+               directory.string(),
+               previous == "killed" ? "killed: stopped without a final checkpoint"
+                                    : fmt::format("status \"{}\"", previous),
                checkpoint.step, n_steps, checkpoint.time);
   return continue_run(config, options, directory, sim, std::move(ledger), sim.current_report(),
                       files, {checkpoint.step, checkpoint.time});

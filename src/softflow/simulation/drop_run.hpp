@@ -50,6 +50,16 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config,
 /// would throw away. `softflow run --overwrite` skips the check.
 void refuse_to_replace_unfinished_run(const std::filesystem::path& directory);
 
+/// The status of the run in `directory`: summary.json's if there is one,
+/// else progress.json's, where "running" with a recorded pid of this host
+/// that is no live process becomes "killed" (stopped without a final
+/// checkpoint: SIGKILL, out of memory, a lost node). "" if neither file is
+/// readable. A pid reused since by another process reads as "running".
+std::string run_status(const std::filesystem::path& directory);
+
+/// This machine's host name, as recorded in progress.json.
+std::string host_name();
+
 /// Name of the checkpoint file in a run's output directory.
 inline constexpr const char* kCheckpointFile = "checkpoint.h5";
 

@@ -23,6 +23,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/output_directory.hpp"
+#include "softflow/simulation/drop_run.hpp"
 
 extern char** environ;
 
@@ -86,10 +87,7 @@ nlohmann::json read_summary(const fs::path& run_directory) {
   }
 }
 
-std::string status_of(const fs::path& run_directory) {
-  const auto summary = read_summary(run_directory);
-  return summary.is_object() ? summary.value("status", "") : "";
-}
+std::string status_of(const fs::path& run_directory) { return run_status(run_directory); }
 
 /// Starts `args` with stdout and stderr appended to `log`.
 pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
@@ -150,8 +148,9 @@ std::vector<Row> collect(const io::Sweep& sweep, const fs::path& directory) {
       values.push_back(sweep.parameters[p].labels[c.choice[p]]);
     const auto summary = read_summary(directory / c.label);
     if (!summary.is_object() || !summary.contains("final")) {
-      rows.push_back(
-          {c.label, values, fs::exists(directory / c.label) ? "running" : "not run", 0, {}});
+      std::string status = run_status(directory / c.label);
+      if (status.empty()) status = fs::exists(directory / c.label) ? "running" : "not run";
+      rows.push_back({c.label, values, status, 0, {}});
       continue;
     }
     for (const auto& o : summary["final"]) {
