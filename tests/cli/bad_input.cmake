@@ -7,7 +7,15 @@ set(cases
   "overlap|[[objects]]\n[[objects]]\ncentre = [1.0, 0.0, 0.0]\n|1|objects[2]"
   "crosses_wall|[[objects]]\ncentre = [0.0, 14.5, 0.0]\n|1|crosses the wall"
   "crosses_periodic_face|[[objects]]\ncentre = [14.6, 0.0, 0.0]\n|1|objects[1]"
-  "syntax|equator_nodes = = 4\n|1|syntax")
+  "syntax|equator_nodes = = 4\n|1|syntax"
+  "overflow|[cell]\nlength = 1e400\n|1|cell.length = 1e400"
+  "integer_overflow|[mesh]\nequator_nodes = 9223372036854775808\n|1|mesh.equator_nodes = 9223372036854775808"
+  "step_beyond_end|[time]\nstep = 2.0\nend = 1.0\n|1|time.step = 2.0"
+  "control_character|[output]\ndirectory = \"out\\u0007x\"\n|1|control character")
+# Arrays nested 10000 deep (toml11 recursion): refused, not a crash.
+string(REPEAT "[" 10000 open)
+string(REPEAT "]" 10000 close)
+list(APPEND cases "deep_nesting|a = ${open}${close}\n|1|at most 64")
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 foreach(entry ${cases})

@@ -1,5 +1,7 @@
 // Case files: defaults, round trip through to_toml, one test per kind of error message, flow
 // types, the key reference, dimensionless groups.
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -565,6 +567,66 @@ TEST(DimensionlessGroups, OscillatoryFlowReportsStrainAmplitudeAndFrequency) {
 
 TEST(DimensionlessGroups, NoObjectsNoObjectGroups) {
   EXPECT_TRUE(dimensionless_groups(parse_case("", "g.toml")).empty());
+}
+
+// ---- Hardening of case-file input (issue 11, items 1-3) ----
+
+TEST(CaseConfigHardening, DeepNestingIsRefusedNotACrash) {
+  const std::string deep = "a = " + std::string(10000, '[') + std::string(10000, ']') + "\n";
+  EXPECT_ERROR(deep, "nested");
+  EXPECT_ERROR(deep, "at most 64");
+  std::string inline_tables = "a = ";
+  for (int i = 0; i < 10000; ++i) inline_tables += "{b = ";
+  inline_tables += "1" + std::string(10000, '}') + "\n";
+  EXPECT_ERROR(inline_tables, "nested");
+  // Brackets inside strings and comments are not nesting.
+  EXPECT_EQ(error_of("[case]\nname = \"" + std::string(100, '[') + "x\" # " +
+                     std::string(100, '{') + "\n"),
+            "");
+  // Moderate nesting is still an ordinary (unknown-key) error.
+  EXPECT_ERROR("a = [[[[1]]]]\n", "unknown key 'a'");
+}
+
+TEST(CaseConfigHardening, ManyUnknownKeysAreCappedAndFast) {
+  std::string text = "[mesh]\n";
+  for (int i = 0; i < 20000; ++i) text += "k" + std::to_string(i) + " = 1\n";
+  const auto start = std::chrono::steady_clock::now();
+  const std::string e = error_of(text);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_NE(e.find("unknown key 'mesh.k0'"), std::string::npos) << e.substr(0, 300);
+  EXPECT_NE(e.find("unknown key 'mesh.k9'"), std::string::npos);
+  EXPECT_EQ(e.find("mesh.k10'"), std::string::npos);
+  EXPECT_NE(e.find("19990 more unknown keys"), std::string::npos) << e.substr(e.size() - 300);
+  EXPECT_LT(std::count(e.begin(), e.end(), '\n'), 15);
+}
+
+TEST(CaseConfigHardening, OverflowingNumbersAreRefused) {
+  EXPECT_ERROR("[cell]\nlength = 1e400\n", "cell.length = 1e400");
+  EXPECT_ERROR("[cell]\nlength = -1e400\n", "too large");
+  EXPECT_ERROR("[cell]\nlength = 1e-400\n", "cell.length = 1e-400");
+  EXPECT_ERROR("[mesh]\nequator_nodes = 9223372036854775808\n",
+               "mesh.equator_nodes = 9223372036854775808");
+  EXPECT_ERROR("[cell]\nlength = 99999999999999999999\n", "cell.length = 99999999999999999999");
+  EXPECT_EQ(error_of("[cell]\nlength = 1e300\n"), "");
+  EXPECT_ERROR("[mesh]\nequator_nodes = 9223372036854775807\n", "must be an integer in [8, ");
+}
+
+TEST(CaseConfigHardening, TimeRunsThatDoNothingAreRefused) {
+  EXPECT_ERROR("[time]\nstep = 5e-324\nend = 1.0\n", "time.step");
+  EXPECT_ERROR("[time]\nstep = 2.0\nend = 1.0\n", "time.step = 2.0");
+  EXPECT_ERROR("[time]\nstep = 2.0\nend = 1.0\n", "time.end = 1.0");
+  EXPECT_EQ(error_of("[time]\nstep = 2.0\nend = 0.0\n"), "");  // one Stokes solve: step unused
+  EXPECT_EQ(error_of("[time]\nstep = 1.0\nend = 1.0\n"), "");
+}
+
+TEST(CaseConfigHardening, ControlCharactersInNamesAndPathsAreRefused) {
+  EXPECT_ERROR("[case]\nname = \"a\\u0007b\"\n", "control character");
+  EXPECT_ERROR("[output]\ndirectory = \"out\\nx\"\n", "output.directory = \"out\\nx\"");
+  EXPECT_ERROR("[output]\ndirectory = \"out\\nx\"\n", "control character");
+  EXPECT_ERROR("[output]\ndirectory = \"out\\u007Fx\"\n", "control character");
+  EXPECT_EQ(error_of("[output]\ndirectory = \"out/ok dir\"\n"), "");
 }
 
 }  // namespace

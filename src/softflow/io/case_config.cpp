@@ -20,6 +20,7 @@ namespace {
 using schema::Diagnostics;
 using schema::Read;
 using schema::TableRead;
+using schema::Value;
 
 constexpr double kDefaultCapillaryNumber = 0.1;
 
@@ -103,6 +104,32 @@ void resolve_tension(const TableRead& t, const CaseConfig& c, const FlowState& f
                           *o.capillary_number;
 }
 
+/// A run in time (end > 0) takes n = round(end / step) steps: at least one,
+/// and as many as an int counts. A step beyond end would run past t_end (or,
+/// below end / 2, round to no step at all); a step so small that n overflows
+/// (step = 5e-324) made the run end at once, reported as completed.
+void check_time(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
+  if (time.status("step") == Read::bad || time.status("end") == Read::bad) return;
+  const double step = c.time.step, end = c.time.end;
+  if (!(end > 0.0)) return;  // one Stokes solve: the step is not used
+  const auto shown = [&time](std::string_view key, double x) {
+    const Value* v = time.value(key);
+    return v ? schema::describe(*v) : schema::toml_float(x);
+  };
+  if (step > end) {
+    diag.error(fmt::format("time.step = {} is larger than time.end = {}: a run in time needs "
+                           "time.step <= time.end (or time.end = 0 for one Stokes solve)",
+                           shown("step", step), shown("end", end)));
+    return;
+  }
+  constexpr double kMaxSteps = std::numeric_limits<int>::max();
+  if (!(end / step <= kMaxSteps))
+    diag.error(fmt::format("time.step = {} with time.end = {} makes {:.3g} steps: at most {} "
+                           "are allowed (time.step >= time.end / {})",
+                           shown("step", step), shown("end", end), end / step,
+                           static_cast<long long>(kMaxSteps), static_cast<long long>(kMaxSteps)));
+}
+
 // ---------------------------------------------------------------------------
 // TOML syntax errors: toml11's message carries a source excerpt; keep it, but
 // lead with "file:line:" like a compiler, so editors can jump to it.
@@ -128,7 +155,59 @@ std::string syntax_message(const toml::syntax_error& e, const std::string& sourc
                      excerpt);
 }
 
+constexpr std::size_t kMaxNesting = 64;
+
+// ---------------------------------------------------------------------------
+// Nesting depth: toml11 parses nested arrays and inline tables recursively,
+// so `a = [[[[...` thousands deep overflows the stack (a segmentation fault).
+// The text is scanned first; brackets in strings and comments do not count.
+
+}  // namespace
+
+void check_toml_nesting(std::string_view text, const std::string& source) {
+  std::size_t depth = 0, line = 1;
+  const auto at = [&text](std::size_t i) { return i < text.size() ? text[i] : '\0'; };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+    } else if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const bool basic = c == '"';
+      const bool multi_line = at(i + 1) == c && at(i + 2) == c;
+      i += multi_line ? 3 : 1;
+      for (; i < text.size(); ++i) {
+        if (text[i] == '\n') {
+          ++line;
+          if (!multi_line) break;  // unterminated: toml11 reports it
+        } else if (basic && text[i] == '\\') {
+          if (at(i + 1) == '\n') ++line;
+          ++i;
+        } else if (text[i] == c && (!multi_line || (at(i + 1) == c && at(i + 2) == c))) {
+          if (multi_line) {
+            i += 2;
+            while (at(i + 1) == c) ++i;  // up to two quotes end the content
+          }
+          break;
+        }
+      }
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNesting)
+        throw InputError(fmt::format(
+            "{}:{}: arrays or inline tables nested more than {} deep: at most {} levels of "
+            "[ ] and {{ }} are allowed",
+            source, line, kMaxNesting, kMaxNesting));
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+namespace {
+
 toml::value parse_toml(const std::string& text, const std::string& source) {
+  check_toml_nesting(text, source);
   std::istringstream stream(text);
   try {
     return toml::parse(stream, source);
@@ -200,6 +279,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
 
   // 2. What several keys decide together.
   if (read["output"].status("directory") != Read::ok) c.output_directory = "output/" + c.name;
+  check_time(read["time"], c, diag);
   const FlowState flow = resolve_flow(read["matrix"], read["flow"], c, diag);
   for (std::size_t k = 0; k < c.objects.size(); ++k)
     resolve_tension(objects_read[k], c, flow, c.objects[k], diag);

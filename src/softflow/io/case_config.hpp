@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -124,6 +125,11 @@ CaseConfig read_case_file(const std::filesystem::path& path);
 /// The same from text; `source_name` is used in messages and its stem is the
 /// default case name.
 CaseConfig parse_case(const std::string& toml_text, const std::string& source_name);
+
+/// Throws InputError when arrays or inline tables in `text` nest more than
+/// 64 deep (toml11 parses them recursively: deeper input could overflow the
+/// stack). Every reader of TOML text calls this before toml::parse.
+void check_toml_nesting(std::string_view text, const std::string& source);
 
 /// The resolved case as TOML: every key that applies, defaults filled in.
 /// Reading it back gives the same CaseConfig, bit for bit.

@@ -10,13 +10,30 @@ namespace {
 
 using namespace schema;  // NOLINT: the declarations below read as a table with it
 
+bool is_control(char ch) {
+  const auto c = static_cast<unsigned char>(ch);
+  return c < 0x20 || c == 0x7f;
+}
+
+/// "" or what is wrong: a name or path with a control character (a newline,
+/// a bell) would make file names that cannot be typed or listed sensibly.
+std::string control_character_problem(const std::string& s) {
+  const auto it = std::find_if(s.begin(), s.end(), is_control);
+  if (it == s.end()) return "";
+  return fmt::format("must not contain control characters (found U+{:04X} at position {}); "
+                     "use printable characters only",
+                     static_cast<unsigned>(static_cast<unsigned char>(*it)),
+                     it - s.begin() + 1);
+}
+
 // ---- the tables that fill CaseConfig itself ----
 
 Table<CaseConfig> case_table() {
   return {"case", "What the run is called.", false,
           {text("name", field(&CaseConfig::name), Computed{"the case file's name without .toml"},
                 "names the run and its output directory",
-                [](const std::string& s) {
+                [](const std::string& s) -> std::string {
+                  if (auto what = control_character_problem(s); !what.empty()) return what;
                   return is_plain_name(s) ? ""
                                           : "must be a non-empty name without '/' or '\\' (it "
                                             "names the output directory)";
@@ -128,7 +145,10 @@ Table<CaseConfig> output_table() {
       {text("directory", field(&CaseConfig::output_directory), Computed{"`\"output/<name>\"`"},
             "where results go; a relative path is taken from the working directory, not from "
             "the case file's folder",
-            [](const std::string& s) { return s.empty() ? "must not be empty" : ""; }),
+            [](const std::string& s) -> std::string {
+              if (s.empty()) return "must not be empty";
+              return control_character_problem(s);
+            }),
        boolean("fields", field(&CaseConfig::write_fields), true,
                "write velocity and pressure fields for ParaView (VTU/PVD)")}};
 }

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cstdint>
+#include <cstdlib>
 #include <cmath>
 #include <sstream>
 
@@ -125,11 +129,88 @@ void Diagnostics::error(std::string_view key_path, const Value& value, std::stri
   error(fmt::format("{} = {}: {}", key_path, describe(value), what));
 }
 
+void Diagnostics::unknown_key(std::string_view message) {
+  if (!lists_next_unknown_key()) {
+    ++unlisted_unknown_;
+    return;
+  }
+  ++listed_unknown_;
+  error(message);
+}
+
 void Diagnostics::throw_if_any() const {
-  if (messages_.empty()) return;
+  if (count() == 0) return;
   std::string all;
   for (const auto& m : messages_) all += (all.empty() ? "" : "\n") + m;
+  if (unlisted_unknown_ > 0)
+    all += fmt::format("\n{}: ... and {} more unknown key{} (only the first {} are listed)",
+                       source_, unlisted_unknown_, unlisted_unknown_ == 1 ? "" : "s",
+                       kMaxListedUnknownKeys);
   throw InputError(all);
+}
+
+// ---------------------------------------------------------------------------
+// What toml11 changed silently.
+
+std::string written(const Value& v) {
+  const auto* region = dynamic_cast<const toml::detail::region*>(toml::detail::get_region(v));
+  return region ? region->str() : std::string();
+}
+
+namespace {
+
+/// The text of a TOML integer or float without '_' and a leading '+'.
+std::string plain_number_text(std::string text) {
+  std::erase(text, '_');
+  if (!text.empty() && text.front() == '+') text.erase(0, 1);
+  return text;
+}
+
+}  // namespace
+
+std::string representation_problem(const Value& v) {
+  if (!v.is_integer() && !v.is_floating()) return "";
+  const std::string text = plain_number_text(written(v));
+  if (text.empty()) return "";
+  if (v.is_integer()) {
+    // Only the clamped extremes can hide an overflow.
+    const auto x = v.as_integer();
+    if (x != std::numeric_limits<std::int64_t>::max() &&
+        x != std::numeric_limits<std::int64_t>::min())
+      return "";
+    int base = 10;
+    std::string_view digits = text;
+    bool negative = false;
+    if (digits.size() > 2 && digits[0] == '0' && std::isalpha(static_cast<unsigned char>(digits[1]))) {
+      base = digits[1] == 'x' ? 16 : digits[1] == 'o' ? 8 : 2;
+      digits.remove_prefix(2);
+    } else if (!digits.empty() && digits.front() == '-') {
+      negative = true;
+      digits.remove_prefix(1);
+    }
+    std::uint64_t magnitude = 0;
+    const auto [end, ec] =
+        std::from_chars(digits.data(), digits.data() + digits.size(), magnitude, base);
+    const std::uint64_t limit =
+        static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) + (negative ? 1 : 0);
+    if (ec == std::errc::result_out_of_range || (ec == std::errc() && magnitude > limit))
+      return "is outside the 64-bit integer range [-9223372036854775808, "
+             "9223372036854775807]";
+    return "";
+  }
+  const double x = v.as_floating();
+  if (std::isnan(x) || text == "inf" || text == "-inf") return "";  // written as such
+  // Underflow to 0 or overflow to +-max/inf: strtod says ERANGE; a subnormal
+  // (also ERANGE) is kept, as it is the nearest double to what was written.
+  errno = 0;
+  const double reparsed = std::strtod(text.c_str(), nullptr);
+  if (errno != ERANGE) return "";
+  if (std::isinf(reparsed) || std::abs(reparsed) >= std::numeric_limits<double>::max())
+    return "is too large for a double (its magnitude must be below 1.8e308)";
+  if (reparsed == 0.0 && text.find_first_of("123456789") < text.find_first_of("eE"))
+    return "is too small for a double (a number other than 0 must have a magnitude of at least "
+           "5e-324)";
+  return "";
 }
 
 // ---------------------------------------------------------------------------
@@ -141,6 +222,9 @@ namespace {
 /// "equator_ndoes" is one slip of the finger from "equator_nodes", not two.
 std::size_t edit_distance(std::string_view a, std::string_view b) {
   const std::size_t n = a.size(), m = b.size();
+  // At least the difference in length: past 2 nothing is suggested anyway,
+  // and a huge key costs nothing.
+  if (n > m + 2 || m > n + 2) return std::max(n, m) - std::min(n, m);
   std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
   for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
   for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
@@ -229,10 +313,14 @@ std::string suggestion(const Schema& schema, std::string_view table, std::string
 
 void report_unknown(const Schema& schema, std::string_view table, std::string_view prefix,
                     std::string_view key, const std::string& path, Diagnostics& diag) {
+  if (!diag.lists_next_unknown_key()) {  // only counted: no suggestion to search for
+    diag.unknown_key("");
+    return;
+  }
   std::string message = fmt::format("unknown key '{}'", path);
   if (const auto hint = suggestion(schema, table, prefix, key); !hint.empty())
     message += fmt::format(" (did you mean '{}'?)", hint);
-  diag.error(message);
+  diag.unknown_key(message);
 }
 
 }  // namespace
@@ -265,9 +353,19 @@ std::string number_expected(const Value& v) {
   return "must be a number";
 }
 
+/// "path = value: what", the value as written when toml11 changed it.
+void report_number(const std::string& path, const Value& v, std::string_view what,
+                   Diagnostics& diag) {
+  if (!representation_problem(v).empty())
+    diag.error(fmt::format("{} = {}: {}", path, written(v).substr(0, 60), what));
+  else
+    diag.error(path, v, what);
+}
+
 /// What is wrong with one number of a key, or "".
 std::string number_problem(const Value& v, const Range& range, double& x) {
   if (!as_number(v, x)) return number_expected(v);
+  if (std::string what = representation_problem(v); !what.empty()) return what;
   if (!std::isfinite(x)) return "must be a finite number";
   if (!range.contains(x)) return "must be " + range.text();
   return "";
@@ -279,7 +377,7 @@ Read read_number(const Value& v, const std::string& path, const Range& range, do
                  Diagnostics& diag) {
   double x = 0.0;
   if (const std::string what = number_problem(v, range, x); !what.empty()) {
-    diag.error(path, v, what);
+    report_number(path, v, what, diag);
     return Read::bad;
   }
   out = x;
@@ -296,6 +394,10 @@ Read read_integer(const Value& v, const std::string& path, const Range& range, i
                              static_cast<long long>(v.as_floating()), describe(v)));
     else
       diag.error(path, v, "must be an integer");
+    return Read::bad;
+  }
+  if (const std::string what = representation_problem(v); !what.empty()) {
+    report_number(path, v, fmt::format("{}; must be an integer {}", what, range.text()), diag);
     return Read::bad;
   }
   const auto x = v.as_integer();
@@ -368,7 +470,7 @@ Read read_vector3(const Value& v, const std::string& path, const Range& range,
   for (int i = 0; i < 3; ++i) {
     const Value& e = v.as_array()[static_cast<std::size_t>(i)];
     if (const std::string what = number_problem(e, range, x[i]); !what.empty()) {
-      diag.error(fmt::format("{}[{}]", path, i + 1), e, what);
+      report_number(fmt::format("{}[{}]", path, i + 1), e, what, diag);
       ok = false;
     }
   }
@@ -412,15 +514,26 @@ std::string TableRead::path(std::string_view key) const {
 std::vector<std::pair<std::string, const Value*>> in_file_order(const toml::table& table) {
   std::vector<std::pair<std::string, const Value*>> entries;
   for (const auto& [key, value] : table) entries.emplace_back(key, &value);
-  const auto position = [](const Value* v) {
-    const auto loc = v->location();
-    return std::make_pair(loc.line(), loc.column());
+  // The offset in the file, not toml11's location(): that counts the lines
+  // from the start of the file on each call, which made sorting thousands of
+  // keys quadratic (seconds to minutes).
+  const auto position = [](const Value* v) -> std::size_t {
+    const auto* region = dynamic_cast<const toml::detail::region*>(toml::detail::get_region(*v));
+    if (!region) return std::numeric_limits<std::size_t>::max();
+    return static_cast<std::size_t>(region->first() - region->begin());
   };
-  std::sort(entries.begin(), entries.end(), [&](const auto& a, const auto& b) {
-    const auto pa = position(a.second), pb = position(b.second);
-    return pa != pb ? pa < pb : a.first < b.first;
+  std::vector<std::pair<std::size_t, std::size_t>> order;  // (position, index)
+  order.reserve(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    order.emplace_back(position(entries[i].second), i);
+  std::sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first
+                              : entries[a.second].first < entries[b.second].first;
   });
-  return entries;
+  std::vector<std::pair<std::string, const Value*>> sorted;
+  sorted.reserve(entries.size());
+  for (const auto& [pos, i] : order) sorted.push_back(std::move(entries[i]));
+  return sorted;
 }
 
 void check_top_level(const toml::table& root, const Schema& schema, Diagnostics& diag) {

@@ -111,14 +111,35 @@ class Diagnostics {
   void error(std::string_view message);
   /// "<path> = <value as written>: <what>".
   void error(std::string_view key_path, const Value& value, std::string_view what);
-  [[nodiscard]] std::size_t count() const { return messages_.size(); }
+  /// An unknown key: the first kMaxListedUnknownKeys are listed, the rest
+  /// only counted ("... and 990 more unknown keys"), so that a file of
+  /// thousands of stray keys gives a readable answer.
+  static constexpr std::size_t kMaxListedUnknownKeys = 10;
+  /// Whether the next unknown key would still be listed (worth a suggestion).
+  [[nodiscard]] bool lists_next_unknown_key() const {
+    return listed_unknown_ < kMaxListedUnknownKeys;
+  }
+  void unknown_key(std::string_view message);
+  [[nodiscard]] std::size_t count() const { return messages_.size() + unlisted_unknown_; }
   /// Throws InputError with one line per problem.
   void throw_if_any() const;
 
  private:
   std::string source_;
   std::vector<std::string> messages_;
+  std::size_t listed_unknown_ = 0;
+  std::size_t unlisted_unknown_ = 0;
 };
+
+/// The value's text as written in the file (e.g. "1e400", which toml11
+/// stores as 1.8e308), or "" when the value has no source text.
+std::string written(const Value& v);
+
+/// What is wrong with a number's text that its stored value hides: "" when
+/// the stored value is what was written (up to rounding), else why not
+/// ("is too large for a double ..."). toml11 clamps out-of-range integers
+/// and floats silently.
+std::string representation_problem(const Value& v);
 
 enum class Read { absent, ok, bad };
 

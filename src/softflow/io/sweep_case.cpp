@@ -25,6 +25,7 @@ bool is_vector_key(const std::string& section, const std::string& key) {
 }
 
 toml::value parse(const std::string& text, const std::string& source) {
+  check_toml_nesting(text, source);
   try {
     std::istringstream stream(text);
     return toml::parse(stream, source);
