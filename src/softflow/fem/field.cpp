@@ -221,6 +221,17 @@ std::optional<Eigen::VectorXd> Field::value_at_point(const Eigen::Vector3d& x) c
   return value_at_reference(where->tet, where->xi);
 }
 
+ElementMatrix element_matrix(const Field& field) {
+  const auto range = field.ownership();
+  const la::OwnershipRange rows{range.begin, range.end};
+  const int n = field.dofs().n_dofs();
+  ElementMatrix m{std::make_unique<la::CooMatrix>(rows, n, rows, n), {}};
+  for (int t : field.owned_elements())
+    m.blocks.push_back(m.matrix->add_block(field.dofs().element_dofs(t), field.dofs().element_dofs(t)));
+  m.matrix->create();
+  return m;
+}
+
 StatePart state_part(Field& field) {
   return {"fields/" + field.name(),
           [&field](StateRecord& r, const std::string& p) { r.set(p + "values", field.gather()); },
@@ -240,12 +251,7 @@ void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f,
   const int n_c = target.components(), n_k = target.space().n_element_nodes();
   const int n = n_k * n_c;
   const auto range = target.ownership();
-  const la::OwnershipRange rows{range.begin, range.end};
-  la::CooMatrix mass(rows, dofs.n_dofs(), rows, dofs.n_dofs());
-  std::vector<la::CooMatrix::Block> blocks;
-  for (int t : target.owned_elements())
-    blocks.push_back(mass.add_block(dofs.element_dofs(t), dofs.element_dofs(t)));
-  mass.create();
+  auto mass = element_matrix(target);
 
   la::Vector rhs = la::make_vector(range.size(), dofs.n_dofs());
   check(VecSet(rhs.get(), 0.0), "VecSet");
@@ -264,17 +270,17 @@ void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f,
           for (int c = 0; c < n_c; ++c) me(a * n_c + c, b * n_c + c) += p.weight * phi[a] * phi[b];
       }
     }
-    mass.set_block(blocks[e++], me);
+    mass.matrix->set_block(mass.blocks[e++], me);
     const auto d = dofs.element_dofs(t);
     check(VecSetValues(rhs.get(), n, d.data(), fe.data(), ADD_VALUES), "VecSetValues");
   }
-  mass.assemble();
+  mass.matrix->assemble();
   check(VecAssemblyBegin(rhs.get()), "VecAssemblyBegin");
   check(VecAssemblyEnd(rhs.get()), "VecAssemblyEnd");
 
   la::Solver ksp;
   check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
-  check(KSPSetOperators(ksp.get(), mass.get(), mass.get()), "KSPSetOperators");
+  check(KSPSetOperators(ksp.get(), mass.matrix->get(), mass.matrix->get()), "KSPSetOperators");
   check(KSPSetType(ksp.get(), KSPCG), "KSPSetType");
   PC pc = nullptr;
   check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");

@@ -13,6 +13,7 @@
 #include "softflow/common/state.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/tabulation.hpp"
+#include "softflow/la/coo_matrix.hpp"
 #include "softflow/la/petsc.hpp"
 #include "softflow/mesh/mesh.hpp"
 
@@ -114,6 +115,16 @@ class Field {
   la::Vector vector_;
   std::vector<double> local_;     // owned then ghost values, as of the last update_ghosts()
 };
+
+/// A square operator on a field's dofs, assembled element by element: one
+/// dense block per element of this rank's, declared in owned_elements()
+/// order (blocks[e] belongs to owned_elements()[e]) and the pattern
+/// created. Every element loop over a field assembles through it.
+struct ElementMatrix {
+  std::unique_ptr<la::CooMatrix> matrix;
+  std::vector<la::CooMatrix::Block> blocks;
+};
+[[nodiscard]] ElementMatrix element_matrix(const Field& field);
 
 /// The field as a part of a run's state ("fields/<name>"): every value,
 /// gathered; restored by scatter() after checking the size. Collective.

@@ -157,6 +157,20 @@ Read read_choice(const Value& v, const std::string& path, const std::vector<Choi
 /// Exactly three numbers; element i is named path[i] (1-based) in messages.
 Read read_vector3(const Value& v, const std::string& path, const Range& range,
                   Eigen::Vector3d& out, Diagnostics& diag);
+
+/// The read function of a key checked by one of the ranged readers above:
+/// the field is set only when the value reads.
+template <class Target, class X, class Set>
+auto ranged_reader(Set set, Range range,
+                   Read (*parse)(const Value&, const std::string&, const Range&, X&, Diagnostics&)) {
+  return [set = std::move(set), range, parse](Target& t, const Value& v, const std::string& path,
+                                              Diagnostics& diag) {
+    X x{};
+    const Read r = parse(v, path, range, x, diag);
+    if (r == Read::ok) set(t, x);
+    return r;
+  };
+}
 }  // namespace detail
 
 // ---------------------------------------------------------------------------
@@ -272,13 +286,7 @@ Key<Target> number(std::string name, Field<Target, double> f,
                    std::type_identity_t<Default<double>> d, Range range, std::string doc) {
   auto k = detail::declare<Target, double>(std::move(name), KeyType::number, range, f, d,
                                            std::move(doc), toml_float);
-  k.read = [set = f.set, range](Target& t, const Value& v, const std::string& path,
-                                Diagnostics& diag) {
-    double x = 0.0;
-    const Read r = detail::read_number(v, path, range, x, diag);
-    if (r == Read::ok) set(t, x);
-    return r;
-  };
+  k.read = detail::ranged_reader<Target>(f.set, range, &detail::read_number);
   return k;
 }
 
@@ -293,13 +301,7 @@ Key<Target> optional_number(std::string name, Field<Target, std::optional<double
   k.default_text = std::move(d.how);
   k.default_in_words = true;
   k.doc = std::move(doc);
-  k.read = [set = f.set, range](Target& t, const Value& v, const std::string& path,
-                                Diagnostics& diag) {
-    double x = 0.0;
-    const Read r = detail::read_number(v, path, range, x, diag);
-    if (r == Read::ok) set(t, x);
-    return r;
-  };
+  k.read = detail::ranged_reader<Target>(f.set, range, &detail::read_number);
   k.print = [get = f.get](const Target& t) -> std::optional<std::string> {
     const auto x = get(t);
     return x ? std::optional<std::string>(toml_float(*x)) : std::nullopt;
@@ -315,13 +317,7 @@ Key<Target> integer(std::string name, Field<Target, int> f, std::type_identity_t
   auto k = detail::declare<Target, int>(std::move(name), KeyType::integer, range, f, d,
                                         std::move(doc),
                                         [](const int& x) { return std::to_string(x); });
-  k.read = [set = f.set, range](Target& t, const Value& v, const std::string& path,
-                                Diagnostics& diag) {
-    int x = 0;
-    const Read r = detail::read_integer(v, path, range, x, diag);
-    if (r == Read::ok) set(t, x);
-    return r;
-  };
+  k.read = detail::ranged_reader<Target>(f.set, range, &detail::read_integer);
   return k;
 }
 
@@ -405,13 +401,7 @@ Key<Target> vector3(std::string name, Field<Target, Eigen::Vector3d> f,
                     std::string doc) {
   auto k = detail::declare<Target, Eigen::Vector3d>(std::move(name), KeyType::vector3, range, f,
                                                     d, std::move(doc), toml_vector);
-  k.read = [set = f.set, range](Target& t, const Value& v, const std::string& path,
-                                Diagnostics& diag) {
-    Eigen::Vector3d x;
-    const Read r = detail::read_vector3(v, path, range, x, diag);
-    if (r == Read::ok) set(t, x);
-    return r;
-  };
+  k.read = detail::ranged_reader<Target>(f.set, range, &detail::read_vector3);
   return k;
 }
 

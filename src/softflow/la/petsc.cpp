@@ -59,6 +59,20 @@ IndexSet make_index_set(std::span<const PetscInt> owned_indices, PetscInt block_
   return is;
 }
 
+Solver lu_solver(Mat a, const std::string& prefix) {
+  Solver ksp;
+  check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
+  check(KSPSetOptionsPrefix(ksp.get(), prefix.c_str()), "KSPSetOptionsPrefix");
+  check(KSPSetOperators(ksp.get(), a, a), "KSPSetOperators");
+  check(KSPSetType(ksp.get(), KSPPREONLY), "KSPSetType");
+  PC pc = nullptr;
+  check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");
+  check(PCSetType(pc, PCLU), "PCSetType");
+  check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  check(KSPSetFromOptions(ksp.get()), "KSPSetFromOptions");
+  return ksp;
+}
+
 NullSpace rigid_body_modes(std::span<const PetscScalar> xyz) {
   const auto n = static_cast<PetscInt>(xyz.size());
   Vector coordinates;

@@ -78,6 +78,10 @@ struct NamedIndexSet {
   IS rows = nullptr;  ///< not owned
 };
 
+/// A direct solver: MUMPS LU applied once (preonly) to `a`, its choices
+/// overridable under the options prefix (e.g. -transport_pc_type ilu).
+Solver lu_solver(Mat a, const std::string& prefix);
+
 /// The six rigid-body modes (3 translations, 3 rotations) of a vector field
 /// given the coordinates of this rank's nodes as x y z triples: the
 /// near-nullspace smoothed-aggregation AMG needs for elasticity-like blocks.

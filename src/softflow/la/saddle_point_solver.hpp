@@ -80,8 +80,6 @@ class SaddlePointSolver {
     refactor_next_ = refactor_next;
     n_setups_ = n_setups;
   }
-  /// The next solve builds a fresh preconditioner whatever the policy says.
-  void request_fresh_preconditioner() { refactor_next_ = true; }
   /// Builds the preconditioner (factors) on the current operators now,
   /// without solving: a restart rebuilding the factors an earlier run had.
   void set_up();

@@ -5,7 +5,6 @@
 #include "softflow/element/shape_functions.hpp"
 #include "softflow/fem/field.hpp"
 #include "softflow/fem/supg.hpp"
-#include "softflow/la/coo_matrix.hpp"
 #include "support/verification/curved_box.hpp"
 
 namespace softflow::verification {
@@ -46,13 +45,7 @@ ConvectionDiffusionErrors solve_convection_diffusion(int n, double eps, bool sup
   fem::Field phi(mesh, "phi", space, 1);
   const auto& dofs = phi.dofs();
   const auto range = phi.ownership();
-  const la::OwnershipRange rows{range.begin, range.end};
-
-  la::CooMatrix a(rows, dofs.n_dofs(), rows, dofs.n_dofs());
-  std::vector<la::CooMatrix::Block> blocks;
-  for (int t : phi.owned_elements())
-    blocks.push_back(a.add_block(dofs.element_dofs(t), dofs.element_dofs(t)));
-  a.create();
+  auto a = fem::element_matrix(phi);
   la::Vector rhs = la::make_vector(range.size(), dofs.n_dofs());
   la::check(VecSet(rhs.get(), 0.0), "VecSet");
 
@@ -78,11 +71,11 @@ ConvectionDiffusionErrors solve_convection_diffusion(int n, double eps, bool sup
                         + tau * b_grad * b_grad.transpose());  // (3)
       fe += p.weight * f * (n + tau * b_grad);
     }
-    a.set_block(blocks[e++], ke);
+    a.matrix->set_block(a.blocks[e++], ke);
     const auto d = dofs.element_dofs(t);
     la::check(VecSetValues(rhs.get(), 4, d.data(), fe.data(), ADD_VALUES), "VecSetValues");
   }
-  a.assemble();
+  a.matrix->assemble();
   la::check(VecAssemblyBegin(rhs.get()), "VecAssemblyBegin");
   la::check(VecAssemblyEnd(rhs.get()), "VecAssemblyEnd");
 
@@ -107,18 +100,11 @@ ConvectionDiffusionErrors solve_convection_diffusion(int n, double eps, bool sup
             "VecSetValues");
   la::check(VecAssemblyBegin(x.get()), "VecAssemblyBegin");
   la::check(VecAssemblyEnd(x.get()), "VecAssemblyEnd");
-  la::check(MatZeroRowsColumns(a.get(), static_cast<PetscInt>(fixed.size()), fixed.data(), 1.0,
+  la::check(MatZeroRowsColumns(a.matrix->get(), static_cast<PetscInt>(fixed.size()), fixed.data(), 1.0,
                                x.get(), rhs.get()),
             "MatZeroRowsColumns");
 
-  la::Solver ksp;
-  la::check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
-  la::check(KSPSetOperators(ksp.get(), a.get(), a.get()), "KSPSetOperators");
-  la::check(KSPSetType(ksp.get(), KSPPREONLY), "KSPSetType");
-  PC pc = nullptr;
-  la::check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");
-  la::check(PCSetType(pc, PCLU), "PCSetType");
-  la::check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  const la::Solver ksp = la::lu_solver(a.matrix->get(), "convection_diffusion_");
   la::check(KSPSolve(ksp.get(), rhs.get(), phi.vector()), "KSPSolve");
   phi.update_ghosts();
 

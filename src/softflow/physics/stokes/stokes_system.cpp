@@ -218,16 +218,10 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
     throw SolverError(fmt::format("StokesProblem: {} viscosities for {} regions",
                                   problem.viscosity.size(), mesh_.n_objects + 1));
   const auto start = std::chrono::steady_clock::now();
-  la::Vector rhs = la::make_vector(range_.size(), dofs_.n_dofs());
-  la::Vector x = la::make_vector(range_.size(), dofs_.n_dofs());
-  check(VecSet(rhs.get(), 0.0), "VecSet");
-  check(VecSet(x.get(), 0.0), "VecSet");
-  assemble(mesh_, problem, rhs.get());
-  apply_dirichlet(problem, rhs.get(), x.get());
+  auto [rhs, x] = assemble_system(mesh_, problem);
   StokesResult result;
   result.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr);
   const int setups = solver_->n_setups();
   result.solve = solver_->solve(rhs.get(), x.get());
   if (solver_->n_setups() > setups) record_factorization(problem);
@@ -248,12 +242,8 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   factors_ = std::move(r);
 }
 
-void StokesSystem::factor(const MatrixRecord& record) {
-  mesh::Mesh geometry = mesh_;
-  geometry.nodes = record.nodes;
-  StokesProblem problem = record.problem;
-  if (problem.semi_implicit_tension.active())
-    problem.semi_implicit_tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
+std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(const mesh::Mesh& geometry,
+                                                                const StokesProblem& problem) {
   la::Vector rhs = la::make_vector(range_.size(), dofs_.n_dofs());
   la::Vector x = la::make_vector(range_.size(), dofs_.n_dofs());
   check(VecSet(rhs.get(), 0.0), "VecSet");
@@ -261,6 +251,16 @@ void StokesSystem::factor(const MatrixRecord& record) {
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
   solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr);
+  return {std::move(rhs), std::move(x)};
+}
+
+void StokesSystem::factor(const MatrixRecord& record) {
+  mesh::Mesh geometry = mesh_;
+  geometry.nodes = record.nodes;
+  StokesProblem problem = record.problem;
+  if (problem.semi_implicit_tension.active())
+    problem.semi_implicit_tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
+  assemble_system(geometry, problem);  // the matrix is what counts; the vectors go
   solver_->set_up();
 }
 

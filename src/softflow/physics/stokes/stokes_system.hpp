@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "softflow/common/state.hpp"
@@ -104,6 +105,11 @@ class StokesSystem {
   la::NullSpace velocity_near_nullspace() const;
   /// Assembles on `geometry` (the current mesh, or a saved node set of it).
   void assemble(const mesh::Mesh& geometry, const StokesProblem& problem, Vec rhs);
+  /// Assembly, Dirichlet elimination and operators handed to the solver:
+  /// the system ready to solve, as (right-hand side, initial guess with the
+  /// boundary values).
+  std::pair<la::Vector, la::Vector> assemble_system(const mesh::Mesh& geometry,
+                                                    const StokesProblem& problem);
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
   /// The 18 velocity unknowns of interface triangle `face` (matrix side).
   [[nodiscard]] std::array<PetscInt, 18> interface_velocity_dofs(int face) const;

@@ -23,16 +23,8 @@ constexpr int kQuadratureDegree = 4;
 AleTransport::AleTransport(fem::Field& s)
     : s_(s),
       previous_(s.mesh(), s.name() + "_previous", s.dofs().field(0).space, s.components()),
-      scalar_(s.mesh(), s.name() + "_component", s.dofs().field(0).space, 1) {
-  const auto range = scalar_.ownership();
-  const la::OwnershipRange rows{range.begin, range.end};
-  const int n = scalar_.dofs().n_dofs();
-  matrix_ = std::make_unique<la::CooMatrix>(rows, n, rows, n);
-  for (int t : scalar_.owned_elements())
-    blocks_.push_back(
-        matrix_->add_block(scalar_.dofs().element_dofs(t), scalar_.dofs().element_dofs(t)));
-  matrix_->create();
-}
+      scalar_(s.mesh(), s.name() + "_component", s.dofs().field(0).space, 1),
+      operator_(fem::element_matrix(scalar_)) {}
 
 AleTransport::~AleTransport() = default;
 
@@ -103,7 +95,7 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
       if (source) known += source(p);
       fe.noalias() += p.weight * test * known.transpose();
     }
-    matrix_->set_block(blocks_[e++], ke);
+    operator_.matrix->set_block(operator_.blocks[e++], ke);
     const auto d = scalar_.dofs().element_dofs(t);
     for (int comp = 0; comp < n_c; ++comp) {
       const Eigen::VectorXd column = fe.col(comp);
@@ -111,7 +103,7 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
             "VecSetValues");
     }
   }
-  matrix_->assemble();
+  operator_.matrix->assemble();
   for (auto& b : rhs) {
     check(VecAssemblyBegin(b.get()), "VecAssemblyBegin");
     check(VecAssemblyEnd(b.get()), "VecAssemblyEnd");
@@ -119,7 +111,7 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
 
   // Constrained rows become identity rows; their right-hand sides the values.
   std::vector<PetscInt> rows(constrained_scalar_dofs_.begin(), constrained_scalar_dofs_.end());
-  check(MatZeroRows(matrix_->get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
+  check(MatZeroRows(operator_.matrix->get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
                     nullptr, nullptr),
         "MatZeroRows");
   if (!rows.empty()) {
@@ -140,16 +132,7 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
   }
 
   // One factorisation, one solve per component.
-  la::Solver ksp;
-  check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
-  check(KSPSetOptionsPrefix(ksp.get(), "transport_"), "KSPSetOptionsPrefix");
-  check(KSPSetOperators(ksp.get(), matrix_->get(), matrix_->get()), "KSPSetOperators");
-  check(KSPSetType(ksp.get(), KSPPREONLY), "KSPSetType");
-  PC pc = nullptr;
-  check(KSPGetPC(ksp.get(), &pc), "KSPGetPC");
-  check(PCSetType(pc, PCLU), "PCSetType");
-  check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-  check(KSPSetFromOptions(ksp.get()), "KSPSetFromOptions");
+  const la::Solver ksp = la::lu_solver(operator_.matrix->get(), "transport_");
 
   check(VecCopy(s_.vector(), previous_.vector()), "VecCopy");  // s_n becomes the history
   PetscScalar* out = nullptr;

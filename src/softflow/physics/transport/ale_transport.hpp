@@ -11,7 +11,6 @@
 
 #include "softflow/common/state.hpp"
 #include "softflow/fem/field.hpp"
-#include "softflow/la/coo_matrix.hpp"
 
 namespace softflow::physics {
 
@@ -73,8 +72,7 @@ class AleTransport {
   fem::Field& s_;
   fem::Field previous_;  // s_{n-1}
   fem::Field scalar_;    // one component's solution
-  std::unique_ptr<la::CooMatrix> matrix_;
-  std::vector<la::CooMatrix::Block> blocks_;
+  fem::ElementMatrix operator_;  // on scalar_'s dofs
   std::vector<int> constrained_scalar_dofs_;  // owned, scalar numbering
   std::function<Eigen::VectorXd(const Eigen::Vector3d&, int, double)> boundary_values_;
   int steps_ = 0;
