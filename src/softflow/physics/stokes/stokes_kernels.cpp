@@ -5,7 +5,9 @@
 namespace softflow::physics {
 
 double add_stokes_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
-                             double eta, TetMatrix& out, PressureMass* scaled_pressure_mass) {
+                             double eta, TetMatrix& out, PressureMass* scaled_pressure_mass,
+                             double pressure_mass_viscosity) {
+  const double mass_eta = pressure_mass_viscosity > 0.0 ? pressure_mass_viscosity : eta;
   double volume = 0.0;
   for (int q = 0; q < tab.rule.size(); ++q) {
     const auto map = element::tet_map(x, tab.p2_grad[q]);
@@ -35,7 +37,7 @@ double add_stokes_tet_matrix(const element::TetNodes& x, const fem::TetTabulatio
     // (3) -(1/eta)(psi_i, psi_j)
     if (scaled_pressure_mass)
       for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) (*scaled_pressure_mass)(i, j) -= w * psi[i] * psi[j] / eta;
+        for (int j = 0; j < 4; ++j) (*scaled_pressure_mass)(i, j) -= w * psi[i] * psi[j] / mass_eta;
   }
   return volume;
 }

@@ -20,11 +20,14 @@ using TriangleStiffness = Eigen::Matrix<double, 6, 6>;
 ///   (2) b(q, u) = -(q, div u) and its transpose  pressure-velocity,
 /// and, if `scaled_pressure_mass` is given,
 ///   (3) -(1/eta)(q, p)  into it: the Schur-complement approximation that
-///       the preconditioning matrix carries in its pressure block.
+///       the preconditioning matrix carries in its pressure block, with
+///       `pressure_mass_viscosity` in place of eta if it is positive (a
+///       viscoelastic phase's step viscosity: eta may be 0 there).
 /// Returns the element volume.
 double add_stokes_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
                              double eta, TetMatrix& out,
-                             PressureMass* scaled_pressure_mass = nullptr);
+                             PressureMass* scaled_pressure_mass = nullptr,
+                             double pressure_mass_viscosity = 0.0);
 
 /// (v, f) on one tetrahedron: body force loading of the velocity rows.
 template <class Force>

@@ -6,6 +6,12 @@
 
 #include <Eigen/Core>
 
+#include "softflow/physics/viscoelastic/constitutive.hpp"
+
+namespace softflow::fem {
+class Field;
+}  // namespace softflow::fem
+
 namespace softflow::physics {
 
 using Vec3 = Eigen::Vector3d;
@@ -52,6 +58,35 @@ struct Material {
   double viscosity = 1.0;  ///< Newtonian (or solvent) viscosity
 };
 
+/// Components of the projected velocity gradient field: G_ij = du_i/dx_j
+/// at component 3 i + j.
+inline constexpr int kVelocityGradientComponents = 9;
+
+/// What the Stokes step needs from the viscoelastic phases (DEVSS-G and
+/// the D'Avino-Hulsen terms, physics/stokes/viscoelastic_terms.hpp). The fields are
+/// referenced, not owned, and live on the Stokes mesh (its current nodes).
+struct ViscoelasticCoupling {
+  /// Constitutive model of every region (0 = matrix, k = object k).
+  std::vector<viscoelastic::Constitutive> models;
+  /// c_n: 6 components (xx, yy, zz, xy, yz, xz), P1 per region.
+  const fem::Field* conformation = nullptr;
+  /// u_m over the step: 3 x P2; nullptr for a mesh at rest.
+  const fem::Field* mesh_velocity = nullptr;
+  /// G*: the projected velocity gradient extrapolated to t_{n+1}
+  /// (kVelocityGradientComponents, P1 per region); nullptr: no DEVSS term.
+  const fem::Field* velocity_gradient = nullptr;
+  double dt = 0.0;
+
+  [[nodiscard]] bool active() const { return conformation != nullptr; }
+  /// theta of region r's DEVSS-G term (0 without G* or without a conformation).
+  [[nodiscard]] double devss_theta(int region) const;
+  /// A viscosity that measures region r's resistance to a velocity change
+  /// over one step: mu + theta + G dt (the Newtonian viscosity of a
+  /// Newtonian phase). The iterative solver's pressure mass is scaled by its
+  /// inverse; it is positive even for a UCM phase (mu = 0).
+  [[nodiscard]] double step_viscosity(int region) const;
+};
+
 /// Everything that defines one instantaneous Stokes problem on a given mesh:
 ///
 ///   -div(2 eta_r D(u)) + grad p = f,  div u = 0   in every region r,
@@ -68,6 +103,9 @@ struct StokesProblem {
   std::function<Vec3(const Vec3&)> boundary_velocity;
   /// Semi-implicit surface tension (see SemiImplicitTension); off by default.
   SemiImplicitTension semi_implicit_tension;
+  /// The viscoelastic phases' stress (inactive: all Newtonian). `viscosity`
+  /// then holds each such phase's solvent viscosity mu (0 for UCM).
+  ViscoelasticCoupling viscoelastic;
   /// The pressure level is fixed at one matrix vertex (the gauge) to this value.
   int pressure_gauge_node = -1;
   double pressure_gauge_value = 0.0;

@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
 #include "softflow/common/state.hpp"
+#include "softflow/fem/field.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
+#include "softflow/physics/stokes/viscoelastic_terms.hpp"
 
 namespace softflow::physics {
 
@@ -51,8 +54,9 @@ StokesSystem::~StokesSystem() = default;
 void StokesSystem::partition() {
   const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
   range_ = {owned.begin, owned.end};
-  for (int t = 0; t < mesh_.n_tets(); ++t)
-    if (range_.owns(dofs_.element_dofs(t)[0])) owned_tets_.push_back(t);
+  // The elements every field works on (fem::owned_elements), so that the
+  // assembly can read the viscoelastic fields' values without communication.
+  owned_tets_ = fem::owned_elements(mesh_);
   for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) {
     const int node = mesh_.interface_faces[f][0];
     if (range_.owns(dofs_.dof(kVelocityField, node, 0))) owned_interface_faces_.push_back(f);
@@ -107,26 +111,35 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
   const bool iterative = static_cast<bool>(pmat_);
   TetMatrix ke;
   TetVector fe;
+  const auto& viscoelastic = problem.viscoelastic;
   for (std::size_t e = 0; e < owned_tets_.size(); ++e) {
     const int t = owned_tets_[e];
     const int region = mesh_.tet_region[t];
-    const double eta = problem.viscosity.at(region);
+    const bool has_stress =
+        viscoelastic.active() && viscoelastic.models.at(region).has_conformation();
+    // A viscoelastic phase: solvent viscosity mu plus the DEVSS-G theta.
+    const double eta =
+        problem.viscosity.at(region) + (has_stress ? viscoelastic.devss_theta(region) : 0.0);
     const auto x = fem::tet_nodes(geometry, t);
     const auto d = dofs_.element_dofs(t);
     ke.setZero();
+    fe.setZero();
     PressureMass mass = PressureMass::Zero();
-    add_stokes_tet_matrix(x, tabulation_, eta, ke, iterative ? &mass : nullptr);
+    add_stokes_tet_matrix(x, tabulation_, eta, ke, iterative ? &mass : nullptr,
+                          has_stress ? viscoelastic.step_viscosity(region) : 0.0);
+    if (has_stress)
+      add_viscoelastic_tet_terms(viscoelastic, fem::quadrature_points(geometry, tabulation_, t), ke,
+                                 fe);
     a_->set_block(tet_blocks_[e], ke);
     if (iterative) {
       ke.bottomRightCorner<4, 4>() = mass;
       pmat_->set_block(tet_blocks_[e], ke);
     }
-    if (problem.body_force) {
-      fe.setZero();
+    if (problem.body_force)
       add_body_force(x, tabulation_, [&](const Vec3& xq) { return problem.body_force(xq, region); },
                      fe);
+    if (problem.body_force || has_stress)
       check(VecSetValues(rhs, 30, d.data(), fe.data(), ADD_VALUES), "VecSetValues(f)");
-    }
   }
   const auto& implicit = problem.semi_implicit_tension;
   for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i) {
@@ -231,13 +244,19 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
 
 void StokesSystem::record_factorization(const StokesProblem& problem) {
   if (settings_.method != la::SaddlePointMethod::direct) return;
-  MatrixRecord r{mesh_.nodes, {}};
+  MatrixRecord r{mesh_.nodes, {}, {}, false};
   r.problem.viscosity = problem.viscosity;
   r.problem.interfacial_tension = problem.interfacial_tension;
   r.problem.pressure_gauge_node = problem.pressure_gauge_node;
   r.problem.semi_implicit_tension.theta_dt = problem.semi_implicit_tension.theta_dt;
   if (problem.semi_implicit_tension.active())
     r.problem.semi_implicit_tension.node_normal = problem.semi_implicit_tension.node_normal;
+  if (const auto& ve = problem.viscoelastic; ve.active()) {
+    r.problem.viscoelastic.models = ve.models;
+    r.problem.viscoelastic.dt = ve.dt;
+    r.conformation = ve.conformation->gather();
+    r.devss = ve.velocity_gradient != nullptr;
+  }
   if (!analysis_) analysis_ = r;
   factors_ = std::move(r);
 }
@@ -260,6 +279,21 @@ void StokesSystem::factor(const MatrixRecord& record) {
   StokesProblem problem = record.problem;
   if (problem.semi_implicit_tension.active())
     problem.semi_implicit_tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
+  // The viscoelastic terms' matrix reads c_n and whether DEVSS-G was on
+  // (its theta); the loads (u_m, G*) do not matter here: zero fields.
+  std::optional<fem::Field> conformation, velocity_gradient;
+  if (!record.conformation.empty()) {
+    // The space of every conformation field: P1, one copy per region.
+    const auto space = std::make_shared<fem::Space>(mesh_, 1, fem::Continuity::per_region);
+    conformation.emplace(mesh_, "conformation", space, 6);
+    conformation->scatter(record.conformation);
+    problem.viscoelastic.conformation = &*conformation;
+    if (record.devss) {
+      velocity_gradient.emplace(mesh_, "velocity_gradient", space,
+                                kVelocityGradientComponents);
+      problem.viscoelastic.velocity_gradient = &*velocity_gradient;
+    }
+  }
   assemble_system(geometry, problem);  // the matrix is what counts; the vectors go
   solver_->set_up();
 }
@@ -280,6 +314,13 @@ void save_matrix_record(StateRecord& out, const std::string& prefix,
   out.set(prefix + "pressure_gauge_node", problem.pressure_gauge_node);
   out.set(prefix + "theta_dt", problem.semi_implicit_tension.theta_dt);
   out.set(prefix + "node_normal", problem.semi_implicit_tension.node_normal);
+  // Each region's model as (model, mu, G, lambda, alpha); dt.
+  std::vector<double> models;
+  for (const auto& m : problem.viscoelastic.models)
+    models.insert(models.end(), {static_cast<double>(m.model()), m.solvent_viscosity(),
+                                 m.modulus(), m.relaxation_time(), m.mobility()});
+  out.set(prefix + "viscoelastic_models", models, 5);
+  out.set(prefix + "viscoelastic_dt", problem.viscoelastic.dt);
 }
 
 }  // namespace
@@ -289,14 +330,17 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
   out.set(prefix + "n_factorizations", solver_->n_setups());
   out.set(prefix + "has_factors", factors_.has_value());
   if (!factors_) return;
-  save_matrix_record(out, prefix + "analysis/", analysis_->nodes, analysis_->problem);
-  save_matrix_record(out, prefix + "factors/", factors_->nodes, factors_->problem);
+  for (const auto& [name, record] : {std::pair{"analysis/", &*analysis_}, {"factors/", &*factors_}}) {
+    save_matrix_record(out, prefix + name, record->nodes, record->problem);
+    out.set(prefix + name + "conformation", record->conformation);
+    out.set(prefix + name + "devss", record->devss);
+  }
 }
 
 void StokesSystem::restore_state(const StateRecord& in, const std::string& prefix) {
   if (in.get_bool(prefix + "has_factors") && settings_.method == la::SaddlePointMethod::direct) {
     auto read = [&](const std::string& p) {
-      MatrixRecord r{in.get_points(p + "nodes"), {}};
+      MatrixRecord r{in.get_points(p + "nodes"), {}, {}, false};
       if (static_cast<int>(r.nodes.size()) != mesh_.n_nodes())
         throw InputError(fmt::format("the saved state's {}nodes do not fit the mesh", p));
       r.problem.viscosity = in.get_array(p + "viscosity");
@@ -304,6 +348,17 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
       r.problem.pressure_gauge_node = in.get_int(p + "pressure_gauge_node");
       r.problem.semi_implicit_tension.theta_dt = in.get_double(p + "theta_dt");
       r.problem.semi_implicit_tension.node_normal = in.get_points(p + "node_normal");
+      // Checkpoints of Newtonian runs from before the viscoelastic phases
+      // have no such entries: nothing viscoelastic in their matrices.
+      if (!in.contains(p + "conformation")) return r;
+      const auto& models = in.get_array(p + "viscoelastic_models", 5);
+      for (std::size_t i = 0; i + 5 <= models.size(); i += 5)
+        r.problem.viscoelastic.models.push_back(viscoelastic::Constitutive::from_parameters(
+            static_cast<viscoelastic::ConstitutiveModel>(std::lround(models[i])), models[i + 1],
+            models[i + 2], models[i + 3], models[i + 4]));
+      r.problem.viscoelastic.dt = in.get_double(p + "viscoelastic_dt");
+      r.conformation = in.get_array(p + "conformation");
+      r.devss = in.get_bool(p + "devss");
       return r;
     };
     // MUMPS keeps the symbolic analysis of its first factorisation for
@@ -313,7 +368,8 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
     factor(*analysis_);
     if (factors_->nodes != analysis_->nodes ||
         factors_->problem.semi_implicit_tension.theta_dt !=
-            analysis_->problem.semi_implicit_tension.theta_dt)
+            analysis_->problem.semi_implicit_tension.theta_dt ||
+        factors_->conformation != analysis_->conformation || factors_->devss != analysis_->devss)
       factor(*factors_);
   }
   solver_->restore_reuse_state(in.get_bool(prefix + "refactor_next"),

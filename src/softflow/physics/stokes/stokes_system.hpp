@@ -92,6 +92,10 @@ class StokesSystem {
   struct MatrixRecord {
     std::vector<mesh::Point> nodes;
     StokesProblem problem;  ///< without loads: body force, boundary values, w unused
+    /// The viscoelastic coupling's conformation c_n (gathered; empty if
+    /// inactive) and whether its DEVSS-G term was on: the matrix reads both.
+    std::vector<double> conformation;
+    bool devss = false;
   };
   void save_state(StateRecord& record, const std::string& prefix) const;
   void restore_state(const StateRecord& record, const std::string& prefix);

@@ -181,6 +181,19 @@ Constitutive Constitutive::kelvin_voigt(double solvent_viscosity, double modulus
                 {.solvent_viscosity = solvent_viscosity, .modulus = modulus});
 }
 
+Constitutive Constitutive::from_parameters(ConstitutiveModel model, double mu, double g,
+                                           double lambda, double alpha) {
+  switch (model) {
+    case ConstitutiveModel::newtonian: return newtonian(mu);
+    case ConstitutiveModel::oldroyd_b: return oldroyd_b(mu, g, lambda);
+    case ConstitutiveModel::giesekus: return giesekus(mu, g, lambda, alpha);
+    case ConstitutiveModel::ucm: return ucm(g, lambda);
+    case ConstitutiveModel::neo_hookean: return neo_hookean(g);
+    case ConstitutiveModel::kelvin_voigt: return kelvin_voigt(mu, g);
+  }
+  throw Error("Constitutive::from_parameters: unknown model");
+}
+
 double Constitutive::polymer_viscosity() const {
   if (!has_conformation()) return 0.0;
   return relaxes() ? modulus_ * relaxation_time_ : kInfinity;

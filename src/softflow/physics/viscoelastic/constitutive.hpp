@@ -84,6 +84,12 @@ class Constitutive {
   [[nodiscard]] static Constitutive ucm(double modulus, double relaxation_time);
   [[nodiscard]] static Constitutive neo_hookean(double modulus);
   [[nodiscard]] static Constitutive kelvin_voigt(double solvent_viscosity, double modulus);
+  /// The model with the parameters the accessors return (solvent_viscosity,
+  /// modulus, relaxation_time, mobility), those it does not have ignored:
+  /// for state saved by a run (e.g. a checkpoint's record of the matrices
+  /// the Stokes factors were built from). Validated as the factories are.
+  [[nodiscard]] static Constitutive from_parameters(ConstitutiveModel model, double mu, double g,
+                                                    double lambda, double alpha);
 
   [[nodiscard]] ConstitutiveModel model() const { return model_; }
   /// mu; the viscosity eta for a Newtonian phase.

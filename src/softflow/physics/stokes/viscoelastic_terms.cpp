@@ -1,0 +1,77 @@
+#include "softflow/physics/stokes/viscoelastic_terms.hpp"
+
+#include <array>
+
+#include "softflow/physics/viscoelastic/conformation_prediction.hpp"
+#include "softflow/physics/viscoelastic/conformation_transport.hpp"
+
+namespace softflow::physics {
+
+namespace ve = viscoelastic;
+
+double ViscoelasticCoupling::devss_theta(int region) const {
+  const auto& model = models.at(region);
+  if (!velocity_gradient || !model.has_conformation()) return 0.0;
+  return model.relaxes() ? model.polymer_viscosity() : model.modulus() * dt;
+}
+
+double ViscoelasticCoupling::step_viscosity(int region) const {
+  const auto& model = models.at(region);
+  if (!model.has_conformation()) return model.solvent_viscosity();
+  return model.solvent_viscosity() + devss_theta(region) + model.modulus() * dt;
+}
+
+void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
+                                const std::vector<fem::QuadraturePoint>& points, TetMatrix& matrix,
+                                TetVector& load) {
+  const int region = points.front().region;
+  const auto& model = coupling.models.at(region);
+  const double modulus = model.modulus();
+  const double theta = coupling.devss_theta(region);
+  const double dt = coupling.dt;
+  for (const auto& p : points) {
+    const Eigen::Matrix<double, 10, 3> g =
+        element::physical_gradients<10>(p.tab->p2_grad[p.q], p.map);
+    const auto& n = p.tab->p2[p.q];
+    const ve::Mat3 c = ve::unpack_symmetric(coupling.conformation->value(p));
+    const Eigen::MatrixXd grad_c_components = coupling.conformation->gradient(p);  // 6 x 3
+    std::array<ve::Mat3, 3> grad_c;
+    for (int d = 0; d < 3; ++d) grad_c[d] = ve::unpack_symmetric(grad_c_components.col(d));
+    // Only the mesh's own motion stays explicit: u.grad c_n is in the matrix.
+    const Eigen::Vector3d um = coupling.mesh_velocity
+                                   ? Eigen::Vector3d(coupling.mesh_velocity->value(p))
+                                   : Eigen::Vector3d::Zero();
+    const ve::ConformationPrediction prediction(model, c, ve::convective_derivative(-um, grad_c),
+                                                dt);
+    const double w = p.weight;
+
+    // Matrix. For v = N_k e_a and u = N_l e_b (L = e_b (x) grad N_l):
+    //   D(v) : (L c + c L^T) = 2 D(v) : (L c) = delta_ab g_k.(c g_l) + g_k,b (c g_l)_a,
+    //   D(v) : (u.grad c)    = N_l (dc/dx_b g_k)_a.
+    const Eigen::Matrix<double, 10, 3> cg = g * c;  // row l: (c g_l)^T, c symmetric
+    const Eigen::Matrix<double, 10, 10> gcg = g * cg.transpose();
+    const double scale = modulus * dt * w;
+    for (int k = 0; k < 10; ++k)
+      for (int l = 0; l < 10; ++l)
+        for (int b = 0; b < 3; ++b) {
+          const Eigen::Vector3d convection = grad_c[b] * g.row(k).transpose();
+          for (int a = 0; a < 3; ++a) {
+            double entry = g(k, b) * cg(l, a) - n[l] * convection(a);
+            if (a == b) entry += gcg(k, l);
+            matrix(3 * k + a, 3 * l + b) += scale * entry;
+          }
+        }
+
+    // Load: D(v) : A = (sym(A) g_k)_a for v = N_k e_a.
+    const ve::Mat3 stress = modulus * (prediction.constant() - ve::Mat3::Identity());
+    ve::Mat3 rhs = -stress;
+    if (theta > 0.0) {
+      const Eigen::VectorXd gv = coupling.velocity_gradient->value(p);
+      const ve::Mat3 gstar = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(gv.data());
+      rhs += theta * (gstar + gstar.transpose());
+    }
+    for (int k = 0; k < 10; ++k) load.segment<3>(3 * k) += w * (rhs * g.row(k).transpose());
+  }
+}
+
+}  // namespace softflow::physics

@@ -1,0 +1,54 @@
+// The viscoelastic phases' part of the Stokes step (thesis §2.3.1, eqs.
+// 2.34-2.37; SPEC §2 part 4): DEVSS-G and the D'Avino-Hulsen decoupling.
+//
+// In a phase with a conformation tensor the momentum balance at t_{n+1} reads
+//
+//   (D(v), 2 (mu + theta) D(u)) + (D(v), tau_{n+1}) - (div v, p)
+//       = (D(v), theta (G* + G*^T)) + tension,
+//
+// with tau_{n+1} = G_mod (c_{n+1} - I) and c_{n+1} the D'Avino-Hulsen
+// prediction (physics/viscoelastic/conformation_prediction.hpp), affine in u:
+//
+//   c_{n+1} = c_n + dt [ -(u - u_m).grad c_n + L c_n + c_n L^T
+//                        - (1/lambda) ((c_n - I) + alpha (c_n - I)^2) ],   L = grad u^T.
+//
+// The parts linear in u = u_{n+1} (L c_n + c_n L^T and u.grad c_n, as in
+// eq. 2.37, where the convection is implicit) go to the matrix; c_n, the
+// mesh-velocity convection u_m.grad c_n and the relaxation to the load.
+//
+// DEVSS-G (eqs. 2.34, 2.36) adds theta (grad u - G^T) to the stress, G the
+// P1 projection of the velocity gradient. softflow does not solve for G with
+// u and p: it takes G* = 2 G_n - G_{n-1} (G_n at the second step), the
+// projection extrapolated to t_{n+1} like the conformation's explicit
+// source, so that one Stokes-like system per step remains and the term
+// stays second order in time; its residual theta (grad u_{n+1} - G*) is an
+// O(h^2 + dt^2) consistent perturbation that adds the elliptic part
+// theta (D(v), 2 D(u)) a UCM phase (mu = 0) otherwise lacks. theta is the
+// polymer viscosity eta_p = G lambda of a liquid (the thesis: the phase's
+// viscosity, eta_p for its UCM drop) and G dt for an elastic solid (thesis
+// §2.3.1); there is no DEVSS term at the first step (no G yet) nor in
+// Newtonian phases, which keeps Newtonian runs unchanged.
+#pragma once
+
+#include <vector>
+
+#include "softflow/physics/stokes/stokes_problem.hpp"
+#include "softflow/fem/field.hpp"
+#include "softflow/physics/stokes/stokes_kernels.hpp"
+
+namespace softflow::physics {
+
+/// Adds on tetrahedron `tet` of a region with a conformation the
+/// D'Avino-Hulsen stress terms and the DEVSS-G load (header comment): into
+/// the velocity block of `matrix`,
+///   G dt (D(v), L c_n + c_n L^T) - G dt (D(v), u.grad c_n),
+/// and into the velocity rows of `load`
+///   -G (D(v), c* - I) + theta (D(v), G* + G*^T),
+/// c* the prediction's part without u. The theta (D(v), 2 D(u)) term is the
+/// caller's (add_stokes_tet_matrix with mu + theta). `points` are the
+/// tetrahedron's quadrature points on the current mesh.
+void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
+                                const std::vector<fem::QuadraturePoint>& points, TetMatrix& matrix,
+                                TetVector& load);
+
+}  // namespace softflow::physics
