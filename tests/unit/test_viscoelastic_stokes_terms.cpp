@@ -3,7 +3,7 @@
 // out directly: for a velocity u linear in x (exact in P2), the element's
 // matrix times u minus its load must equal, test function by test function,
 //
-//   integral D(v) : G (c_pred(u) - I) - theta integral D(v) : (G* + G*^T),
+//   integral D(v) : G (c_pred(u) - I) - theta integral D(v) : (G_n + G_n^T),
 //
 // with c_pred the whole prediction (ConformationPrediction with the full
 // convection (u - u_m).grad c_n and L = grad u) and D(v) built as a 3 x 3

@@ -26,8 +26,14 @@ TEST(WallMotion, CessationMovesUntilTheStopTimeThenRests) {
   EXPECT_DOUBLE_EQ(w.wall_speed(0.0), 10.0);
   EXPECT_DOUBLE_EQ(w.wall_speed(2.999), 10.0);
   EXPECT_DOUBLE_EQ(w.shear_rate(1.0), 2.0);
-  // A step that starts at the stop time already sees walls at rest.
-  EXPECT_DOUBLE_EQ(w.wall_speed(3.0), 0.0);
+  // The step that ends at the stop time still sees the walls move (time
+  // loops sample them at the end of a step); any later time sees them at rest.
+  EXPECT_DOUBLE_EQ(w.wall_speed(3.0), 10.0);
+  EXPECT_DOUBLE_EQ(w.wall_speed(3.0 + 1e-12), 10.0);  // round-off of an accumulated time
+  EXPECT_DOUBLE_EQ(w.wall_speed(3.001), 0.0);
+  EXPECT_TRUE(w.jumps_at(3.0));
+  EXPECT_FALSE(w.jumps_at(2.9));
+  EXPECT_FALSE(WallMotion::steady(10.0, 2.0).jumps_at(0.0));
   EXPECT_DOUBLE_EQ(w.wall_speed(7.5), 0.0);
   EXPECT_DOUBLE_EQ(w.velocity(Eigen::Vector3d(1, 5, 2), 4.0).x(), 0.0);
   EXPECT_DOUBLE_EQ(w.velocity(Eigen::Vector3d(1, -5, 2), 1.0).x(), -10.0);

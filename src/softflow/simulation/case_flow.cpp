@@ -18,16 +18,20 @@ physics::WallMotion wall_motion(const io::CaseConfig& config) {
   return physics::WallMotion::steady(h, config.shear_rate);  // not reached: every type above
 }
 
-std::vector<physics::Material> materials(const io::CaseConfig& config) {
-  std::vector<physics::Material> m{{config.matrix_viscosity}};
-  for (const auto& o : config.objects) m.push_back({o.viscosity_ratio * config.matrix_viscosity});
+std::vector<physics::viscoelastic::Constitutive> phase_models(const io::CaseConfig& config) {
+  using physics::viscoelastic::Constitutive;
+  std::vector<Constitutive> m{Constitutive::newtonian(config.matrix_viscosity)};
+  for (const auto& o : config.objects)
+    m.push_back(Constitutive::newtonian(o.viscosity_ratio * config.matrix_viscosity));
   return m;
 }
 
 physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh,
                                       double t) {
   physics::StokesProblem p;
-  for (const auto& m : materials(config)) p.viscosity.push_back(m.viscosity);
+  // The Newtonian viscosity, or a viscoelastic phase's solvent viscosity
+  // (its polymer stress is the time loop's: physics::ViscoelasticCoupling).
+  for (const auto& m : phase_models(config)) p.viscosity.push_back(m.solvent_viscosity());
   for (const auto& o : config.objects) p.interfacial_tension.push_back(o.interfacial_tension);
   const auto walls = wall_motion(config);
   p.boundary_velocity = [walls, t](const Eigen::Vector3d& x) { return walls.velocity(x, t); };

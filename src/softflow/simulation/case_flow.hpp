@@ -17,8 +17,8 @@ namespace softflow::simulation {
 /// place.
 physics::WallMotion wall_motion(const io::CaseConfig& config);
 
-/// The material of each region (0 = matrix, k = object k), from the case.
-std::vector<physics::Material> materials(const io::CaseConfig& config);
+/// The constitutive model of each region (0 = matrix, k = object k), from the case.
+std::vector<physics::viscoelastic::Constitutive> phase_models(const io::CaseConfig& config);
 
 /// The instantaneous Stokes problem of the case at time t on `mesh`:
 /// materials, interfacial tensions, walls at t, the pressure gauge. Loads

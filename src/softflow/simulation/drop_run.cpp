@@ -181,6 +181,7 @@ void add(StageSeconds& total, const StageSeconds& s) {
 /// The files a run keeps open (rank 0 only).
 struct RunFiles {
   std::ofstream series;
+  std::ofstream stress;  ///< stress.csv, for runs with viscoelastic phases
   std::unique_ptr<io::FieldSeries> fields;
 };
 
@@ -255,6 +256,17 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
                        {"volume_drift", v0 > 0 ? o.volume / v0 - 1.0 : 0.0}});
   }
   summary["final"] = objects;
+  if (!last.stresses.empty()) {
+    nlohmann::json stresses = nlohmann::json::array();
+    for (const auto& r : last.stresses)
+      stresses.push_back({{"region", r.region},
+                          {"tau_mean", {r.mean(0, 0), r.mean(1, 1), r.mean(2, 2), r.mean(0, 1),
+                                        r.mean(1, 2), r.mean(0, 2)}},
+                          {"N1", r.first_normal_stress_difference()},
+                          {"principal", {r.principal(0), r.principal(1), r.principal(2)}},
+                          {"spread", r.spread}});
+    summary["final_stress"] = stresses;
+  }
   return summary;
 }
 
@@ -332,6 +344,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       const auto fields = fields_due ? sim.output_fields() : std::vector<io::FieldData>{};
       on_root_sharing_failure([&] {
         files.series << timeseries_rows(last) << std::flush;
+        if (files.stress.is_open()) files.stress << stress_rows(last) << std::flush;
         if (files.fields && fields_due) files.fields->write(sim.mesh(), fields, sim.time(), last.step);
         io::write_text_file_atomically(
             directory / "progress.json",
@@ -341,12 +354,17 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                 "\n");
       });
       if (!options.quiet && root) {
-        const auto& o = last.objects.front();
-        fmt::print(
-            "step {:>6}/{}  t = {:8.4f}  D = {:.5f}  theta = {:6.2f} deg  dt = {:g}  "
-            "quality {:.3f}  ETA {}\n",
-            last.step, n_steps, last.time, o.deformation, o.theta_deg, config.time.step,
-            last.min_quality, format_duration(eta));
+        // The first object's shape, or (no objects) the matrix's mean stress.
+        std::string state;
+        if (!last.objects.empty())
+          state = fmt::format("D = {:.5f}  theta = {:6.2f} deg", last.objects.front().deformation,
+                              last.objects.front().theta_deg);
+        else if (!last.stresses.empty())
+          state = fmt::format("tau_xy = {:.5g}  N1 = {:.5g}", last.stresses.front().mean(0, 1),
+                              last.stresses.front().first_normal_stress_difference());
+        fmt::print("step {:>6}/{}  t = {:8.4f}  {}  dt = {:g}  quality {:.3f}  ETA {}\n",
+                   last.step, n_steps, last.time, state, config.time.step, last.min_quality,
+                   format_duration(eta));
         std::fflush(stdout);
       }
       sim.check_volumes();
@@ -424,7 +442,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
 /// Keeps the header and the rows of steps <= `step`; a row cut short by a
 /// crash (no final newline) goes too. Rows past the checkpoint are computed again.
-void truncate_timeseries(const fs::path& path, int step) {
+void truncate_timeseries(const fs::path& path, int step, const std::string& header) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
@@ -432,11 +450,11 @@ void truncate_timeseries(const fs::path& path, int step) {
   if (!all.empty() && all.back() != '\n') all.erase(all.rfind('\n') + 1);
   std::istringstream lines(all);
   std::string line, kept;
-  bool header = true;
+  bool first_line = true;
   while (std::getline(lines, line)) {
-    if (header) {
+    if (first_line) {
       kept += line + "\n";
-      header = false;
+      first_line = false;
       continue;
     }
     const auto comma = line.find(',');
@@ -447,8 +465,18 @@ void truncate_timeseries(const fs::path& path, int step) {
       // not a row of ours: dropped
     }
   }
-  if (kept.empty()) kept = timeseries_header();
+  if (kept.empty()) kept = header;
   io::write_text_file_atomically(path, kept);
+}
+
+/// Opens timeseries.csv (and stress.csv for viscoelastic runs) for appending.
+void open_series(const fs::path& directory, const DropSimulation& sim, RunFiles& files) {
+  files.series.open(directory / "timeseries.csv", std::ios::app);
+  if (!files.series)
+    throw Error(fmt::format("cannot append to {}/timeseries.csv", directory.string()));
+  if (!sim.viscoelastic()) return;
+  files.stress.open(directory / "stress.csv", std::ios::app);
+  if (!files.stress) throw Error(fmt::format("cannot append to {}/stress.csv", directory.string()));
 }
 
 /// The case of `directory`/case.toml must be the one the checkpoint was
@@ -559,10 +587,9 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));
     output->write_text("timeseries.csv", timeseries_header() + timeseries_rows(first));
+    if (sim.viscoelastic()) output->write_text("stress.csv", stress_header() + stress_rows(first));
     output->commit();
-    files.series.open(directory / "timeseries.csv", std::ios::app);
-    if (!files.series)
-      throw Error(fmt::format("cannot append to {}/timeseries.csv", directory.string()));
+    open_series(directory, sim, files);
     if (config.write_fields)
       files.fields =
           std::make_unique<io::FieldSeries>(directory / "fields", directory / "fields.pvd");
@@ -596,10 +623,10 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
   sim.restore(checkpoint);
   RunFiles files;
   on_root_sharing_failure([&] {
-    truncate_timeseries(directory / "timeseries.csv", checkpoint.step);
-    files.series.open(directory / "timeseries.csv", std::ios::app);
-    if (!files.series)
-      throw Error(fmt::format("cannot append to {}/timeseries.csv", directory.string()));
+    truncate_timeseries(directory / "timeseries.csv", checkpoint.step, timeseries_header());
+    if (sim.viscoelastic())
+      truncate_timeseries(directory / "stress.csv", checkpoint.step, stress_header());
+    open_series(directory, sim, files);
     if (config.write_fields) {
       files.fields =
           std::make_unique<io::FieldSeries>(directory / "fields", directory / "fields.pvd");

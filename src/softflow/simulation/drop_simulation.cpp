@@ -48,6 +48,8 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
   last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
   mesh_velocity_.assign(mesh_.n_nodes(), mesh::Point::Zero());
   last_quality_ = mesh::min_quality(mesh_);
+  if (auto models = phase_models(config_); ViscoelasticPhases::needed(models))
+    viscoelastic_ = std::make_unique<ViscoelasticPhases>(mesh_, std::move(models));
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
   register_state();
@@ -59,6 +61,7 @@ StepReport DropSimulation::initial_report() const {
   StepReport r;
   r.min_quality = mesh::min_quality(mesh_);
   for (int k = 0; k < static_cast<int>(trackers_.size()); ++k) r.objects.push_back(measure(k, Vec3::Zero()));
+  r.stresses = measure_stresses();
   return r;
 }
 
@@ -72,6 +75,8 @@ StepReport DropSimulation::step() {
   };
   StepReport r;
   const double dt = config_.time.step;
+  if (viscoelastic_ && steps_ > 0 && wall_motion(config_).jumps_at(time_))
+    viscoelastic_->restart_time_history();
   const auto x_hat = predict_interfaces();                   // Step 1
   const auto centre_velocity = translate_mesh(x_hat, dt);    // Step 2
   r.stages.predict_and_translate = lap();
@@ -86,6 +91,10 @@ StepReport DropSimulation::step() {
   }
   check_solution_finite();
   lap();
+  if (viscoelastic_) {
+    viscoelastic_->advance(stokes_->dofs(), solution_, dt, time_, steps_ + 1);
+    r.stages.conformation = lap();
+  }
   correct_interfaces(x_hat, centre_velocity, dt);            // Step 5
   r.stages.correct = lap();
 
@@ -102,6 +111,7 @@ StepReport DropSimulation::step() {
           steps_ + 1, time_, k + 1, e.what()));
     }
   }
+  r.stresses = measure_stresses();
   ++steps_;
   last_centre_velocity_ = centre_velocity;
   r.step = steps_;
@@ -120,6 +130,7 @@ StepReport DropSimulation::current_report() const {
   r.min_quality = mesh::min_quality(mesh_);
   for (int k = 0; k < static_cast<int>(trackers_.size()); ++k)
     r.objects.push_back(measure(k, last_centre_velocity_[k]));
+  r.stresses = measure_stresses();
   return r;
 }
 
@@ -197,6 +208,10 @@ void DropSimulation::register_state() {
                                            r.get_int(p + "centre_steps")});
                      last_centre_velocity_[k] = velocity[0];
                    }});
+  if (viscoelastic_) {
+    for (fem::Field* f : viscoelastic_->output_fields()) add_field(*f);
+    registry_.add(viscoelastic_->state_part());
+  }
 }
 
 void DropSimulation::add_field(fem::Field& field) {
@@ -386,6 +401,7 @@ int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, do
   // time_ is already t_{n+1}: the walls of the end of the step.
   physics::StokesProblem problem = stokes_problem(config_, mesh_, time_);
   problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
+  if (viscoelastic_) problem.viscoelastic = viscoelastic_->coupling(mesh_velocity_, dt);
   auto result = stokes_->solve(problem);
   solution_ = std::move(result.solution);
   stages.stokes_assembly = result.assembly_seconds;
@@ -423,6 +439,14 @@ ObjectState DropSimulation::measure(int k, const Vec3& centre_velocity) const {
   return s;
 }
 
+std::vector<RegionStress> DropSimulation::measure_stresses() const {
+  std::vector<RegionStress> out;
+  if (!viscoelastic_) return out;
+  for (int r = 0; r <= mesh_.n_objects; ++r)
+    if (viscoelastic_->models()[r].has_conformation()) out.push_back(viscoelastic_->region_stress(r));
+  return out;
+}
+
 std::string timeseries_header() {
   return "step,t,object,D,theta_deg,L,B,W,xc,yc,zc,uc,vc,wc,volume,area,ellipsoid_dev,"
          "min_quality,stokes_iterations,step_seconds\n";
@@ -438,6 +462,27 @@ std::string timeseries_rows(const StepReport& r) {
         o.centre.y(), o.centre.z(), o.centre_velocity.x(), o.centre_velocity.y(),
         o.centre_velocity.z(), o.volume, o.area, o.ellipsoid_deviation, r.min_quality,
         r.stokes_iterations, r.step_seconds);
+  return out;
+}
+
+}  // namespace softflow::simulation
+
+namespace softflow::simulation {
+
+std::string stress_header() {
+  return "step,t,region,volume,tau_xx,tau_yy,tau_zz,tau_xy,tau_yz,tau_xz,N1,tau_1,tau_2,tau_3,"
+         "spread\n";
+}
+
+std::string stress_rows(const StepReport& r) {
+  std::string out;
+  for (const auto& s : r.stresses)
+    out += fmt::format(
+        "{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
+        "{:.10g},{:.10g},{:.6g}\n",
+        r.step, r.time, s.region, s.volume, s.mean(0, 0), s.mean(1, 1), s.mean(2, 2), s.mean(0, 1),
+        s.mean(1, 2), s.mean(0, 2), s.first_normal_stress_difference(), s.principal(0),
+        s.principal(1), s.principal(2), s.spread);
   return out;
 }
 

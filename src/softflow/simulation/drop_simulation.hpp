@@ -15,6 +15,7 @@
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
+#include "softflow/simulation/viscoelastic_phases.hpp"
 
 namespace softflow::fem {
 class Field;
@@ -42,6 +43,7 @@ struct StageSeconds {
   double ale = 0.0;                    ///< Step 3, with the quality check
   double stokes_assembly = 0.0;        ///< Step 4
   double stokes_solve = 0.0;           ///< Step 4
+  double conformation = 0.0;           ///< log-conformation transport, c, tau, G (viscoelastic phases)
   double correct = 0.0;                ///< Step 5 (redistribution potential included)
   double analysis = 0.0;               ///< ellipsoid fit, volume, area
 };
@@ -54,6 +56,9 @@ struct StepReport {
   int stokes_iterations = 0;
   double step_seconds = 0.0;
   std::vector<ObjectState> objects;
+  /// The mean polymer/elastic stress of every region with a conformation
+  /// tensor (none for Newtonian runs).
+  std::vector<RegionStress> stresses;
 };
 
 /// One time step from t_n to t_{n+1} = t_n + dt:
@@ -118,6 +123,8 @@ class DropSimulation {
   [[nodiscard]] int steps() const { return steps_; }
   /// Each object's volume at t = 0 (the reference for the volume drift).
   [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
+  /// The viscoelastic phases (nullptr if every phase is Newtonian).
+  [[nodiscard]] const ViscoelasticPhases* viscoelastic() const { return viscoelastic_.get(); }
 
  private:
   std::vector<std::vector<physics::Vec3>> predict_interfaces() const;
@@ -134,6 +141,7 @@ class DropSimulation {
   void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,
                           const std::vector<physics::Vec3>& centre_velocity, double dt);
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;
+  [[nodiscard]] std::vector<RegionStress> measure_stresses() const;
   void check_solution_finite() const;
   void register_state();
   void save_time_loop(StateRecord& record, const std::string& prefix) const;
@@ -148,6 +156,7 @@ class DropSimulation {
   std::unique_ptr<physics::StokesSystem> stokes_;
   std::unique_ptr<physics::AleMeshMotion> ale_;
   std::vector<physics::InterfaceTracker> trackers_;
+  std::unique_ptr<ViscoelasticPhases> viscoelastic_;
   std::vector<double> solution_;
   std::vector<physics::Vec3> last_centre_velocity_;
   std::vector<double> initial_volumes_;
@@ -164,5 +173,10 @@ class DropSimulation {
 /// The CSV header and one row per object of a report (timeseries.csv).
 std::string timeseries_header();
 std::string timeseries_rows(const StepReport& report);
+/// The CSV header and one row per region with a conformation (stress.csv):
+/// <tau> (xx, yy, zz, xy, yz, xz), N1 = <tau_xx> - <tau_yy>, the principal
+/// values of <tau> and the spread (RegionStress).
+std::string stress_header();
+std::string stress_rows(const StepReport& report);
 
 }  // namespace softflow::simulation

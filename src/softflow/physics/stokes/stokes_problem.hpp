@@ -48,16 +48,6 @@ struct SemiImplicitTension {
   [[nodiscard]] bool active() const { return theta_dt > 0.0; }
 };
 
-/// The constitutive law of one region (phase) as the Stokes step sees it.
-/// Newtonian today: the viscosity. A viscoelastic phase (SPEC §1) will add
-/// its model (Oldroyd-B, Giesekus, UCM, neo-Hookean), modulus, relaxation
-/// time and mobility here; the Stokes operator then takes viscosity (the
-/// solvent's) plus the DEVSS-G/D'Avino-Hulsen terms, and its polymer
-/// stress enters the right-hand side.
-struct Material {
-  double viscosity = 1.0;  ///< Newtonian (or solvent) viscosity
-};
-
 /// Components of the projected velocity gradient field: G_ij = du_i/dx_j
 /// at component 3 i + j.
 inline constexpr int kVelocityGradientComponents = 9;
@@ -72,13 +62,13 @@ struct ViscoelasticCoupling {
   const fem::Field* conformation = nullptr;
   /// u_m over the step: 3 x P2; nullptr for a mesh at rest.
   const fem::Field* mesh_velocity = nullptr;
-  /// G*: the projected velocity gradient extrapolated to t_{n+1}
+  /// G_n: the projected velocity gradient of the previous step
   /// (kVelocityGradientComponents, P1 per region); nullptr: no DEVSS term.
   const fem::Field* velocity_gradient = nullptr;
   double dt = 0.0;
 
   [[nodiscard]] bool active() const { return conformation != nullptr; }
-  /// theta of region r's DEVSS-G term (0 without G* or without a conformation).
+  /// theta of region r's DEVSS-G term (0 without G_n or without a conformation).
   [[nodiscard]] double devss_theta(int region) const;
   /// A viscosity that measures region r's resistance to a velocity change
   /// over one step: mu + theta + G dt (the Newtonian viscosity of a

@@ -4,7 +4,7 @@
 // In a phase with a conformation tensor the momentum balance at t_{n+1} reads
 //
 //   (D(v), 2 (mu + theta) D(u)) + (D(v), tau_{n+1}) - (div v, p)
-//       = (D(v), theta (G* + G*^T)) + tension,
+//       = (D(v), theta (G_n + G_n^T)) + tension,
 //
 // with tau_{n+1} = G_mod (c_{n+1} - I) and c_{n+1} the D'Avino-Hulsen
 // prediction (physics/viscoelastic/conformation_prediction.hpp), affine in u:
@@ -18,12 +18,19 @@
 //
 // DEVSS-G (eqs. 2.34, 2.36) adds theta (grad u - G^T) to the stress, G the
 // P1 projection of the velocity gradient. softflow does not solve for G with
-// u and p: it takes G* = 2 G_n - G_{n-1} (G_n at the second step), the
-// projection extrapolated to t_{n+1} like the conformation's explicit
-// source, so that one Stokes-like system per step remains and the term
-// stays second order in time; its residual theta (grad u_{n+1} - G*) is an
-// O(h^2 + dt^2) consistent perturbation that adds the elliptic part
-// theta (D(v), 2 D(u)) a UCM phase (mu = 0) otherwise lacks. theta is the
+// u and p: it takes G_n, the projection of the previous step's velocity
+// gradient, so that one Stokes-like system per step remains. The residual
+// theta (grad u_{n+1} - G_n) vanishes at a steady state (up to the O(h^2)
+// projection error) and for homogeneous flows, and is O(dt) in a transient;
+// it adds the elliptic part theta (D(v), 2 D(u)) a UCM phase (mu = 0)
+// otherwise lacks. The second-order extrapolation G* = 2 G_n - G_{n-1} is
+// unstable: in the scalar model of a velocity-gradient perturbation g and
+// its stress T (in units of theta), (1 + a) g_{n+1} = 2 g_n - g_{n-1} - T_n,
+// T_{n+1} = T_n + a g_{n+1}, a = G dt / theta, the amplification factors
+// solve (1 - 1/z)^3 = 1 + a, one of them z ~ -3/a; with G_n instead,
+// (1 + a) z^2 - 2 z + 1 = 0 and |z|^2 = 1/(1 + a) < 1. (Measured: the UCM
+// start-up of shear with the extrapolation lets a round-off perturbation of
+// the linear profile grow ~12 % per step at dt = lambda/40.) theta is the
 // polymer viscosity eta_p = G lambda of a liquid (the thesis: the phase's
 // viscosity, eta_p for its UCM drop) and G dt for an elastic solid (thesis
 // §2.3.1); there is no DEVSS term at the first step (no G yet) nor in
@@ -43,7 +50,7 @@ namespace softflow::physics {
 /// the velocity block of `matrix`,
 ///   G dt (D(v), L c_n + c_n L^T) - G dt (D(v), u.grad c_n),
 /// and into the velocity rows of `load`
-///   -G (D(v), c* - I) + theta (D(v), G* + G*^T),
+///   -G (D(v), c* - I) + theta (D(v), G_n + G_n^T),
 /// c* the prediction's part without u. The theta (D(v), 2 D(u)) term is the
 /// caller's (add_stokes_tet_matrix with mu + theta). `points` are the
 /// tetrahedron's quadrature points on the current mesh.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 
 #include <Eigen/Core>
 
@@ -12,13 +13,15 @@ namespace softflow::physics {
 class WallMotion {
  public:
   /// Any wall speed history u_w(t).
-  explicit WallMotion(double height, std::function<double(double)> wall_speed);
+  /// `jump_time`: where u_w jumps, if it does (see jumps_at).
+  explicit WallMotion(double height, std::function<double(double)> wall_speed,
+                      std::optional<double> jump_time = std::nullopt);
 
   /// Steady shear: u_w = shear_rate H / 2.
   static WallMotion steady(double height, double shear_rate);
   /// Start-up at t = 0 (u_w = 0 before), then steady.
   static WallMotion start_up(double height, double shear_rate);
-  /// Cessation: steady until t = stop_time, at rest from then on (the
+  /// Cessation: steady up to and including t = stop_time, at rest after (the
   /// relaxation of a deformed drop). The walls stop at once: inertialess
   /// flow follows them without delay.
   static WallMotion cessation(double height, double shear_rate, double stop_time);
@@ -33,9 +36,16 @@ class WallMotion {
     return Eigen::Vector3d(shear_rate(t) * x.y(), 0.0, 0.0);
   }
 
+  /// True if the wall speed jumps at t (to round-off): the cessation's stop.
+  /// Multistep schemes (BDF2) must restart at first order after such a time:
+  /// their three-level stencil across a jump in the forcing is O(1) wrong
+  /// in the derivative and would leave an O(dt) error.
+  [[nodiscard]] bool jumps_at(double t) const;
+
  private:
   double height_;
   std::function<double(double)> wall_speed_;
+  std::optional<double> jump_time_;
 };
 
 }  // namespace softflow::physics

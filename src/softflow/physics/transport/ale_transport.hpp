@@ -60,8 +60,12 @@ class AleTransport {
   void step(const fem::Field& u, const fem::Field* mesh_velocity, const Source& source, double dt,
             double t_new);
 
-  /// Steps done (BDF1 first, then BDF2).
+  /// Steps done since the start or the last restart_history() (BDF1 first, then BDF2).
   [[nodiscard]] int steps() const { return steps_; }
+  /// The next step is BDF1 again, as the first: after a jump in the
+  /// velocity (e.g. walls that stop), where BDF2's stencil would span the
+  /// jump and leave an O(dt) error.
+  void restart_history() { steps_ = 0; }
   /// s_{n-1} (meaningful once steps() > 0): for sources extrapolated to
   /// t_{n+1}, 2 s_n - s_{n-1}, which keeps an explicit source second order.
   [[nodiscard]] const fem::Field& previous() const { return previous_; }

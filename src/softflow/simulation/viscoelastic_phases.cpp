@@ -1,0 +1,207 @@
+#include "softflow/simulation/viscoelastic_phases.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+#include <mpi.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/physics/viscoelastic/conformation_transport.hpp"
+
+namespace softflow::simulation {
+
+namespace ve = physics::viscoelastic;
+using la::check;
+
+namespace {
+
+/// Applies f to the owned values of `field`, node block by node block
+/// (components contiguous), with the block's first dof; then updates ghosts.
+template <class F>
+void for_each_owned_block(fem::Field& field, F&& f) {
+  PetscScalar* a = nullptr;
+  check(VecGetArray(field.vector(), &a), "VecGetArray");
+  const auto range = field.ownership();
+  const int n_c = field.components();
+  for (int dof = range.begin; dof < range.end; dof += n_c)
+    f(dof, Eigen::Map<Eigen::VectorXd>(a + (dof - range.begin), n_c));
+  check(VecRestoreArray(field.vector(), &a), "VecRestoreArray");
+  field.update_ghosts();
+}
+
+}  // namespace
+
+ViscoelasticPhases::ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<ve::Constitutive> models)
+    : mesh_(mesh),
+      models_(std::move(models)),
+      p1_(std::make_shared<fem::Space>(mesh, 1, fem::Continuity::per_region)),
+      p2_(std::make_shared<fem::Space>(mesh, 2, fem::Continuity::continuous)),
+      log_conformation_(mesh, "log_conformation", p1_, ve::kSymmetricComponents),
+      conformation_(mesh, "conformation", p1_, ve::kSymmetricComponents),
+      stress_(mesh, "polymer_stress", p1_, ve::kSymmetricComponents),
+      velocity_(mesh, "velocity", p2_, 3),
+      mesh_velocity_(mesh, "mesh_velocity", p2_, 3),
+      gradient_(mesh, "velocity_gradient", p1_, physics::kVelocityGradientComponents) {
+  if (static_cast<int>(models_.size()) != mesh.n_objects + 1)
+    throw Error(fmt::format("ViscoelasticPhases: {} models for {} regions", models_.size(),
+                            mesh.n_objects + 1));
+  // c = I everywhere at t = 0 (eq. 2.20): s = 0, tau = 0.
+  for_each_owned_block(conformation_, [](int, auto c) { c = ve::pack_symmetric(ve::Mat3::Identity()); });
+  transport_ = std::make_unique<physics::AleTransport>(log_conformation_);
+  source_ = ve::log_conformation_source(models_, velocity_, log_conformation_, *transport_);
+}
+
+ViscoelasticPhases::~ViscoelasticPhases() = default;
+
+bool ViscoelasticPhases::needed(const std::vector<ve::Constitutive>& models) {
+  return std::any_of(models.begin(), models.end(),
+                     [](const ve::Constitutive& m) { return m.has_conformation(); });
+}
+
+physics::ViscoelasticCoupling ViscoelasticPhases::coupling(
+    std::span<const mesh::Point> mesh_velocity, double dt) {
+  // The mesh velocity per geometry node, as a P2 field (every rank holds
+  // all nodes today; issue 12 makes this rank-local).
+  std::vector<double> all(mesh_velocity_.dofs().n_dofs(), 0.0);
+  for (int node = 0; node < mesh_.n_nodes(); ++node)
+    for (int c = 0; c < 3; ++c) all[mesh_velocity_.dofs().dof(0, node, 0, c)] = mesh_velocity[node](c);
+  mesh_velocity_.scatter(all);
+
+  physics::ViscoelasticCoupling coupling;
+  coupling.models = models_;
+  coupling.conformation = &conformation_;
+  coupling.mesh_velocity = &mesh_velocity_;
+  coupling.velocity_gradient = gradient_steps_ > 0 ? &gradient_ : nullptr;
+  coupling.dt = dt;
+  return coupling;
+}
+
+void ViscoelasticPhases::advance(const fem::DofMap& stokes_dofs, std::span<const double> solution,
+                                 double dt, double t_new, int step) {
+  velocity_.assign_from(stokes_dofs, physics::kVelocityField, solution);
+  transport_->step(velocity_, &mesh_velocity_, source_, dt, t_new);
+  update_conformation_and_stress(t_new, step);
+  update_velocity_gradient();
+}
+
+void ViscoelasticPhases::restart_time_history() {
+  transport_->restart_history();
+  gradient_steps_ = 0;
+}
+
+void ViscoelasticPhases::update_conformation_and_stress(double t_new, int step) {
+  // s must be finite; c = exp(s) is then positive definite by construction.
+  const auto& dofs = log_conformation_.dofs();
+  int bad = -1;
+  for_each_owned_block(log_conformation_, [&](int dof, auto s) {
+    if (bad < 0 && !s.allFinite()) bad = dof;
+  });
+  int any_bad = bad;
+  MPI_Allreduce(&bad, &any_bad, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  if (any_bad >= 0) {
+    const int node = dofs.node_of(any_bad), region = dofs.region_of(any_bad);
+    const auto& x = mesh_.nodes[node];
+    throw SolverError(fmt::format(
+        "step {} (t = {:.4f}): the log-conformation tensor is not finite at node {} {}, near "
+        "({:.3f}, {:.3f}, {:.3f}) ({} phase). The conformation equation was not resolved "
+        "there: try a smaller time.step or a finer mesh (more mesh.equator_nodes)",
+        step, t_new, node, region == 0 ? std::string("in the matrix") : fmt::format("in object {}", region),
+        x.x(), x.y(), x.z(), ve::to_string(models_.at(region).model())));
+  }
+  PetscScalar* c = nullptr;
+  PetscScalar* tau = nullptr;
+  const PetscScalar* s = nullptr;
+  check(VecGetArrayRead(log_conformation_.vector(), &s), "VecGetArrayRead");
+  check(VecGetArray(conformation_.vector(), &c), "VecGetArray");
+  check(VecGetArray(stress_.vector(), &tau), "VecGetArray");
+  const auto range = log_conformation_.ownership();
+  for (int dof = range.begin; dof < range.end; dof += ve::kSymmetricComponents) {
+    const int i = dof - range.begin;
+    const auto& model = models_.at(dofs.region_of(dof));
+    const ve::Mat3 cn = model.has_conformation()
+                            ? ve::matrix_exp(ve::unpack_symmetric(
+                                  Eigen::Map<const Eigen::VectorXd>(s + i, ve::kSymmetricComponents)))
+                            : ve::Mat3::Identity();
+    Eigen::Map<Eigen::VectorXd>(c + i, ve::kSymmetricComponents) = ve::pack_symmetric(cn);
+    Eigen::Map<Eigen::VectorXd>(tau + i, ve::kSymmetricComponents) =
+        ve::pack_symmetric(ve::polymer_stress(model, cn));
+  }
+  check(VecRestoreArrayRead(log_conformation_.vector(), &s), "VecRestoreArrayRead");
+  check(VecRestoreArray(conformation_.vector(), &c), "VecRestoreArray");
+  check(VecRestoreArray(stress_.vector(), &tau), "VecRestoreArray");
+  conformation_.update_ghosts();
+  stress_.update_ghosts();
+}
+
+void ViscoelasticPhases::update_velocity_gradient() {
+  // G_n = P1 projection of grad u_n per region (eq. 2.36 with u given),
+  // the DEVSS-G gradient of the next Stokes step (physics/stokes/viscoelastic_terms.hpp
+  // explains why G_n and not an extrapolation).
+  fem::l2_project(
+      [this](const fem::QuadraturePoint& p) {
+        const Eigen::MatrixXd l = velocity_.gradient(p);  // row i = grad u_i
+        Eigen::VectorXd g(9);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) g(3 * i + j) = l(i, j);
+        return g;
+      },
+      gradient_);
+  ++gradient_steps_;
+}
+
+RegionStress ViscoelasticPhases::region_stress(int region) const {
+  static const fem::TetTabulation tab(2);
+  // Sums over this rank's elements: volume, int tau (6), int |tau|^2.
+  double local[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  for (int t : stress_.owned_elements()) {
+    if (mesh_.tet_region[t] != region) continue;
+    for (const auto& p : fem::quadrature_points(mesh_, tab, t)) {
+      const ve::Mat3 tau = ve::unpack_symmetric(stress_.value(p));
+      local[0] += p.weight;
+      const auto packed = ve::pack_symmetric(tau);
+      for (int i = 0; i < 6; ++i) local[1 + i] += p.weight * packed(i);
+      local[7] += p.weight * tau.squaredNorm();
+    }
+  }
+  double sum[8];
+  MPI_Allreduce(local, sum, 8, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  RegionStress r;
+  r.region = region;
+  r.volume = sum[0];
+  if (sum[0] <= 0.0) return r;
+  Eigen::VectorXd mean(6);
+  for (int i = 0; i < 6; ++i) mean(i) = sum[1 + i] / sum[0];
+  r.mean = ve::unpack_symmetric(mean);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(r.mean);
+  r.principal = eigen.eigenvalues().reverse();
+  const double norm2 = r.mean.squaredNorm();
+  const double variance = std::max(0.0, sum[7] / sum[0] - norm2);
+  r.spread = norm2 > 0.0 ? std::sqrt(variance / norm2) : 0.0;
+  return r;
+}
+
+std::vector<fem::Field*> ViscoelasticPhases::output_fields() {
+  return {&log_conformation_, &conformation_, &stress_};
+}
+
+StatePart ViscoelasticPhases::state_part() {
+  auto save = [this](StateRecord& r, const std::string& p) {
+    transport_->state_part().save(r, p + "transport/");
+    r.set(p + "velocity_gradient", gradient_.gather(), gradient_.components());
+    r.set(p + "gradient_steps", gradient_steps_);
+  };
+  auto restore = [this](const StateRecord& r, const std::string& p) {
+    transport_->state_part().restore(r, p + "transport/");
+    const auto& values = r.get_array(p + "velocity_gradient", gradient_.components());
+    if (static_cast<int>(values.size()) != gradient_.dofs().n_dofs())
+      throw InputError("the saved velocity_gradient does not fit the mesh");
+    gradient_.scatter(values);
+    gradient_steps_ = r.get_int(p + "gradient_steps");
+  };
+  return {"viscoelastic", save, restore};
+}
+
+}  // namespace softflow::simulation

@@ -1,0 +1,103 @@
+// The viscoelastic phases of a run (thesis §2.3.1-2.3.2, SPEC §2 parts 4-5):
+// the conformation fields, their transport, and what the Stokes step needs.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "softflow/common/state.hpp"
+#include "softflow/fem/field.hpp"
+#include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/stokes/stokes_problem.hpp"
+#include "softflow/physics/transport/ale_transport.hpp"
+#include "softflow/physics/viscoelastic/constitutive.hpp"
+
+namespace softflow::simulation {
+
+/// The volume average of a phase's polymer (or elastic) stress tau = G (c - I)
+/// over one region (thesis Fig. 2.15), and how uniform it is.
+struct RegionStress {
+  int region = 0;
+  double volume = 0.0;
+  Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();  ///< <tau>
+  Eigen::Vector3d principal = Eigen::Vector3d::Zero();  ///< eigenvalues of <tau>, descending
+  /// sqrt(<|tau - <tau>|^2>) / |<tau>| (Frobenius norms): 0 for a uniform stress.
+  double spread = 0.0;
+  /// <tau_xx> - <tau_yy>: the first normal stress difference's contribution.
+  [[nodiscard]] double first_normal_stress_difference() const { return mean(0, 0) - mean(1, 1); }
+};
+
+/// Everything a run keeps for its phases with a conformation tensor, on the
+/// moving mesh:
+///   log_conformation  s = log c: 6 x P1 per region (xx, yy, zz, xy, yz, xz),
+///                     discontinuous at interfaces; zero (c = I) at t = 0;
+///   conformation      c = exp(s) node by node (eq. 2.42 lumped: the nodal
+///                     interpolant of exp(s_h), which keeps c positive definite);
+///   polymer_stress    tau = G (c - I) (eqs. 2.6, 2.22);
+/// and, internally, the velocity and mesh velocity as fields and the
+/// projected velocity gradient G_n (DEVSS-G).
+///
+/// One step: coupling() gives the Stokes step the D'Avino-Hulsen/DEVSS-G
+/// data for t_{n+1} (c_n, u_m, G_n); after the Stokes
+/// solve, advance() transports s to t_{n+1} with u_{n+1} (physics::AleTransport,
+/// SUPG, BDF1 then BDF2, source log_conformation_source) and updates c,
+/// tau and G. Newtonian regions carry zeros throughout.
+class ViscoelasticPhases {
+ public:
+  /// `models[r]` for region r (0 = matrix, k = object k); the mesh is the
+  /// run's and must outlive this object.
+  ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<physics::viscoelastic::Constitutive> models);
+  ~ViscoelasticPhases();
+  ViscoelasticPhases(const ViscoelasticPhases&) = delete;
+  ViscoelasticPhases& operator=(const ViscoelasticPhases&) = delete;
+
+  /// True if some region has a conformation tensor.
+  [[nodiscard]] static bool needed(const std::vector<physics::viscoelastic::Constitutive>& models);
+
+  /// The Stokes step's viscoelastic data for the step to t_{n+1}: u_m is the
+  /// mesh velocity over that step at every geometry node. The result points
+  /// to fields of this object. Collective.
+  [[nodiscard]] physics::ViscoelasticCoupling coupling(std::span<const mesh::Point> mesh_velocity,
+                                                       double dt);
+  /// After the Stokes solve of step `step` to time t_new: transports s with
+  /// the new velocity (`solution` over `stokes_dofs`) and updates c, tau
+  /// and G. Throws SolverError naming the step, time, region, node and
+  /// position if s is not finite. Collective.
+  void advance(const fem::DofMap& stokes_dofs, std::span<const double> solution, double dt,
+               double t_new, int step);
+
+  /// After a jump of the flow at t_n (physics::WallMotion::jumps_at): the
+  /// next step starts the BDF and DEVSS-G histories afresh (BDF1, no G).
+  void restart_time_history();
+
+  /// <tau> over region r on the current mesh. Collective.
+  [[nodiscard]] RegionStress region_stress(int region) const;
+
+  [[nodiscard]] const std::vector<physics::viscoelastic::Constitutive>& models() const {
+    return models_;
+  }
+  /// The fields a run writes and checkpoints (log_conformation, conformation, polymer_stress).
+  [[nodiscard]] std::vector<fem::Field*> output_fields();
+  /// What a checkpoint needs besides those fields: the transport's BDF
+  /// history and the projected gradients ("viscoelastic").
+  [[nodiscard]] StatePart state_part();
+
+ private:
+  void update_conformation_and_stress(double t_new, int step);
+  void update_velocity_gradient();
+
+  const mesh::Mesh& mesh_;
+  std::vector<physics::viscoelastic::Constitutive> models_;
+  std::shared_ptr<const fem::Space> p1_, p2_;
+  fem::Field log_conformation_, conformation_, stress_;
+  fem::Field velocity_, mesh_velocity_;
+  fem::Field gradient_;
+  std::unique_ptr<physics::AleTransport> transport_;
+  physics::AleTransport::Source source_;
+  int gradient_steps_ = 0;  // projections of G done so far
+};
+
+}  // namespace softflow::simulation
