@@ -29,14 +29,27 @@ std::string error_of(const std::string& text) {
 #define EXPECT_ERROR(text, expected_substring) \
   EXPECT_NE(error_of(text).find(expected_substring), std::string::npos) << error_of(text)
 
+void expect_same(const physics::viscoelastic::ConstitutiveValues& a,
+                 const physics::viscoelastic::ConstitutiveValues& b) {
+  EXPECT_EQ(a.viscosity, b.viscosity);
+  EXPECT_EQ(a.solvent_viscosity, b.solvent_viscosity);
+  EXPECT_EQ(a.modulus, b.modulus);
+  EXPECT_EQ(a.polymer_viscosity, b.polymer_viscosity);
+  EXPECT_EQ(a.relaxation_time, b.relaxation_time);
+  EXPECT_EQ(a.mobility, b.mobility);
+}
+
 void expect_same(const ObjectConfig& a, const ObjectConfig& b) {
   EXPECT_EQ(a.geometry.shape, b.geometry.shape);
   EXPECT_EQ(a.geometry.centre, b.geometry.centre);
   EXPECT_EQ(a.geometry.semi_axes, b.geometry.semi_axes);
   EXPECT_EQ(a.geometry.rotation_deg, b.geometry.rotation_deg);
+  EXPECT_EQ(a.model, b.model);
+  expect_same(a.parameters, b.parameters);
   EXPECT_EQ(a.viscosity_ratio, b.viscosity_ratio);
   EXPECT_EQ(a.interfacial_tension, b.interfacial_tension);
   EXPECT_EQ(a.capillary_number, b.capillary_number);
+  EXPECT_EQ(a.elastic_capillary_number, b.elastic_capillary_number);
 }
 
 void expect_same(const CaseConfig& a, const CaseConfig& b) {
@@ -46,6 +59,8 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.box.width, b.box.width);
   EXPECT_EQ(a.box.periodic_x, b.box.periodic_x);
   EXPECT_EQ(a.box.periodic_z, b.box.periodic_z);
+  EXPECT_EQ(a.matrix_model, b.matrix_model);
+  expect_same(a.matrix_parameters, b.matrix_parameters);
   EXPECT_EQ(a.matrix_viscosity, b.matrix_viscosity);
   EXPECT_EQ(a.shear_rate, b.shear_rate);
   EXPECT_EQ(a.flow.type, b.flow.type);
@@ -628,6 +643,512 @@ TEST(CaseConfigHardening, ControlCharactersInNamesAndPathsAreRefused) {
   EXPECT_ERROR("[output]\ndirectory = \"out\\nx\"\n", "control character");
   EXPECT_ERROR("[output]\ndirectory = \"out\\u007Fx\"\n", "control character");
   EXPECT_EQ(error_of("[output]\ndirectory = \"out/ok dir\"\n"), "");
+}
+
+// ---- constitutive models per phase (issue 9, item 1) ----
+
+using physics::viscoelastic::Constitutive;
+using physics::viscoelastic::ConstitutiveModel;
+
+void expect_model(const Constitutive& m, ConstitutiveModel model, double mu, double g,
+                  double lambda, double alpha) {
+  EXPECT_EQ(m.model(), model);
+  EXPECT_DOUBLE_EQ(m.solvent_viscosity(), mu);
+  EXPECT_DOUBLE_EQ(m.modulus(), g);
+  if (std::isinf(lambda))
+    EXPECT_TRUE(std::isinf(m.relaxation_time()));
+  else
+    EXPECT_DOUBLE_EQ(m.relaxation_time(), lambda);
+  EXPECT_DOUBLE_EQ(m.mobility(), alpha);
+}
+
+TEST(ConstitutiveKeys, NewtonianIsTheDefaultForEveryPhase) {
+  const CaseConfig c =
+      parse_case("[matrix]\nviscosity = 2\n[[objects]]\nviscosity_ratio = 3\n", "c.toml");
+  EXPECT_EQ(c.matrix_model, ConstitutiveModel::newtonian);
+  EXPECT_EQ(c.objects[0].model, ConstitutiveModel::newtonian);
+  const auto models = constitutive_models(c);
+  ASSERT_EQ(models.size(), 2u);
+  expect_model(models[0], ConstitutiveModel::newtonian, 2.0, 0.0, 0.0, 0.0);
+  expect_model(models[1], ConstitutiveModel::newtonian, 6.0, 0.0, 0.0, 0.0);  // lambda eta_m
+  // Stated explicitly, the default is the same case.
+  const CaseConfig explicit_model = parse_case(
+      "[matrix]\nmodel = \"newtonian\"\nviscosity = 2\n[[objects]]\nmodel = \"newtonian\"\n"
+      "viscosity_ratio = 3\n",
+      "c.toml");
+  expect_same(c, explicit_model);
+}
+
+TEST(ConstitutiveKeys, NewtonianCasesPrintAsBefore) {
+  // The printout of a Newtonian case from before the constitutive keys (no
+  // `model` line): checkpoints and stored case.toml files compare with it.
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 0.7\n[flow]\nshear_rate = 0.3\n"
+      "[[objects]]\nradius = 1.1\nviscosity_ratio = 6.4\ncapillary_number = 0.07\n"
+      "[[objects]]\nshape = \"ellipsoid\"\ncentre = [3, -0.1, 0.2]\nsemi_axes = [1.3, 0.9, 0.7]\n"
+      "viscosity_ratio = 0.1\ninterfacial_tension = 2.75\n",
+      "c.toml");
+  EXPECT_EQ(to_toml(c), R"(# softflow case, resolved: every key with the value the run uses.
+
+[case]
+name = "c"
+
+[cell]
+length = 30.0
+height = 30.0
+width = 30.0
+periodic_x = true
+periodic_z = true
+
+[matrix]
+viscosity = 0.7
+
+[flow]
+type = "steady"
+shear_rate = 0.3  # wall velocity u_w = shear_rate * height / 2 = 4.5
+
+[[objects]]
+shape = "sphere"
+centre = [0.0, 0.0, 0.0]
+radius = 1.1
+viscosity_ratio = 6.4
+capillary_number = 0.07  # interfacial_tension = 3.3
+
+[[objects]]
+shape = "ellipsoid"
+centre = [3.0, -0.1, 0.2]
+semi_axes = [1.3, 0.9, 0.7]
+rotation_deg = [0.0, 0.0, 0.0]
+viscosity_ratio = 0.1
+interfacial_tension = 2.75
+
+[mesh]
+equator_nodes = 40
+far_size = 3.0
+growth = 0.4
+optimize_high_order = true
+
+[solver]
+type = "direct"
+rtol = 1e-08
+max_iterations = 500
+petsc_options = ""
+
+[output]
+directory = "output/c"
+fields = true
+
+[time]
+step = 0.005
+end = 0.0
+fields_interval = 0
+min_quality = 0.02
+max_volume_drift = 0.01
+ale_rebuild_quality = 0.2
+
+[checkpoint]
+interval_steps = 0
+interval_minutes = 10.0
+
+[interface]
+redistribution_factor = 10.0
+supg_beta = 0.5
+semi_implicit_tension = true
+)");
+}
+
+TEST(ConstitutiveKeys, ViscoelasticMatrices) {
+  // eta_m = mu + G lambda (thesis eq. 2.9) is the eta_m of Ca.
+  const CaseConfig o = parse_case(
+      "[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\npolymer_viscosity = 1.5\n"
+      "relaxation_time = 2\n[[objects]]\n",
+      "c.toml");
+  EXPECT_EQ(o.matrix_model, ConstitutiveModel::oldroyd_b);
+  expect_model(matrix_constitutive(o), ConstitutiveModel::oldroyd_b, 0.5, 0.75, 2.0, 0.0);
+  EXPECT_DOUBLE_EQ(o.matrix_viscosity, 2.0);
+  EXPECT_DOUBLE_EQ(o.objects[0].interfacial_tension, 2.0 * 1.0 * 1.0 / 0.1);
+  // A Newtonian drop's viscosity is lambda times the zero-shear eta_m.
+  expect_model(constitutive_models(o)[1], ConstitutiveModel::newtonian, 2.0, 0, 0, 0);
+
+  const CaseConfig g = parse_case(
+      "[matrix]\nmodel = \"giesekus\"\nsolvent_viscosity = 0.1\nmodulus = 0.9\n"
+      "relaxation_time = 1\nmobility = 0.2\n",
+      "c.toml");
+  expect_model(matrix_constitutive(g), ConstitutiveModel::giesekus, 0.1, 0.9, 1.0, 0.2);
+  EXPECT_DOUBLE_EQ(g.matrix_viscosity, 1.0);
+
+  const CaseConfig u =
+      parse_case("[matrix]\nmodel = \"ucm\"\nmodulus = 2\nrelaxation_time = 0.5\n", "c.toml");
+  expect_model(matrix_constitutive(u), ConstitutiveModel::ucm, 0.0, 2.0, 0.5, 0.0);
+  EXPECT_DOUBLE_EQ(u.matrix_viscosity, 1.0);
+}
+
+TEST(ConstitutiveKeys, ViscoelasticDropsAndElasticParticles) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 2\n[flow]\nshear_rate = 0.5\n"
+      "[[objects]]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 1\nmodulus = 0.5\n"
+      "relaxation_time = 2\ncapillary_number = 0.2\n"
+      "[[objects]]\ncentre = [4, 0, 0]\nmodel = \"giesekus\"\nsolvent_viscosity = 0\n"
+      "polymer_viscosity = 3\nrelaxation_time = 1.5\nmobility = 0.3\ninterfacial_tension = 1\n"
+      "[[objects]]\ncentre = [-4, 0, 0]\nmodel = \"ucm\"\npolymer_viscosity = 4\n"
+      "relaxation_time = 0.5\n"
+      "[[objects]]\ncentre = [8, 0, 0]\nmodel = \"neo_hookean\"\nelastic_capillary_number = 0.2\n"
+      "[[objects]]\ncentre = [-8, 0, 0]\nmodel = \"kelvin_voigt\"\nsolvent_viscosity = 0.3\n"
+      "modulus = 4\n",
+      "c.toml");
+  const auto models = constitutive_models(c);
+  ASSERT_EQ(models.size(), 6u);
+  expect_model(models[0], ConstitutiveModel::newtonian, 2.0, 0, 0, 0);
+  expect_model(models[1], ConstitutiveModel::oldroyd_b, 1.0, 0.5, 2.0, 0.0);
+  expect_model(models[2], ConstitutiveModel::giesekus, 0.0, 2.0, 1.5, 0.3);
+  expect_model(models[3], ConstitutiveModel::ucm, 0.0, 8.0, 0.5, 0.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  expect_model(models[4], ConstitutiveModel::neo_hookean, 0.0, 5.0, inf, 0.0);  // 2 * 0.5 / 0.2
+  expect_model(models[5], ConstitutiveModel::kelvin_voigt, 0.3, 4.0, inf, 0.0);
+  // lambda = eta_d / eta_m with eta_d = mu + G lambda (zero shear).
+  EXPECT_DOUBLE_EQ(c.objects[0].viscosity_ratio, (1.0 + 0.5 * 2.0) / 2.0);
+  EXPECT_DOUBLE_EQ(c.objects[1].viscosity_ratio, 3.0 / 2.0);
+  EXPECT_DOUBLE_EQ(c.objects[2].viscosity_ratio, 4.0 / 2.0);
+  EXPECT_TRUE(std::isinf(c.objects[3].viscosity_ratio));
+  // Drops keep their tension; the particles have none.
+  EXPECT_DOUBLE_EQ(c.objects[0].interfacial_tension, 2.0 * 0.5 * 1.0 / 0.2);
+  EXPECT_EQ(c.objects[1].interfacial_tension, 1.0);
+  EXPECT_DOUBLE_EQ(c.objects[2].interfacial_tension, 2.0 * 0.5 * 1.0 / 0.1);  // default Ca
+  for (const std::size_t k : {3u, 4u}) {
+    EXPECT_EQ(c.objects[k].interfacial_tension, 0.0);
+    EXPECT_FALSE(c.objects[k].capillary_number.has_value());
+    EXPECT_TRUE(std::isinf(capillary_number(c, c.objects[k])));
+  }
+  EXPECT_EQ(elastic_capillary_number(c, c.objects[3]), 0.2);  // as given
+  EXPECT_DOUBLE_EQ(*elastic_capillary_number(c, c.objects[4]), 2.0 * 0.5 / 4.0);
+  EXPECT_FALSE(elastic_capillary_number(c, c.objects[0]).has_value());
+}
+
+TEST(ConstitutiveKeys, ToTomlRoundTripsEveryModel) {
+  const std::string text = R"(
+[matrix]
+model = "giesekus"
+solvent_viscosity = 0.25
+polymer_viscosity = 0.75
+relaxation_time = 1.5
+mobility = 0.2
+[flow]
+shear_rate = 0.75
+[[objects]]
+model = "ucm"
+modulus = 13.0
+relaxation_time = 0.125
+capillary_number = 0.05
+[[objects]]
+centre = [4, 0, 0]
+model = "oldroyd_b"
+solvent_viscosity = 0.0
+polymer_viscosity = 2.0
+relaxation_time = 3.0
+interfacial_tension = 1.5
+[[objects]]
+centre = [-4, 0, 0]
+model = "neo_hookean"
+elastic_capillary_number = 0.25
+[[objects]]
+centre = [0, 0, 4]
+model = "kelvin_voigt"
+solvent_viscosity = 0.1
+modulus = 2.5
+[[objects]]
+centre = [0, 0, -4]
+viscosity_ratio = 2.0
+)";
+  const CaseConfig first = parse_case(text, "c.toml");
+  const std::string printed = to_toml(first);
+  const CaseConfig second = parse_case(printed, "c.toml");
+  expect_same(first, second);
+  EXPECT_EQ(printed, to_toml(second));
+  const auto a = constitutive_models(first), b = constitutive_models(second);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].model(), b[k].model());
+    EXPECT_EQ(a[k].solvent_viscosity(), b[k].solvent_viscosity());
+    EXPECT_EQ(a[k].modulus(), b[k].modulus());
+    EXPECT_EQ(a[k].relaxation_time(), b[k].relaxation_time());
+    EXPECT_EQ(a[k].mobility(), b[k].mobility());
+  }
+  // Each parameter as the user gave it; the derived values as comments.
+  EXPECT_NE(printed.find("[matrix]\nmodel = \"giesekus\"  # zero-shear viscosity eta_m = mu + "
+                         "G lambda = 1.0\nsolvent_viscosity = 0.25\npolymer_viscosity = 0.75\n"
+                         "relaxation_time = 1.5\nmobility = 0.2\n"),
+            std::string::npos)
+      << printed;
+  // G = eta_m gamma_dot / Ca_e = 1 * 0.75 / 0.25, not written as a key.
+  EXPECT_NE(printed.find("elastic_capillary_number = 0.25  # modulus = 3.0"), std::string::npos)
+      << printed;
+  EXPECT_EQ(printed.find("\nmodulus = 3.0"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("model = \"ucm\"  # viscosity ratio eta_d / eta_m = 1.625"),
+            std::string::npos)
+      << printed;
+  EXPECT_NE(printed.find("model = \"neo_hookean\"\n"), std::string::npos) << printed;
+}
+
+TEST(ConstitutiveKeysErrors, NewtonianKeysWithAnotherModel) {
+  EXPECT_ERROR("[matrix]\nmodel = \"oldroyd_b\"\nviscosity = 2\nsolvent_viscosity = 1\n"
+               "modulus = 1\nrelaxation_time = 1\n",
+               "case.toml: matrix.viscosity = 2: only for model = \"newtonian\" (model = "
+               "\"oldroyd_b\" takes 'solvent_viscosity', 'polymer_viscosity', 'modulus' and "
+               "'relaxation_time'); a viscoelastic matrix's viscosity is eta_m = "
+               "solvent_viscosity + polymer_viscosity");
+  EXPECT_ERROR("[[objects]]\nmodel = \"ucm\"\nviscosity_ratio = 2\nmodulus = 1\n"
+               "relaxation_time = 1\n",
+               "objects[1].viscosity_ratio = 2: only for model = \"newtonian\"");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nviscosity_ratio = 2\nmodulus = 1\n",
+               "objects[1].viscosity_ratio = 2: only for model = \"newtonian\"");
+}
+
+TEST(ConstitutiveKeysErrors, ElasticParticlesHaveNoInterfacialTension) {
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1\ncapillary_number = 0.1\n",
+               "objects[1].capillary_number = 0.1: only for model = \"newtonian\", "
+               "\"oldroyd_b\", \"giesekus\" or \"ucm\" (model = \"neo_hookean\" takes 'modulus' "
+               "and 'elastic_capillary_number'); an elastic particle has no interfacial tension");
+  EXPECT_ERROR("[[objects]]\nmodel = \"kelvin_voigt\"\nsolvent_viscosity = 1\nmodulus = 1\n"
+               "interfacial_tension = 0\n",
+               "objects[1].interfacial_tension = 0: only for model = \"newtonian\"");
+  // No default Ca for a particle, even without shear.
+  EXPECT_EQ(error_of("[flow]\nshear_rate = 0\n[[objects]]\nmodel = \"neo_hookean\"\n"
+                     "modulus = 1\n"),
+            "");
+}
+
+TEST(ConstitutiveKeysErrors, ModelNames) {
+  EXPECT_ERROR("[matrix]\nmodel = \"neo_hookean\"\n",
+               "matrix.model = \"neo_hookean\": must be one of \"newtonian\", \"oldroyd_b\", "
+               "\"giesekus\", \"ucm\"");
+  EXPECT_ERROR("[[objects]]\nmodel = \"oldroydb\"\n",
+               "objects[1].model = \"oldroydb\": must be one of \"newtonian\", \"oldroyd_b\", "
+               "\"giesekus\", \"ucm\", \"neo_hookean\", \"kelvin_voigt\" (did you mean "
+               "\"oldroyd_b\"?)");
+  // With the model unknown, which parameters belong is unknown: no follow-up.
+  const std::string e = error_of("[[objects]]\nmodel = \"maxwell\"\nrelaxation_time = 1\n");
+  EXPECT_EQ(e.find("relaxation_time"), std::string::npos) << e;
+  EXPECT_EQ(e.find("capillary"), std::string::npos) << e;
+}
+
+TEST(ConstitutiveKeysErrors, ParametersOfAnotherModel) {
+  EXPECT_ERROR("[matrix]\nmodel = \"ucm\"\nsolvent_viscosity = 0.1\nmodulus = 1\n"
+               "relaxation_time = 1\n",
+               "matrix.solvent_viscosity = 0.1: only for model = \"oldroyd_b\" or \"giesekus\"");
+  EXPECT_ERROR("[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.1\nmodulus = 1\n"
+               "relaxation_time = 1\nmobility = 0.1\n",
+               "matrix.mobility = 0.1: only for model = \"giesekus\"");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1\nrelaxation_time = 2\n",
+               "objects[1].relaxation_time = 2: only for model = \"oldroyd_b\", \"giesekus\" or "
+               "\"ucm\"");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\npolymer_viscosity = 2\n",
+               "objects[1].polymer_viscosity = 2: only for model = \"oldroyd_b\", \"giesekus\" "
+               "or \"ucm\"");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nsolvent_viscosity = 0.5\nmodulus = 1\n",
+               "objects[1].solvent_viscosity = 0.5: only for model = \"oldroyd_b\", "
+               "\"giesekus\" or \"kelvin_voigt\"");
+  EXPECT_ERROR("[[objects]]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 1\nmodulus = 1\n"
+               "relaxation_time = 1\nelastic_capillary_number = 0.1\n",
+               "objects[1].elastic_capillary_number = 0.1: only for model = \"neo_hookean\" or "
+               "\"kelvin_voigt\"");
+  // Parameters without a model: the Newtonian default takes none of them.
+  EXPECT_ERROR("[[objects]]\nmodulus = 1\n",
+               "objects[1].modulus = 1: only for model = \"oldroyd_b\", \"giesekus\", \"ucm\", "
+               "\"neo_hookean\" or \"kelvin_voigt\" (model = \"newtonian\" takes "
+               "'viscosity_ratio', 'capillary_number' and 'interfacial_tension')");
+}
+
+TEST(ConstitutiveKeysErrors, MissingParameters) {
+  EXPECT_ERROR("[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 1\nmodulus = 1\n",
+               "matrix.relaxation_time: missing: model = \"oldroyd_b\" needs relaxation_time, a "
+               "number > 0");
+  EXPECT_ERROR("[matrix]\nmodel = \"oldroyd_b\"\nmodulus = 1\nrelaxation_time = 1\n",
+               "matrix.solvent_viscosity: missing: model = \"oldroyd_b\" needs "
+               "solvent_viscosity, a number >= 0");
+  EXPECT_ERROR("[matrix]\nmodel = \"giesekus\"\nsolvent_viscosity = 1\nmodulus = 1\n"
+               "relaxation_time = 1\n",
+               "matrix.mobility: missing: model = \"giesekus\" needs mobility, a number in [0, 1]");
+  EXPECT_ERROR("[matrix]\nmodel = \"ucm\"\nrelaxation_time = 1\n",
+               "matrix.modulus: missing: model = \"ucm\" needs modulus or polymer_viscosity "
+               "(eta_p = G lambda)");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\n",
+               "objects[1].modulus: missing: model = \"neo_hookean\" needs modulus or "
+               "elastic_capillary_number (Ca_e = eta_m gamma_dot / G)");
+  EXPECT_ERROR("[[objects]]\nmodel = \"kelvin_voigt\"\nmodulus = 1\n",
+               "objects[1].solvent_viscosity: missing: model = \"kelvin_voigt\" needs "
+               "solvent_viscosity");
+  // A missing key is reported once, not again by the model's own check.
+  const std::string e = error_of("[matrix]\nmodel = \"ucm\"\nmodulus = 1\n");
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
+TEST(ConstitutiveKeysErrors, AlternativesGivenTogether) {
+  EXPECT_ERROR("[matrix]\nmodel = \"ucm\"\nmodulus = 1\npolymer_viscosity = 2\n"
+               "relaxation_time = 1\n",
+               "matrix gives both modulus = 1 and polymer_viscosity = 2: give only one (eta_p = "
+               "G lambda)");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1\n"
+               "elastic_capillary_number = 0.1\n",
+               "objects[1] gives both modulus = 1 and elastic_capillary_number = 0.1: give only "
+               "one (Ca_e = eta_m gamma_dot / G)");
+}
+
+TEST(ConstitutiveKeysErrors, ValuesOutOfRange) {
+  EXPECT_ERROR("[matrix]\nmodel = \"giesekus\"\nsolvent_viscosity = 0\nmodulus = 1\n"
+               "relaxation_time = 1\nmobility = 1.5\n",
+               "matrix.mobility = 1.5: must be in [0, 1]");
+  EXPECT_ERROR("[matrix]\nmodel = \"ucm\"\nmodulus = 1\nrelaxation_time = 0\n",
+               "matrix.relaxation_time = 0: must be > 0");
+  EXPECT_ERROR("[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = -1\nmodulus = 1\n"
+               "relaxation_time = 1\n",
+               "matrix.solvent_viscosity = -1: must be >= 0");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = -2\n",
+               "objects[1].modulus = -2: must be > 0");
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nelastic_capillary_number = 0\n",
+               "objects[1].elastic_capillary_number = 0: must be > 0");
+  // What only Constitutive::create knows, under the key it concerns.
+  EXPECT_ERROR("[[objects]]\n[[objects]]\nmodel = \"kelvin_voigt\"\nsolvent_viscosity = 0\n"
+               "modulus = 1\n",
+               "objects[2].solvent_viscosity = 0: constitutive model 'kelvin_voigt': the solvent "
+               "viscosity mu = 0 must be positive");
+  EXPECT_ERROR("[matrix]\nmodel = \"ucm\"\npolymer_viscosity = 1e300\nrelaxation_time = 1e-300\n",
+               "matrix: model = \"ucm\" with these parameters gives G = inf");
+}
+
+TEST(ConstitutiveKeysErrors, ElasticCapillaryNumberNeedsShear) {
+  EXPECT_ERROR("[flow]\nshear_rate = 0\n[[objects]]\nmodel = \"neo_hookean\"\n"
+               "elastic_capillary_number = 0.1\n",
+               "objects[1].elastic_capillary_number = 0.1: needs flow.shear_rate > 0 (it is 0) "
+               "to set the modulus G = eta_m gamma_dot / Ca_e; give modulus instead");
+  // The particle's other parameters are checked all the same.
+  const std::string e = error_of(
+      "[flow]\nshear_rate = 0\n[[objects]]\nmodel = \"kelvin_voigt\"\nsolvent_viscosity = 0\n"
+      "elastic_capillary_number = 0.1\n");
+  EXPECT_NE(e.find("objects[1].elastic_capillary_number = 0.1: needs flow.shear_rate > 0"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("objects[1].solvent_viscosity = 0: constitutive model 'kelvin_voigt'"),
+            std::string::npos)
+      << e;
+  EXPECT_ERROR("[matrix]\nviscosity = 1e300\n[flow]\nshear_rate = 1e10\n[[objects]]\n"
+               "model = \"neo_hookean\"\nelastic_capillary_number = 1e-10\n",
+               "objects[1].elastic_capillary_number = 1e-10: gives the modulus G = eta_m "
+               "gamma_dot / Ca_e = inf");
+}
+
+TEST(ConstitutiveKeysErrors, SymbolsFromThePapersAreSuggested) {
+  EXPECT_ERROR("[matrix]\nG = 1\n", "unknown key 'matrix.G' (did you mean 'matrix.modulus'?)");
+  EXPECT_ERROR("[[objects]]\nG = 1\n",
+               "unknown key 'objects[1].G' (did you mean 'objects[1].modulus'?)");
+  EXPECT_ERROR("[matrix]\nlambda = 1\n", "(did you mean 'matrix.relaxation_time'?)");
+  EXPECT_ERROR("[matrix]\nrelaxation = 1\n", "(did you mean 'matrix.relaxation_time'?)");
+  EXPECT_ERROR("[[objects]]\nlambda_d = 1\n", "(did you mean 'objects[1].relaxation_time'?)");
+  EXPECT_ERROR("[[objects]]\nlambda = 1\n", "(did you mean 'objects[1].viscosity_ratio'?)");
+  EXPECT_ERROR("[matrix]\neta_p = 1\n", "(did you mean 'matrix.polymer_viscosity'?)");
+  EXPECT_ERROR("[[objects]]\nmu = 1\n", "(did you mean 'objects[1].solvent_viscosity'?)");
+  EXPECT_ERROR("[[objects]]\nCa_e = 0.1\n",
+               "(did you mean 'objects[1].elastic_capillary_number'?)");
+  EXPECT_ERROR("[matrix]\ntype = \"ucm\"\n", "(did you mean 'matrix.model'?)");
+  EXPECT_ERROR("[[objects]]\nshear_modulus = 1\n", "(did you mean 'objects[1].modulus'?)");
+}
+
+TEST(ConstitutiveKeys, TheReferenceDocumentsTheModels) {
+  const std::string doc = case_file_keys_markdown();
+  for (const char* key : {"`model`", "`\"giesekus\"`", "`\"kelvin_voigt\"`", "`solvent_viscosity`",
+                          "`polymer_viscosity`", "`modulus`", "`relaxation_time`", "`mobility`",
+                          "`elastic_capillary_number`"})
+    EXPECT_NE(doc.find(key), std::string::npos) << key;
+}
+
+// ---- dimensionless groups of viscoelastic phases (SPEC §1, thesis §2.2.1-2.2.2) ----
+
+bool has_group(const std::vector<DimensionlessGroup>& groups, const std::string& symbol,
+               int object) {
+  for (const auto& g : groups)
+    if (g.symbol == symbol && g.object == object) return true;
+  return false;
+}
+
+TEST(DimensionlessGroups, TheUcmDropOfFigure2_12) {
+  // lambda = 2, p_d = 0.5 at Ca = 0.1 (R = eta_m = gamma_dot = 1): Gamma = 10,
+  // eta_d = eta_p = 2; p_d = 2 eta_p lambda_d Gamma / (2 R eta_d^2) = 5 lambda_d,
+  // so lambda_d = 0.1 (G = eta_p / lambda_d = 20).
+  const CaseConfig c = parse_case(
+      "[[objects]]\nmodel = \"ucm\"\npolymer_viscosity = 2\nrelaxation_time = 0.1\n"
+      "capillary_number = 0.1\n",
+      "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_EQ(find_group(groups, "Ca", 1).value, 0.1);
+  EXPECT_DOUBLE_EQ(find_group(groups, "lambda", 1).value, 2.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "p_d", 1).value, 0.5);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Wi_d", 1).value, 0.1);
+  EXPECT_FALSE(has_group(groups, "p", 1));   // Newtonian matrix
+  EXPECT_FALSE(has_group(groups, "Wi", 0));
+  EXPECT_FALSE(has_group(groups, "Ca_e", 1));
+}
+
+TEST(DimensionlessGroups, DropWithSolventInAViscoelasticMatrix) {
+  // Matrix Oldroyd-B: mu = 1, G = 0.5, lambda_m = 4: eta_pm = 2, eta_m = 3,
+  // Psi_1m = 2 * 2 * 4 = 16. Drop Oldroyd-B: mu = 0.5, eta_pd = 1, lambda_d = 2:
+  // eta_d = 1.5, Psi_1d = 4. gamma_dot = 0.5, R = 2, Gamma = 6.
+  const CaseConfig c = parse_case(
+      "[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 1\nmodulus = 0.5\n"
+      "relaxation_time = 4\n[flow]\nshear_rate = 0.5\n"
+      "[[objects]]\nradius = 2\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\n"
+      "polymer_viscosity = 1\nrelaxation_time = 2\ninterfacial_tension = 6\n",
+      "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Wi", 0).value, 4.0 * 0.5);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Ca", 1).value, 3.0 * 0.5 * 2.0 / 6.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "lambda", 1).value, 1.5 / 3.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "p", 1).value, 16.0 * 6.0 / (2.0 * 2.0 * 9.0));
+  EXPECT_DOUBLE_EQ(find_group(groups, "p_d", 1).value, 4.0 * 6.0 / (2.0 * 2.0 * 2.25));
+  EXPECT_DOUBLE_EQ(find_group(groups, "Wi_d", 1).value, 2.0 * 0.5);
+}
+
+TEST(DimensionlessGroups, ElasticParticles) {
+  // Giesekus matrix (alpha = 0.2): mu = 0.2, G = 0.4, lambda_m = 2: eta_pm = 0.8,
+  // eta_m = 1, Psi_1m = 3.2; gamma_dot = 1.5.
+  const CaseConfig c = parse_case(
+      "[matrix]\nmodel = \"giesekus\"\nsolvent_viscosity = 0.2\nmodulus = 0.4\n"
+      "relaxation_time = 2\nmobility = 0.2\n[flow]\nshear_rate = 1.5\n"
+      "[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 3\n"
+      "[[objects]]\ncentre = [5, 0, 0]\nmodel = \"kelvin_voigt\"\nsolvent_viscosity = 0.25\n"
+      "elastic_capillary_number = 0.1\n"
+      "[[objects]]\ncentre = [-5, 0, 0]\nradius = 2\nviscosity_ratio = 3\n"
+      "interfacial_tension = 4\n",
+      "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Wi", 0).value, 3.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Ca_e", 1).value, 1.0 * 1.5 / 3.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "p", 1).value, 3.2 * 3.0 / 2.0);  // Psi_1m G / (2 eta_m^2)
+  EXPECT_EQ(find_group(groups, "Ca_e", 2).value, 0.1);
+  EXPECT_DOUBLE_EQ(find_group(groups, "p", 2).value, 3.2 * 15.0 / 2.0);  // G = 1.5 / 0.1
+  EXPECT_DOUBLE_EQ(find_group(groups, "mu_d/eta_m", 2).value, 0.25);
+  for (const int k : {1, 2})
+    for (const char* s : {"Ca", "lambda", "omega*", "p_d", "Wi_d"})
+      EXPECT_FALSE(has_group(groups, s, k)) << s << " of object " << k;
+  EXPECT_FALSE(has_group(groups, "mu_d/eta_m", 1));
+  EXPECT_DOUBLE_EQ(find_group(groups, "beta", 1).value, 2.0 / 30.0);
+  // A Newtonian drop in the same matrix: p = Psi_1m Gamma / (2 R eta_m^2).
+  EXPECT_DOUBLE_EQ(find_group(groups, "p", 3).value, 3.2 * 4.0 / (2.0 * 2.0 * 1.0));
+  EXPECT_DOUBLE_EQ(find_group(groups, "Ca", 3).value, 1.0 * 1.5 * 2.0 / 4.0);
+  EXPECT_FALSE(has_group(groups, "p_d", 3));
+}
+
+TEST(DimensionlessGroups, OscillatoryFlowAddsDeborahNumbers) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nmodel = \"ucm\"\nmodulus = 1\nrelaxation_time = 0.5\n"
+      "[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\nfrequency = 4\n"
+      "[[objects]]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 1\nmodulus = 1\n"
+      "relaxation_time = 3\ninterfacial_tension = 2\n",
+      "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Wi", 0).value, 0.5 * 0.1 * 4.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "De", 0).value, 0.5 * 4.0);
+  EXPECT_DOUBLE_EQ(find_group(groups, "Wi_d", 1).value, 3.0 * 0.4);
+  EXPECT_DOUBLE_EQ(find_group(groups, "De_d", 1).value, 3.0 * 4.0);
+  EXPECT_EQ(find_group(groups, "Wi", 0).definition, "lambda_m gamma0 omega");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "softflow/io/case_config.hpp"
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -17,6 +18,9 @@ namespace softflow::io {
 
 namespace {
 
+using physics::viscoelastic::Constitutive;
+using physics::viscoelastic::ConstitutiveModel;
+using physics::viscoelastic::ConstitutiveValues;
 using schema::Diagnostics;
 using schema::Read;
 using schema::TableRead;
@@ -36,13 +40,123 @@ struct FlowState {
   bool shear_rate_ok = true;
 };
 
+// ---- constitutive models ----
+
+/// The keys that make a phase's constitutive model (a table has some of them).
+constexpr std::array<std::string_view, 9> kModelKeys{
+    "model",   "viscosity",       "viscosity_ratio", "solvent_viscosity",       "polymer_viscosity",
+    "modulus", "relaxation_time", "mobility",        "elastic_capillary_number"};
+
+/// Whether the model keys of a table were read without a problem: a bad
+/// value or a missing required key is reported already, and a check built
+/// on it would only repeat it or follow from a value the user never meant.
+template <class Target>
+bool model_keys_read(const schema::Table<Target>& declared, const TableRead& t,
+                     const Target& target) {
+  for (const std::string_view name : kModelKeys) {
+    const auto* key = declared.find(name);
+    if (!key) continue;
+    const Read r = t.status(name);
+    if (r == Read::bad) return false;
+    if (r == Read::absent && key->required && schema::applies(declared, *key, target)) return false;
+  }
+  return true;
+}
+
+/// Exactly one of two alternative keys, e.g. modulus or polymer_viscosity
+/// (= G lambda), for a model that needs one of them.
+bool one_of(const TableRead& t, std::string_view first, std::string_view second,
+            ConstitutiveModel model, std::string_view relation, Diagnostics& diag) {
+  const Value* a = t.value(first);
+  const Value* b = t.value(second);
+  if (a && b) {
+    diag.error(fmt::format("{} gives both {} = {} and {} = {}: give only one ({})", t.prefix(),
+                           first, schema::describe(*a), second, schema::describe(*b), relation));
+    return false;
+  }
+  if (!a && !b) {
+    diag.error(fmt::format("{}: missing: model = \"{}\" needs {} or {} ({})", t.path(first),
+                           physics::viscoelastic::to_string(model), first, second, relation));
+    return false;
+  }
+  return true;
+}
+
+/// The case-file key of each parameter Constitutive::create names in its
+/// messages ("the solvent viscosity mu = 0 must be positive").
+struct ParameterKey {
+  std::string_view words;
+  std::string_view key;
+};
+constexpr std::array<ParameterKey, 5> kParameterKeys{{
+    {"solvent viscosity mu", "solvent_viscosity"},
+    {"modulus G", "modulus"},
+    {"polymer viscosity eta_p", "polymer_viscosity"},
+    {"relaxation time lambda", "relaxation_time"},
+    {"mobility alpha", "mobility"},
+}};
+
+/// The phase's model by Constitutive::create, where the rules of each model
+/// live (the keys' ranges only repeat those that hold for every model). A
+/// refusal is reported under the key whose parameter it names first
+/// ("objects[1].solvent_viscosity = 0: constitutive model 'kelvin_voigt':
+/// the solvent viscosity mu = 0 must be positive"), else under the table.
+/// A model whose G or eta = mu + G lambda overflows or underflows (eta_p =
+/// 1e300 with lambda = 1e-300) is refused too: no run could use it.
+std::optional<Constitutive> make_model(const TableRead& t, ConstitutiveModel model,
+                                       const ConstitutiveValues& values, Diagnostics& diag) {
+  std::optional<Constitutive> m;
+  try {
+    m = Constitutive::create(model, values);
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    std::size_t first = std::string::npos;
+    std::string_view key;
+    for (const auto& [words, k] : kParameterKeys) {
+      const auto at = what.find(words);
+      if (at < first && t.value(k)) {
+        first = at;
+        key = k;
+      }
+    }
+    if (!key.empty())
+      diag.error(t.path(key), *t.value(key), what);
+    else
+      diag.error(fmt::format("{}: {}", t.prefix(), what));
+    return std::nullopt;
+  }
+  const double g = m->modulus(), eta = m->zero_shear_viscosity();
+  if (!(std::isfinite(g) && g > 0.0) || (m->relaxes() && !(std::isfinite(eta) && eta > 0.0))) {
+    diag.error(
+        fmt::format("{}: model = \"{}\" with these parameters gives G = {} and eta = mu + "
+                    "G lambda = {}, beyond the range of a double: state the case in "
+                    "other units",
+                    t.prefix(), physics::viscoelastic::to_string(model), g, eta));
+    return std::nullopt;
+  }
+  return m;
+}
+
+/// [matrix]: a viscoelastic matrix's model, and eta_m, the viscosity of Ca,
+/// Ca_e, lambda and p, its zero-shear viscosity mu + G lambda (thesis eq. 2.9).
+/// False when eta_m is unknown (a bad key, reported).
+bool resolve_matrix(const TableRead& t, CaseConfig& c, Diagnostics& diag) {
+  if (!model_keys_read(*case_keys().table("matrix"), t, c)) return false;
+  if (c.matrix_model == ConstitutiveModel::newtonian) return true;
+  if (!one_of(t, "modulus", "polymer_viscosity", c.matrix_model, "eta_p = G lambda", diag))
+    return false;
+  const auto model = make_model(t, c.matrix_model, c.matrix_parameters, diag);
+  if (!model) return false;
+  c.matrix_viscosity = model->zero_shear_viscosity();
+  return true;
+}
+
 /// The characteristic shear rate of each flow type (oscillatory: the
 /// shear-rate amplitude gamma0 omega), and walls that start or stop must
 /// move at all.
-FlowState resolve_flow(const TableRead& matrix, const TableRead& flow, CaseConfig& c,
-                       Diagnostics& diag) {
+FlowState resolve_flow(bool matrix_ok, const TableRead& flow, CaseConfig& c, Diagnostics& diag) {
   FlowState state;
-  state.matrix_viscosity_ok = matrix.status("viscosity") != Read::bad;
+  state.matrix_viscosity_ok = matrix_ok;
   if (flow.status("type") == Read::bad) {
     state.shear_rate_ok = false;
     return state;
@@ -69,6 +183,63 @@ FlowState resolve_flow(const TableRead& matrix, const TableRead& flow, CaseConfi
     case FlowType::steady: state.shear_rate_ok = flow.status("shear_rate") != Read::bad; break;
   }
   return state;
+}
+
+/// An elastic particle's G = eta_m gamma_dot / Ca_e (thesis §2.2.2), into
+/// o.parameters.modulus. False when it cannot be had: gamma_dot = 0
+/// (reported), or eta_m or gamma_dot unknown (a bad key, reported).
+bool modulus_from_elastic_capillary_number(const TableRead& t, const CaseConfig& c,
+                                           const FlowState& flow, ObjectConfig& o,
+                                           Diagnostics& diag) {
+  if (!flow.shear_rate_ok || !flow.matrix_viscosity_ok) return false;
+  const Value& given = *t.value("elastic_capillary_number");
+  if (c.shear_rate == 0.0) {
+    diag.error(t.path("elastic_capillary_number"), given,
+               "needs flow.shear_rate > 0 (it is 0) to set the modulus G = eta_m gamma_dot / "
+               "Ca_e; give modulus instead");
+    return false;
+  }
+  const double g = c.matrix_viscosity * c.shear_rate / *o.elastic_capillary_number;
+  if (!(std::isfinite(g) && g > 0.0)) {
+    diag.error(t.path("elastic_capillary_number"), given,
+               fmt::format("gives the modulus G = eta_m gamma_dot / Ca_e = {}, beyond the range "
+                           "of a double: state the case in other units",
+                           g));
+    return false;
+  }
+  o.parameters.modulus = g;
+  return true;
+}
+
+/// An object's constitutive model (thesis §2.2.1-2.2.2): a non-Newtonian
+/// object's parameters through Constitutive::create, an elastic particle's
+/// modulus G = eta_m gamma_dot / Ca_e when it gives Ca_e, and lambda =
+/// eta_d / eta_m with eta_d the zero-shear viscosity mu + G lambda (+inf for
+/// a solid). False when the model itself is unknown (a bad key, reported).
+bool resolve_object_model(const TableRead& t, const CaseConfig& c, const FlowState& flow,
+                          ObjectConfig& o, Diagnostics& diag) {
+  if (t.status("model") == Read::bad) return false;
+  if (o.model == ConstitutiveModel::newtonian) return true;
+  if (!model_keys_read(case_keys().objects, t, o)) return true;
+  if (is_elastic_solid(o.model)) {
+    if (!one_of(t, "modulus", "elastic_capillary_number", o.model, "Ca_e = eta_m gamma_dot / G",
+                diag))
+      return true;
+    if (o.elastic_capillary_number && !modulus_from_elastic_capillary_number(t, c, flow, o, diag)) {
+      // G unknown: the other parameters are still checked, with a stand-in G
+      // (any G > 0 passes), so that one run of `check` reports every problem.
+      ConstitutiveValues others = o.parameters;
+      others.modulus = 1.0;
+      make_model(t, o.model, others, diag);
+      return true;
+    }
+  } else if (!one_of(t, "modulus", "polymer_viscosity", o.model, "eta_p = G lambda", diag)) {
+    return true;
+  }
+  const auto model = make_model(t, o.model, o.parameters, diag);
+  if (model && flow.matrix_viscosity_ok)
+    o.viscosity_ratio = model->zero_shear_viscosity() / c.matrix_viscosity;
+  return true;
 }
 
 /// Gamma from exactly one of capillary_number (Gamma = eta_m gamma_dot R/Ca)
@@ -240,6 +411,36 @@ geometry::ShearCellSpec CaseConfig::shear_cell_spec() const {
   return spec;
 }
 
+bool is_elastic_solid(ConstitutiveModel model) {
+  return model == ConstitutiveModel::neo_hookean || model == ConstitutiveModel::kelvin_voigt;
+}
+
+Constitutive matrix_constitutive(const CaseConfig& c) {
+  if (c.matrix_model == ConstitutiveModel::newtonian)
+    return Constitutive::newtonian(c.matrix_viscosity);
+  return Constitutive::create(c.matrix_model, c.matrix_parameters);
+}
+
+Constitutive object_constitutive(const CaseConfig& c, const ObjectConfig& o) {
+  // lambda = eta_d / eta_m with eta_m the zero-shear viscosity (thesis §2.2.1).
+  if (o.model == ConstitutiveModel::newtonian)
+    return Constitutive::newtonian(o.viscosity_ratio * c.matrix_viscosity);
+  return Constitutive::create(o.model, o.parameters);
+}
+
+std::vector<Constitutive> constitutive_models(const CaseConfig& c) {
+  std::vector<Constitutive> models{matrix_constitutive(c)};
+  for (const auto& o : c.objects) models.push_back(object_constitutive(c, o));
+  return models;
+}
+
+std::optional<double> elastic_capillary_number(const CaseConfig& c, const ObjectConfig& o) {
+  if (!is_elastic_solid(o.model)) return std::nullopt;
+  // The Ca_e the user gave is reported as given, not re-derived through G.
+  if (o.elastic_capillary_number) return o.elastic_capillary_number;
+  return c.matrix_viscosity * c.shear_rate / object_constitutive(c, o).modulus();
+}
+
 double capillary_number(const CaseConfig& c, const ObjectConfig& o) {
   // The Ca the user gave is reported as given, not re-derived through Gamma.
   if (o.capillary_number) return *o.capillary_number;
@@ -280,9 +481,15 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   // 2. What several keys decide together.
   if (read["output"].status("directory") != Read::ok) c.output_directory = "output/" + c.name;
   check_time(read["time"], c, diag);
-  const FlowState flow = resolve_flow(read["matrix"], read["flow"], c, diag);
-  for (std::size_t k = 0; k < c.objects.size(); ++k)
-    resolve_tension(objects_read[k], c, flow, c.objects[k], diag);
+  const bool matrix_ok = resolve_matrix(read["matrix"], c, diag);
+  const FlowState flow = resolve_flow(matrix_ok, read["flow"], c, diag);
+  for (std::size_t k = 0; k < c.objects.size(); ++k) {
+    ObjectConfig& o = c.objects[k];
+    const bool model_known = resolve_object_model(objects_read[k], c, flow, o, diag);
+    // An elastic particle has no interfacial tension (Gamma = 0, SPEC §1).
+    if (model_known && !is_elastic_solid(o.model))
+      resolve_tension(objects_read[k], c, flow, o, diag);
+  }
   diag.throw_if_any();
   return c;
 }
@@ -324,11 +531,27 @@ std::string to_toml(const CaseConfig& c) {
 std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
   std::vector<DimensionlessGroup> groups;
   const bool oscillatory = c.flow.type == FlowType::oscillatory;
-  // Case-wide groups first (object = 0); the Deborah/Weissenberg numbers of a
-  // viscoelastic matrix will go here too.
+  const double inf = std::numeric_limits<double>::infinity();
+  const double eta_m = c.matrix_viscosity;  // zero-shear for a viscoelastic matrix
+  const Constitutive matrix = matrix_constitutive(c);
+  // Psi_1 = N1 / gamma_dot^2 = 2 eta_p lambda: the first normal-stress
+  // coefficient of Oldroyd-B and UCM, and Giesekus's at zero shear rate
+  // (where the second-order theory of p and p_d, thesis eq. 2.60, holds).
+  const auto psi1 = [](const Constitutive& m) {
+    return 2.0 * m.polymer_viscosity() * m.relaxation_time();
+  };
+  const std::string rate = oscillatory ? "gamma0 omega" : "gamma_dot";
+  // Case-wide groups first (object = 0).
   if (oscillatory)
     groups.push_back({"gamma0", "strain amplitude", c.flow.strain_amplitude,
                       "flow.strain_amplitude", 0});
+  if (matrix.relaxes()) {
+    groups.push_back({"Wi", "Weissenberg number of the matrix",
+                      matrix.relaxation_time() * c.shear_rate, "lambda_m " + rate, 0});
+    if (oscillatory)
+      groups.push_back({"De", "Deborah number of the matrix",
+                        matrix.relaxation_time() * c.flow.frequency, "lambda_m omega", 0});
+  }
   for (std::size_t k = 0; k < c.objects.size(); ++k) {
     const ObjectConfig& o = c.objects[k];
     const int object = static_cast<int>(k) + 1;
@@ -338,16 +561,43 @@ std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
                          std::string definition) {
       groups.push_back({std::move(symbol), std::move(name), value, std::move(definition), object});
     };
-    add("Ca", "capillary number", capillary_number(c, o),
-        oscillatory ? "eta_m gamma0 omega R / Gamma, R = (abc)^(1/3)"
-                    : "eta_m gamma_dot R / Gamma, R = (abc)^(1/3)");
-    if (oscillatory)
-      add("omega*", "dimensionless frequency",
-          o.interfacial_tension > 0.0
-              ? c.flow.frequency * c.matrix_viscosity * r / o.interfacial_tension
-              : std::numeric_limits<double>::infinity(),
-          "omega eta_m R / Gamma");
-    add("lambda", "viscosity ratio", o.viscosity_ratio, "eta_d / eta_m");
+    const Constitutive model = object_constitutive(c, o);
+    if (is_elastic_solid(o.model)) {
+      // No interfacial tension: no Ca, omega* or lambda; Ca_e and p of thesis §2.2.2.
+      add("Ca_e", "elastic capillary number", *elastic_capillary_number(c, o),
+          "eta_m " + rate + " / G");
+      if (matrix.relaxes())
+        add("p", "matrix elasticity parameter",
+            psi1(matrix) * model.modulus() / (2.0 * eta_m * eta_m),
+            "Psi_1m G / (2 eta_m^2), Psi_1m = 2 eta_pm lambda_m");
+      if (o.model == ConstitutiveModel::kelvin_voigt)
+        add("mu_d/eta_m", "particle solvent viscosity ratio", model.solvent_viscosity() / eta_m,
+            "mu_d / eta_m");
+    } else {
+      const double gamma = o.interfacial_tension;
+      add("Ca", "capillary number", capillary_number(c, o),
+          "eta_m " + rate + " R / Gamma, R = (abc)^(1/3)");
+      if (oscillatory)
+        add("omega*", "dimensionless frequency",
+            gamma > 0.0 ? c.flow.frequency * eta_m * r / gamma : inf, "omega eta_m R / Gamma");
+      add("lambda", "viscosity ratio", o.viscosity_ratio,
+          model.relaxes() ? "eta_d / eta_m, eta_d = mu_d + eta_pd (zero-shear)" : "eta_d / eta_m");
+      // thesis §2.2.1 and eq. 2.60: p of the matrix, p_d of the drop, each
+      // with its own zero-shear viscosity squared in the denominator.
+      if (matrix.relaxes())
+        add("p", "matrix elasticity parameter", psi1(matrix) * gamma / (2.0 * r * eta_m * eta_m),
+            "Psi_1m Gamma / (2 R eta_m^2), Psi_1m = 2 eta_pm lambda_m");
+      if (model.relaxes()) {
+        const double eta_d = model.zero_shear_viscosity();
+        add("p_d", "drop elasticity parameter", psi1(model) * gamma / (2.0 * r * eta_d * eta_d),
+            "Psi_1d Gamma / (2 R eta_d^2), Psi_1d = 2 eta_pd lambda_d");
+        add("Wi_d", "Weissenberg number of the drop", model.relaxation_time() * c.shear_rate,
+            "lambda_d " + rate);
+        if (oscillatory)
+          add("De_d", "Deborah number of the drop", model.relaxation_time() * c.flow.frequency,
+              "lambda_d omega");
+      }
+    }
     add("beta", "blockage ratio", d / c.box.height, "2R / H");
     add("L/D", "box length in diameters", c.box.length / d, "L / 2R");
     add("H/D", "box height in diameters", c.box.height / d, "H / 2R");

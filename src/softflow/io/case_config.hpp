@@ -13,6 +13,7 @@
 
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/viscoelastic/constitutive.hpp"
 
 namespace softflow::io {
 
@@ -32,14 +33,33 @@ struct FlowConfig {
 /// One suspended object of the case file ([[objects]]).
 struct ObjectConfig {
   geometry::ObjectSpec geometry;
-  /// lambda = eta_d / eta_m.
+  /// The constitutive model of the object ([[objects]] model): a Newtonian
+  /// or viscoelastic drop, or an elastic particle (neo_hookean,
+  /// kelvin_voigt). object_constitutive() makes the model itself.
+  physics::viscoelastic::ConstitutiveModel model =
+      physics::viscoelastic::ConstitutiveModel::newtonian;
+  /// A non-Newtonian object's parameters in the case's units, as the file
+  /// gives them (solvent_viscosity, polymer_viscosity or modulus,
+  /// relaxation_time, mobility); an elastic particle's modulus is always
+  /// set, from elastic_capillary_number if the file gives that. All unset
+  /// for a Newtonian object (its viscosity is viscosity_ratio * eta_m).
+  physics::viscoelastic::ConstitutiveValues parameters;
+  /// lambda = eta_d / eta_m, always resolved: as given for a Newtonian
+  /// object, with eta_d = mu + G lambda, the zero-shear viscosity (thesis
+  /// eq. 2.9), for a viscoelastic drop, +infinity for an elastic particle.
   double viscosity_ratio = 1.0;
-  /// Gamma, always resolved: from the file, or Gamma = eta_m gamma_dot R / Ca.
+  /// Gamma, always resolved: from the file, or Gamma = eta_m gamma_dot R / Ca;
+  /// 0 for an elastic particle (no interfacial tension, SPEC §1).
   double interfacial_tension = 0.0;
   /// The capillary number as the user gave it (or the default 0.1); empty
-  /// when the file gives interfacial_tension instead. Kept so that the
-  /// resolved case says what the user asked for, not a rounded Gamma.
+  /// when the file gives interfacial_tension instead, and for an elastic
+  /// particle. Kept so that the resolved case says what the user asked for,
+  /// not a rounded Gamma.
   std::optional<double> capillary_number;
+  /// An elastic particle's Ca_e = eta_m gamma_dot / G as the user gave it
+  /// (then parameters.modulus = eta_m gamma_dot / Ca_e); empty when the file
+  /// gives the modulus, and for a liquid object.
+  std::optional<double> elastic_capillary_number;
 };
 
 /// [time]: the time loop (thesis §2.3.3). end = 0 means one Stokes solve of
@@ -80,7 +100,16 @@ struct InterfaceConfig {
 struct CaseConfig {
   std::string name;                             ///< [case] name; default: the file stem
   mesh::Box box{30.0, 30.0, 30.0, true, true};  ///< [cell]
-  double matrix_viscosity = 1.0;                ///< [matrix] viscosity, eta_m
+  /// [matrix] model: Newtonian, Oldroyd-B, Giesekus or UCM.
+  physics::viscoelastic::ConstitutiveModel matrix_model =
+      physics::viscoelastic::ConstitutiveModel::newtonian;
+  /// A viscoelastic matrix's parameters as the file gives them (all unset
+  /// for a Newtonian matrix); matrix_constitutive() makes the model.
+  physics::viscoelastic::ConstitutiveValues matrix_parameters;
+  /// eta_m, always resolved: [matrix] viscosity, or for a viscoelastic
+  /// matrix its zero-shear viscosity mu + G lambda (thesis eq. 2.9), the
+  /// eta_m of Ca, Ca_e, lambda and p.
+  double matrix_viscosity = 1.0;
   /// gamma_dot >= 0, the characteristic shear rate: [flow] shear_rate while
   /// the walls move (0: a static case, e.g. drop relaxation); for oscillatory
   /// flow the shear-rate amplitude strain_amplitude * frequency (not a key
@@ -118,6 +147,30 @@ struct CaseConfig {
 /// scale of every dimensionless group of an object.
 [[nodiscard]] double mean_radius(const geometry::ObjectSpec& object);
 
+/// True for the models of an elastic particle (neo_hookean, kelvin_voigt):
+/// a solid, without interfacial tension.
+[[nodiscard]] bool is_elastic_solid(physics::viscoelastic::ConstitutiveModel model);
+
+/// Ca_e = eta_m gamma_dot / G of an elastic particle: as the file gave it,
+/// else computed from the modulus; empty for a liquid object.
+[[nodiscard]] std::optional<double> elastic_capillary_number(const CaseConfig& config,
+                                                             const ObjectConfig& object);
+
+/// The matrix's constitutive model: Constitutive::newtonian(eta_m) or the
+/// viscoelastic model of [matrix].
+[[nodiscard]] physics::viscoelastic::Constitutive matrix_constitutive(const CaseConfig& config);
+
+/// The constitutive model of `object` (one of config.objects): for a
+/// Newtonian object Constitutive::newtonian(viscosity_ratio * eta_m), with
+/// eta_m the matrix's (zero-shear) viscosity.
+[[nodiscard]] physics::viscoelastic::Constitutive object_constitutive(const CaseConfig& config,
+                                                                      const ObjectConfig& object);
+
+/// The constitutive model of every region: [0] the matrix, [k] object k
+/// (config.objects[k-1]), in absolute units of the case.
+[[nodiscard]] std::vector<physics::viscoelastic::Constitutive> constitutive_models(
+    const CaseConfig& config);
+
 /// Reads and validates a case file. Throws InputError with one line per
 /// problem found ("case.toml: objects[2].radius = -1: must be > 0").
 CaseConfig read_case_file(const std::filesystem::path& path);
@@ -148,8 +201,13 @@ struct DimensionlessGroup {
   int object = 0;          ///< object it belongs to (1-based); 0 = the whole case
 };
 
-/// The groups of a case, case-wide ones first, then per object: Ca, lambda,
-/// blockage beta = 2R/H, and the box size in diameters L/2R, H/2R, W/2R.
+/// The groups of a case (SPEC §1), case-wide ones first (gamma0; a
+/// viscoelastic matrix's Weissenberg number, and Deborah number in
+/// oscillatory flow), then per object: for a drop Ca, omega*, lambda, p
+/// (viscoelastic matrix), p_d and Wi_d (viscoelastic drop); for an elastic
+/// particle Ca_e, p (viscoelastic matrix) and mu_d/eta_m (Kelvin-Voigt);
+/// for every object the blockage beta = 2R/H and the box size in diameters
+/// L/2R, H/2R, W/2R.
 std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& config);
 
 /// [{"symbol", "name", "object" (omitted for case-wide groups), "value"

@@ -57,10 +57,117 @@ Table<CaseConfig> cell_table() {
                    "periodic in z; false puts the undisturbed shear flow on the z faces")}};
 }
 
+// ---- constitutive models (thesis §2.2.1-2.2.2; SPEC §1) ----
+
+using physics::viscoelastic::ConstitutiveModel;
+using physics::viscoelastic::ConstitutiveValues;
+
+const std::vector<std::string> kLiquids{"newtonian", "oldroyd_b", "giesekus", "ucm"};
+const std::vector<std::string> kViscoelasticLiquids{"oldroyd_b", "giesekus", "ucm"};
+
+/// The words of `model`: the liquids, and for objects also the elastic solids.
+std::vector<Option<ConstitutiveModel>> model_options(bool solids) {
+  std::vector<Option<ConstitutiveModel>> options{
+      {"newtonian", ConstitutiveModel::newtonian, "T = 2 eta D (eq. 2.4)"},
+      {"oldroyd_b", ConstitutiveModel::oldroyd_b,
+       "T = 2 mu D + G (c - I) with lambda c_UC + (c - I) = 0 (eqs. 2.5-2.7, alpha = 0)"},
+      {"giesekus", ConstitutiveModel::giesekus,
+       "T = 2 mu D + G (c - I) with lambda c_UC + (c - I) + alpha (c - I)^2 = 0 (eqs. 2.5-2.7)"},
+      {"ucm", ConstitutiveModel::ucm, "Oldroyd-B without solvent (mu = 0)"}};
+  if (solids) {
+    options.push_back({"neo_hookean", ConstitutiveModel::neo_hookean,
+                       "elastic particle T = G (B - I), B the Finger tensor (eqs. 2.21-2.22); no "
+                       "interfacial tension"});
+    options.push_back({"kelvin_voigt", ConstitutiveModel::kelvin_voigt,
+                       "elastic particle with a solvent viscosity, T = 2 mu D + G (B - I); no "
+                       "interfacial tension"});
+  }
+  return options;
+}
+
+/// The parameter keys of a non-Newtonian phase, in the case's units like
+/// [matrix] viscosity, filling the ConstitutiveValues at `values`
+/// (Constitutive::create checks them once more, and decides per model
+/// what the keys' ranges cannot: e.g. mu > 0 for kelvin_voigt). `sub` is
+/// the phase's subscript in the symbols ("m", "d"). Given for a model that
+/// does not have it, a key is an error rather than ignored, so that a
+/// wrong model name cannot silently drop a parameter. G and eta_p are
+/// alternatives (case_config.cpp checks that exactly one is given).
+template <class Target>
+std::vector<Key<Target>> viscoelastic_keys(ConstitutiveValues Target::*values,
+                                           const std::string& sub, bool solids) {
+  const auto parameter = [values](std::optional<double> ConstitutiveValues::*member) {
+    return field(values, member);
+  };
+  std::vector<std::string> with_solvent{"oldroyd_b", "giesekus"};
+  std::vector<std::string> with_modulus = kViscoelasticLiquids;
+  if (solids) {
+    with_solvent.push_back("kelvin_voigt");
+    with_modulus.push_back("neo_hookean");
+    with_modulus.push_back("kelvin_voigt");
+  }
+  return {
+      optional_number("solvent_viscosity", parameter(&ConstitutiveValues::solvent_viscosity),
+                      required, Range::at_least(0),
+                      fmt::format("mu_{}, the solvent viscosity ({})", sub,
+                                  solids ? "ucm and neo_hookean are the models with mu = 0; > 0 "
+                                           "for kelvin_voigt"
+                                         : "ucm is the liquid with mu = 0"))
+          .only_when("model", with_solvent),
+      optional_number("polymer_viscosity", parameter(&ConstitutiveValues::polymer_viscosity),
+                      Computed{"modulus * relaxation_time"}, Range::above(0),
+                      fmt::format("eta_p = G_{0} lambda_{0}, the polymer viscosity; give this or "
+                                  "modulus, not both. The zero-shear viscosity is eta_{0} = mu_{0} "
+                                  "+ eta_p (eq. 2.9)",
+                                  sub))
+          .only_when("model", kViscoelasticLiquids),
+      optional_number("modulus", parameter(&ConstitutiveValues::modulus),
+                      Computed{solids ? "from polymer_viscosity or elastic_capillary_number"
+                                      : "polymer_viscosity / relaxation_time"},
+                      Range::above(0),
+                      fmt::format("G_{}, the shear modulus: tau = G (c - I){}; give this or {}, "
+                                  "not both",
+                                  sub, solids ? " (c = B, the Finger tensor, for a particle)" : "",
+                                  solids ? "polymer_viscosity (liquids) or "
+                                           "elastic_capillary_number (elastic particles)"
+                                         : "polymer_viscosity"))
+          .only_when("model", with_modulus),
+      optional_number("relaxation_time", parameter(&ConstitutiveValues::relaxation_time), required,
+                      Range::above(0),
+                      fmt::format("lambda_{}, the relaxation time; its Weissenberg number is "
+                                  "lambda_{} gamma_dot",
+                                  sub, sub))
+          .only_when("model", kViscoelasticLiquids),
+      optional_number("mobility", parameter(&ConstitutiveValues::mobility), required,
+                      Range{0.0, 1.0, false, false},
+                      fmt::format("alpha_{}, the Giesekus mobility (0 is Oldroyd-B)", sub))
+          .only_when("model", {"giesekus"})};
+}
+
+bool is_newtonian(ConstitutiveModel m) { return m == ConstitutiveModel::newtonian; }
+
 Table<CaseConfig> matrix_table() {
-  return {"matrix", "The suspending liquid.", false,
-          {number("viscosity", field(&CaseConfig::matrix_viscosity), 1.0, Range::above(0),
-                  "eta_m, its viscosity")}};
+  std::vector<Key<CaseConfig>> keys{
+      choice("model", field(&CaseConfig::matrix_model), ConstitutiveModel::newtonian,
+             model_options(false), "the constitutive model of the suspending liquid")
+          // Newtonian cases print as they always did.
+          .printed_if([](const CaseConfig& c) { return !is_newtonian(c.matrix_model); })
+          .with_comment([](const CaseConfig& c) {
+            return fmt::format("zero-shear viscosity eta_m = mu + G lambda = {}",
+                               toml_float(c.matrix_viscosity));
+          }),
+      number("viscosity", field(&CaseConfig::matrix_viscosity), 1.0, Range::above(0),
+             "eta_m, its viscosity")
+          .only_when("model", {"newtonian"},
+                     "a viscoelastic matrix's viscosity is eta_m = solvent_viscosity + "
+                     "polymer_viscosity")};
+  for (auto& k : viscoelastic_keys(&CaseConfig::matrix_parameters, "m", false))
+    keys.push_back(std::move(k));
+  return {"matrix",
+          "The suspending liquid: Newtonian, or viscoelastic (thesis §2.2.1) with its parameters "
+          "in the case's units. eta_m, the viscosity of Ca, Ca_e, lambda and p, is the "
+          "zero-shear viscosity.",
+          false, std::move(keys)};
 }
 
 Table<CaseConfig> flow_table() {
@@ -212,14 +319,16 @@ Table<ObjectConfig> objects_table() {
   const Field<ObjectConfig, double> radius{
       [](const ObjectConfig& o) { return o.geometry.semi_axes.x(); },
       [](ObjectConfig& o, const double& r) { o.geometry.semi_axes.setConstant(r); }};
-  return {
+  const std::string no_tension = "an elastic particle has no interfacial tension";
+  Table<ObjectConfig> table{
       "objects",
-      "One entry per suspended object (a drop); none = the undisturbed shear flow. With one "
-      "object the mesh is translated along x with it every step (Step 2), so it never drifts "
-      "towards the periodic faces; with several the mesh is not translated (it can follow only "
-      "one), so objects moving relative to each other deform the mesh, and a run lasts until "
-      "they have travelled about an element size near their interfaces (time.min_quality stops "
-      "it with a diagnosis). timeseries.csv has one row per object and step.",
+      "One entry per suspended object (a drop or an elastic particle); none = the undisturbed "
+      "shear flow. With one object the mesh is translated along x with it every step (Step 2), "
+      "so it never drifts towards the periodic faces; with several the mesh is not translated "
+      "(it can follow only one), so objects moving relative to each other deform the mesh, and "
+      "a run lasts until they have travelled about an element size near their interfaces "
+      "(time.min_quality stops it with a diagnosis). timeseries.csv has one row per object and "
+      "step.",
       true,
       {choice("shape", geometry(&geometry::ObjectSpec::shape), geometry::ObjectShape::sphere,
               {{"sphere", geometry::ObjectShape::sphere, ""},
@@ -235,22 +344,64 @@ Table<ObjectConfig> objects_table() {
                Eigen::Vector3d(0, 0, 0), Range::any(),
                "body orientation in degrees: R = Rz(rz) Ry(ry) Rx(rx)")
            .only_when("shape", {"ellipsoid"}),
-       number("viscosity_ratio", field(&ObjectConfig::viscosity_ratio), 1.0, Range::above(0),
-              "lambda = eta_d / eta_m"),
-       optional_number(
-           "capillary_number", field(&ObjectConfig::capillary_number),
-           Computed{"0.1 unless interfacial_tension is given"}, Range::above(0),
-           "Ca = eta_m gamma_dot R / Gamma with R = (abc)^(1/3) and gamma_dot = flow.shear_rate "
-           "(oscillatory: strain_amplitude * frequency); sets Gamma, so it needs gamma_dot > 0. "
-           "Give this or interfacial_tension, not both")
-           // Written as given, so that re-reading computes the very same Gamma.
-           .with_comment([](const ObjectConfig& o) {
-             return "interfacial_tension = " + toml_float(o.interfacial_tension);
+       choice("model", field(&ObjectConfig::model), ConstitutiveModel::newtonian,
+              model_options(true),
+              "the constitutive model: a Newtonian or viscoelastic drop, or an elastic particle")
+           .printed_if([](const ObjectConfig& o) { return !is_newtonian(o.model); })
+           .with_comment([](const ObjectConfig& o) -> std::string {
+             if (is_elastic_solid(o.model)) return "";
+             return fmt::format("viscosity ratio eta_d / eta_m = {}, eta_d = mu + G lambda",
+                                toml_float(o.viscosity_ratio));
            }),
-       number("interfacial_tension", field(&ObjectConfig::interfacial_tension),
-              Computed{"from capillary_number"}, Range::at_least(0),
-              "Gamma, the interfacial tension (0: none); give this or capillary_number, not both")
-           .printed_if([](const ObjectConfig& o) { return !o.capillary_number; })}};
+       number("viscosity_ratio", field(&ObjectConfig::viscosity_ratio), 1.0, Range::above(0),
+              "lambda = eta_d / eta_m")
+           .only_when("model", {"newtonian"},
+                      "a viscoelastic object's viscosities are given in the case's units "
+                      "(solvent_viscosity, polymer_viscosity)")}};
+  // The interface, after the phase's own parameters.
+  std::vector<Key<ObjectConfig>> tension{
+      optional_number(
+          "capillary_number", field(&ObjectConfig::capillary_number),
+          Computed{"0.1 unless interfacial_tension is given"}, Range::above(0),
+          "Ca = eta_m gamma_dot R / Gamma with R = (abc)^(1/3) and gamma_dot = flow.shear_rate "
+          "(oscillatory: strain_amplitude * frequency); sets Gamma, so it needs gamma_dot > 0. "
+          "Give this or interfacial_tension, not both")
+          .only_when("model", kLiquids, no_tension)
+          // Written as given, so that re-reading computes the very same Gamma.
+          .with_comment([](const ObjectConfig& o) {
+            return "interfacial_tension = " + toml_float(o.interfacial_tension);
+          }),
+      number("interfacial_tension", field(&ObjectConfig::interfacial_tension),
+             Computed{"from capillary_number"}, Range::at_least(0),
+             "Gamma, the interfacial tension (0: none); give this or capillary_number, not both")
+          .only_when("model", kLiquids, no_tension)
+          .printed_if([](const ObjectConfig& o) { return !o.capillary_number; })};
+  auto viscoelastic = viscoelastic_keys(&ObjectConfig::parameters, "d", true);
+  // Ca_e right after the modulus it stands for.
+  const auto after_modulus =
+      std::find_if(viscoelastic.begin(), viscoelastic.end(),
+                   [](const Key<ObjectConfig>& k) { return k.name == "modulus"; }) +
+      1;
+  viscoelastic.insert(
+      after_modulus,
+      optional_number("elastic_capillary_number", field(&ObjectConfig::elastic_capillary_number),
+                      Computed{"eta_m gamma_dot / modulus"}, Range::above(0),
+                      "Ca_e = eta_m gamma_dot / G with gamma_dot = flow.shear_rate (oscillatory: "
+                      "strain_amplitude * frequency) and eta_m the matrix's zero-shear viscosity; "
+                      "sets G, so it needs gamma_dot > 0. Give this or modulus, not both")
+          .only_when("model", {"neo_hookean", "kelvin_voigt"})
+          // Written as given, so that re-reading computes the very same G.
+          .with_comment([](const ObjectConfig& o) {
+            return o.parameters.modulus ? "modulus = " + toml_float(*o.parameters.modulus) : "";
+          }));
+  // The modulus an elastic particle's Ca_e set is not written: Ca_e is.
+  for (auto& k : viscoelastic)
+    if (k.name == "modulus")
+      k = std::move(k).printed_if(
+          [](const ObjectConfig& o) { return !o.elastic_capillary_number; });
+  for (auto& k : viscoelastic) table.keys.push_back(std::move(k));
+  for (auto& k : tension) table.keys.push_back(std::move(k));
+  return table;
 }
 
 CaseKeys build() {
@@ -278,6 +429,34 @@ CaseKeys build() {
       {"gamma0", "flow", "strain_amplitude"},
       {"eta", "matrix", "viscosity"},
       {"eta_m", "matrix", "viscosity"},
+      // The constitutive keys, by the symbols of thesis §2.2 (per table:
+      // [matrix] and [[objects]] each have their own). Not "alpha": the
+      // slip coefficient will want it too.
+      {"type", "matrix", "model"},
+      {"type", "objects", "model"},
+      {"constitutive", "matrix", "model"},
+      {"constitutive", "objects", "model"},
+      {"mu", "matrix", "solvent_viscosity"},
+      {"mu", "objects", "solvent_viscosity"},
+      {"mu_m", "matrix", "solvent_viscosity"},
+      {"mu_d", "objects", "solvent_viscosity"},
+      {"mu_s", "matrix", "solvent_viscosity"},
+      {"mu_s", "objects", "solvent_viscosity"},
+      {"eta_s", "matrix", "solvent_viscosity"},
+      {"eta_s", "objects", "solvent_viscosity"},
+      {"eta_p", "matrix", "polymer_viscosity"},
+      {"eta_p", "objects", "polymer_viscosity"},
+      {"g", "matrix", "modulus"},
+      {"g", "objects", "modulus"},
+      {"g_m", "matrix", "modulus"},
+      {"g_d", "objects", "modulus"},
+      {"g_p", "objects", "modulus"},
+      {"lambda", "matrix", "relaxation_time"},
+      {"lambda_m", "matrix", "relaxation_time"},
+      {"lambda_d", "objects", "relaxation_time"},
+      {"lambda_p", "matrix", "relaxation_time"},
+      {"lambda_p", "objects", "relaxation_time"},
+      {"ca_e", "objects", "elastic_capillary_number"},
   };
   return k;
 }

@@ -300,11 +300,13 @@ std::string suggestion(const Schema& schema, std::string_view table, std::string
     if (const auto c = closest(key, names)) return qualified(prefix, *c);
     if (const auto c = containing(key, names)) return qualified(prefix, *c);
   }
-  // Names from the papers rather than from this file format.
-  for (const auto& a : schema.aliases) {
-    if (!equal_ignoring_case(a.word, key)) continue;
-    return qualified(a.table == table ? std::string(prefix) : in_other_table(a.table), a.key);
-  }
+  // Names from the papers rather than from this file format; a symbol may
+  // mean a different key in each table ("G": [matrix] or an object's
+  // modulus), so this table's own meaning comes first.
+  for (const auto& a : schema.aliases)
+    if (a.table == table && equal_ignoring_case(a.word, key)) return qualified(prefix, a.key);
+  for (const auto& a : schema.aliases)
+    if (equal_ignoring_case(a.word, key)) return qualified(in_other_table(a.table), a.key);
   // A key put under the wrong table (or before any table header).
   for (const auto& t : schema.tables)
     if (t.name != table && t.find(key)) return qualified(in_other_table(t.name), key);
@@ -607,12 +609,16 @@ std::string not_applicable_message(const TableInfo& table, const KeyInfo& key,
       taken.push_back(k->name);
   }
   std::string s = fmt::format("only for {} = {}", selector, either(key.condition.values, true));
-  if (taken.empty())
-    return s + fmt::format(" (with {} = {} leave it out)", selector, toml_string(selector_word));
-  std::vector<std::string> quoted;
-  for (const auto& t : taken) quoted.push_back("'" + t + "'");
-  return s + fmt::format(" ({} = {} takes {})", selector, toml_string(selector_word),
-                         either(quoted, false, "and"));
+  if (taken.empty()) {
+    s += fmt::format(" (with {} = {} leave it out)", selector, toml_string(selector_word));
+  } else {
+    std::vector<std::string> quoted;
+    for (const auto& t : taken) quoted.push_back("'" + t + "'");
+    s += fmt::format(" ({} = {} takes {})", selector, toml_string(selector_word),
+                     either(quoted, false, "and"));
+  }
+  if (!key.condition.why.empty()) s += "; " + key.condition.why;
+  return s;
 }
 
 std::string missing_message(const KeyInfo& key, const std::string& selector_word) {

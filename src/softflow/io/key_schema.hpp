@@ -68,6 +68,10 @@ struct Choice {
 struct Condition {
   std::string selector;             ///< empty: the key always applies
   std::vector<std::string> values;
+  /// Why the key belongs to those values only, added to the message when it
+  /// is given with another ("an elastic particle has no interfacial
+  /// tension"); may be empty.
+  std::string why;
 };
 
 /// What every declaration says, whatever struct its table fills.
@@ -234,9 +238,10 @@ struct Key : KeyInfo {
   /// Optional: a note written after the value in the printout ("# u_w = 15.0").
   std::function<std::string(const Target&)> comment;
 
-  /// The key applies only while `selector` has one of `values`.
-  Key only_when(std::string selector, std::vector<std::string> values) && {
-    condition = {std::move(selector), std::move(values)};
+  /// The key applies only while `selector` has one of `values`; `why`, if
+  /// given, explains it to a user who gave the key with another value.
+  Key only_when(std::string selector, std::vector<std::string> values, std::string why = "") && {
+    condition = {std::move(selector), std::move(values), std::move(why)};
     return std::move(*this);
   }
   Key with_comment(std::function<std::string(const Target&)> note) && {
@@ -306,6 +311,17 @@ Key<Target> optional_number(std::string name, Field<Target, std::optional<double
     const auto x = get(t);
     return x ? std::optional<std::string>(toml_float(*x)) : std::nullopt;
   };
+  return k;
+}
+
+/// A number that must be given wherever it applies but has no place in the
+/// struct until then (e.g. a relaxation time, needed by some models only).
+template <class Target>
+Key<Target> optional_number(std::string name, Field<Target, std::optional<double>> f, Required,
+                            Range range, std::string doc) {
+  auto k = optional_number(std::move(name), std::move(f), Computed{""}, range, std::move(doc));
+  k.default_in_words = false;
+  k.required = true;
   return k;
 }
 
