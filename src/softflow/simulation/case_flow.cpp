@@ -19,11 +19,7 @@ physics::WallMotion wall_motion(const io::CaseConfig& config) {
 }
 
 std::vector<physics::viscoelastic::Constitutive> phase_models(const io::CaseConfig& config) {
-  using physics::viscoelastic::Constitutive;
-  std::vector<Constitutive> m{Constitutive::newtonian(config.matrix_viscosity)};
-  for (const auto& o : config.objects)
-    m.push_back(Constitutive::newtonian(o.viscosity_ratio * config.matrix_viscosity));
-  return m;
+  return io::constitutive_models(config);
 }
 
 physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh,

@@ -144,7 +144,7 @@ struct RunLedger {
 nlohmann::json to_json(const RunLedger& l) {
   return {{"stage_seconds",
            {l.total.predict_and_translate, l.total.ale, l.total.stokes_assembly,
-            l.total.stokes_solve, l.total.correct, l.total.analysis}},
+            l.total.stokes_solve, l.total.correct, l.total.analysis, l.total.conformation}},
           {"stokes_iterations", l.stokes_iterations},
           {"timed_steps", l.timed_steps},
           {"wall_seconds", l.wall_seconds},
@@ -157,7 +157,13 @@ RunLedger ledger_from_json(const std::string& text) {
   try {
     const auto j = nlohmann::json::parse(text);
     const auto& s = j.at("stage_seconds");
-    l.total = {s.at(0), s.at(1), s.at(2), s.at(3), s.at(4), s.at(5)};
+    l.total.predict_and_translate = s.at(0);
+    l.total.ale = s.at(1);
+    l.total.stokes_assembly = s.at(2);
+    l.total.stokes_solve = s.at(3);
+    l.total.correct = s.at(4);
+    l.total.analysis = s.at(5);
+    l.total.conformation = s.size() > 6 ? static_cast<double>(s.at(6)) : 0.0;  // absent before the viscoelastic phases
     l.stokes_iterations = j.at("stokes_iterations");
     l.timed_steps = j.at("timed_steps");
     l.wall_seconds = j.at("wall_seconds");
@@ -176,6 +182,7 @@ void add(StageSeconds& total, const StageSeconds& s) {
   total.stokes_solve += s.stokes_solve;
   total.correct += s.correct;
   total.analysis += s.analysis;
+  total.conformation += s.conformation;
 }
 
 /// The files a run keeps open (rank 0 only).
@@ -237,6 +244,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
                                  {"ale", total.ale * per_step},
                                  {"stokes_assembly", total.stokes_assembly * per_step},
                                  {"stokes_solve", total.stokes_solve * per_step},
+                                 {"conformation", total.conformation * per_step},
                                  {"correct_interface", total.correct * per_step},
                                  {"analysis", total.analysis * per_step}};
   summary["stokes_iterations_per_step"] = static_cast<double>(ledger.stokes_iterations) * per_step;

@@ -154,32 +154,41 @@ void ViscoelasticPhases::update_velocity_gradient() {
 
 RegionStress ViscoelasticPhases::region_stress(int region) const {
   static const fem::TetTabulation tab(2);
-  // Sums over this rank's elements: volume, int tau (6), int |tau|^2.
-  double local[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  for (int t : stress_.owned_elements()) {
-    if (mesh_.tet_region[t] != region) continue;
-    for (const auto& p : fem::quadrature_points(mesh_, tab, t)) {
-      const ve::Mat3 tau = ve::unpack_symmetric(stress_.value(p));
-      local[0] += p.weight;
-      const auto packed = ve::pack_symmetric(tau);
-      for (int i = 0; i < 6; ++i) local[1 + i] += p.weight * packed(i);
-      local[7] += p.weight * tau.squaredNorm();
+  // Two passes over this rank's elements of the region: the volume and
+  // int tau, then int |tau - <tau>|^2 (a one-pass <|tau|^2> - |<tau>|^2
+  // would lose the spread of a nearly uniform stress to cancellation).
+  auto integrate = [&](const auto& integrand, double* sums, int n) {
+    std::vector<double> local(n, 0.0);
+    for (int t : stress_.owned_elements()) {
+      if (mesh_.tet_region[t] != region) continue;
+      for (const auto& p : fem::quadrature_points(mesh_, tab, t))
+        integrand(p.weight, ve::unpack_symmetric(stress_.value(p)), local.data());
     }
-  }
-  double sum[8];
-  MPI_Allreduce(local, sum, 8, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+    MPI_Allreduce(local.data(), sums, n, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  };
+  double first[7];
+  integrate(
+      [](double w, const ve::Mat3& tau, double* acc) {
+        acc[0] += w;
+        const Eigen::VectorXd packed = ve::pack_symmetric(tau);
+        for (int i = 0; i < 6; ++i) acc[1 + i] += w * packed(i);
+      },
+      first, 7);
   RegionStress r;
   r.region = region;
-  r.volume = sum[0];
-  if (sum[0] <= 0.0) return r;
+  r.volume = first[0];
+  if (first[0] <= 0.0) return r;
   Eigen::VectorXd mean(6);
-  for (int i = 0; i < 6; ++i) mean(i) = sum[1 + i] / sum[0];
+  for (int i = 0; i < 6; ++i) mean(i) = first[1 + i] / first[0];
   r.mean = ve::unpack_symmetric(mean);
+  double deviation = 0.0;
+  integrate([&r](double w, const ve::Mat3& tau,
+                 double* acc) { acc[0] += w * (tau - r.mean).squaredNorm(); },
+            &deviation, 1);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(r.mean);
   r.principal = eigen.eigenvalues().reverse();
   const double norm2 = r.mean.squaredNorm();
-  const double variance = std::max(0.0, sum[7] / sum[0] - norm2);
-  r.spread = norm2 > 0.0 ? std::sqrt(variance / norm2) : 0.0;
+  r.spread = norm2 > 0.0 ? std::sqrt(deviation / first[0] / norm2) : 0.0;
   return r;
 }
 
