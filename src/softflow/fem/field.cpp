@@ -246,37 +246,45 @@ StatePart state_part(Field& field) {
 
 void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f, Field& target,
                 int quadrature_degree) {
+  // The mass matrix is the same for every component: assemble it once on
+  // the scalar space (one dof per node copy) and solve per component, as
+  // AleTransport does, instead of a block-diagonal matrix n_c times larger.
   const TetTabulation tab(quadrature_degree);
-  const DofMap& dofs = target.dofs();
+  Field scalar(target.mesh(), target.name() + "_component", target.dofs().field(0).space, 1);
+  const DofMap& dofs = scalar.dofs();
   const int n_c = target.components(), n_k = target.space().n_element_nodes();
-  const int n = n_k * n_c;
-  const auto range = target.ownership();
-  auto mass = element_matrix(target);
+  const auto range = scalar.ownership();
+  auto mass = element_matrix(scalar);
 
-  la::Vector rhs = la::make_vector(range.size(), dofs.n_dofs());
-  check(VecSet(rhs.get(), 0.0), "VecSet");
-  Eigen::MatrixXd me(n, n);
-  Eigen::VectorXd fe(n);
+  std::vector<la::Vector> rhs(n_c);
+  for (auto& b : rhs) {
+    b = la::make_vector(range.size(), dofs.n_dofs());
+    check(VecSet(b.get(), 0.0), "VecSet");
+  }
+  Eigen::MatrixXd me(n_k, n_k), fe(n_k, n_c);
+  Eigen::VectorXd phi(n_k);
   std::size_t e = 0;
   for (int t : target.owned_elements()) {
     me.setZero();
     fe.setZero();
     for (const auto& p : quadrature_points(target.mesh(), tab, t)) {
-      const auto phi = shape_values(tab, p.q, target.space().degree());
-      const Eigen::VectorXd fq = f(p);
-      for (int a = 0; a < n_k; ++a) {
-        for (int c = 0; c < n_c; ++c) fe(a * n_c + c) += p.weight * phi[a] * fq(c);
-        for (int b = 0; b < n_k; ++b)
-          for (int c = 0; c < n_c; ++c) me(a * n_c + c, b * n_c + c) += p.weight * phi[a] * phi[b];
-      }
+      const auto values = shape_values(tab, p.q, target.space().degree());
+      for (int a = 0; a < n_k; ++a) phi(a) = values[a];
+      me.noalias() += p.weight * phi * phi.transpose();
+      fe.noalias() += p.weight * phi * f(p).transpose();
     }
     mass.matrix->set_block(mass.blocks[e++], me);
     const auto d = dofs.element_dofs(t);
-    check(VecSetValues(rhs.get(), n, d.data(), fe.data(), ADD_VALUES), "VecSetValues");
+    for (int c = 0; c < n_c; ++c) {
+      const Eigen::VectorXd column = fe.col(c);
+      check(VecSetValues(rhs[c].get(), n_k, d.data(), column.data(), ADD_VALUES), "VecSetValues");
+    }
   }
   mass.matrix->assemble();
-  check(VecAssemblyBegin(rhs.get()), "VecAssemblyBegin");
-  check(VecAssemblyEnd(rhs.get()), "VecAssemblyEnd");
+  for (auto& b : rhs) {
+    check(VecAssemblyBegin(b.get()), "VecAssemblyBegin");
+    check(VecAssemblyEnd(b.get()), "VecAssemblyEnd");
+  }
 
   la::Solver ksp;
   check(KSPCreate(PETSC_COMM_WORLD, ksp.out()), "KSPCreate");
@@ -288,12 +296,25 @@ void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f,
   // Jacobi-CG converges in a mesh-independent number of iterations.
   check(PCSetType(pc, PCJACOBI), "PCSetType");
   check(KSPSetTolerances(ksp.get(), 1e-12, 0.0, PETSC_DEFAULT, 1000), "KSPSetTolerances");
-  check(KSPSolve(ksp.get(), rhs.get(), target.vector()), "KSPSolve(L2 projection)");
-  KSPConvergedReason reason;
-  check(KSPGetConvergedReason(ksp.get(), &reason), "KSPGetConvergedReason");
-  if (reason < 0)
-    throw SolverError(fmt::format("L2 projection onto '{}' did not converge: {}", target.name(),
-                                  KSPConvergedReasons[reason]));
+  PetscScalar* out = nullptr;
+  check(VecGetArray(target.vector(), &out), "VecGetArray");
+  for (int c = 0; c < n_c; ++c) {
+    check(KSPSolve(ksp.get(), rhs[c].get(), scalar.vector()), "KSPSolve(L2 projection)");
+    KSPConvergedReason reason;
+    check(KSPGetConvergedReason(ksp.get(), &reason), "KSPGetConvergedReason");
+    if (reason < 0) {
+      check(VecRestoreArray(target.vector(), &out), "VecRestoreArray");
+      throw SolverError(fmt::format("L2 projection onto '{}' did not converge: {}", target.name(),
+                                    KSPConvergedReasons[reason]));
+    }
+    // The same node ranges (one field each): owned scalar dof i is owned
+    // component dof i * n_c + c.
+    const PetscScalar* in = nullptr;
+    check(VecGetArrayRead(scalar.vector(), &in), "VecGetArrayRead");
+    for (int i = 0; i < range.size(); ++i) out[i * n_c + c] = in[i];
+    check(VecRestoreArrayRead(scalar.vector(), &in), "VecRestoreArrayRead");
+  }
+  check(VecRestoreArray(target.vector(), &out), "VecRestoreArray");
   target.update_ghosts();
 }
 
