@@ -227,6 +227,15 @@ int main(int argc, char** argv) {
       "theory", "small-deformation theory: Taylor D (eq. 1.1), Chaffey-Brenner theta (eq. 2.59), ...");
   theory->add_option("--lambda", lambda, "viscosity ratio eta_d / eta_m")->capture_default_str();
   theory->add_option("--ca", ca, "capillary number eta_m gamma_dot R / Gamma")->capture_default_str();
+  softflow::analysis::theory::TheoryQuery theory_query;
+  double ca_e = 0.0;
+  theory->add_option("--p", theory_query.p, "matrix elasticity p = Psi_1m Gamma / (2 R eta_m^2) (Greco)")
+      ->capture_default_str();
+  theory->add_option("--p-d", theory_query.p_d,
+                     "drop elasticity p_d = Psi_1d Gamma / (2 R eta_d^2) (Greco)")
+      ->capture_default_str();
+  auto* ca_e_option = theory->add_option(
+      "--ca-e", ca_e, "elastic capillary number eta_m gamma_dot / G (Roscoe; default: --ca)");
 
   const auto started = std::chrono::steady_clock::now();
   try {
@@ -293,7 +302,8 @@ int main(int argc, char** argv) {
 
   if (*theory) {  // no PETSc, no case file: a pure query
     try {
-      std::cout << softflow::analysis::theory::theory_table(lambda, ca);
+      if (*ca_e_option) theory_query.ca_e = ca_e;
+      std::cout << softflow::analysis::theory::theory_table(lambda, ca, theory_query);
       return kOk;
     } catch (const softflow::InputError& e) {
       std::cerr << "softflow: " << e.what() << "\n";

@@ -91,3 +91,15 @@ TEST(SmallDeformation, TheoryTableNamesTheValues) {
   EXPECT_NE(table.find("40.7028"), std::string::npos) << table;   // Roscoe
   EXPECT_THROW(theory_table(-1.0, 0.1), softflow::InputError);
 }
+
+TEST(SmallDeformation, TheoryTableEvaluatesGrecoAndRoscoeAtTheGivenElasticity) {
+  // The UCM drop of Fig. 2.12: lambda = 2, p_d = 0.5, Ca = 0.1. By hand:
+  // shift = -Ca p_d (9 lambda^2 + 6 lambda^3) / (8 (1 + lambda)(16 + 19 lambda))
+  //       = -0.1 * 0.5 * 84 / 1296 rad = -0.18568 deg, from Chaffey-Brenner's 35.9759.
+  TheoryQuery query;
+  query.p_d = 0.5;
+  query.ca_e = 0.2;
+  const std::string table = theory_table(2.0, 0.1, query);
+  EXPECT_NE(table.find("35.7902 deg (shift -0.1857 deg)"), std::string::npos) << table;
+  EXPECT_NE(table.find("Ca_e = 0.2 (Roscoe): D 0.25"), std::string::npos) << table;
+}

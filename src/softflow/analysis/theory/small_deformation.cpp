@@ -84,7 +84,7 @@ double roscoe_small_ca_angle_deg(double ca_e) {
   return degrees(kQuarterPi - 0.75 * ca_e);
 }
 
-std::string theory_table(double lambda, double ca) {
+std::string theory_table(double lambda, double ca, const TheoryQuery& query) {
   // Every line goes through the public functions, which validate lambda, Ca.
   const double cb = chaffey_brenner_angle_deg(lambda, ca);
   const double per_p = degrees(greco_matrix_coefficient(lambda) * ca);
@@ -100,12 +100,17 @@ std::string theory_table(double lambda, double ca) {
       fmt::format("  Greco theta (eq. 2.60)                {:.6g} - ({:.4g} p + {:.4g} p_d) deg\n",
                   cb, per_p, per_p_d);
   out += "    (p = Psi_1 Gamma / (2 R eta^2) of the matrix, p_d the same for the drop)\n";
+  if (query.p != 0.0 || query.p_d != 0.0)
+    out += fmt::format("    at p = {:g}, p_d = {:g}:                 {:.6g} deg (shift {:+.4g} deg)\n",
+                       query.p, query.p_d, greco_angle_deg(lambda, ca, query.p, query.p_d),
+                       greco_angle_deg(lambda, ca, query.p, query.p_d) - cb);
   for (const double alpha : {0.1, 1.0}) {
     out += fmt::format("  Slip drop D, slip alpha = {:<4g}        {:.6g}\n", alpha,
                        slip_taylor_deformation(lambda, ca, alpha));
   }
-  out += fmt::format("  Neo-Hookean sphere, Ca_e = {:g} (Roscoe): D {:.6g}, theta {:.6g} deg\n", ca,
-                     roscoe_small_ca_deformation(ca), roscoe_small_ca_angle_deg(ca));
+  const double ca_e = query.ca_e.value_or(ca);
+  out += fmt::format("  Neo-Hookean sphere, Ca_e = {:g} (Roscoe): D {:.6g}, theta {:.6g} deg\n", ca_e,
+                     roscoe_small_ca_deformation(ca_e), roscoe_small_ca_angle_deg(ca_e));
   return out;
 }
 

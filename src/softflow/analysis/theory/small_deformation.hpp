@@ -1,6 +1,7 @@
 // Small-deformation theory of drops and elastic particles in unbounded simple shear: D and theta.
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace softflow::analysis::theory {
@@ -47,9 +48,17 @@ double roscoe_small_ca_deformation(double ca_e);
 /// theta = pi/4 - 3/4 Ca_e [rad]. Same range as roscoe_small_ca_deformation.
 double roscoe_small_ca_angle_deg(double ca_e);
 
-/// A few lines for `softflow theory --lambda L --ca C`: Taylor D, Chaffey-
-/// Brenner theta, the slip-drop D at alpha = 0.1 and 1, the Greco correction
-/// as coefficients of p and p_d, and Roscoe's elastic sphere with Ca_e = C.
-std::string theory_table(double lambda, double ca);
+/// Optional inputs of theory_table beyond lambda and Ca.
+struct TheoryQuery {
+  double p = 0.0;                    ///< matrix elasticity (Greco)
+  double p_d = 0.0;                  ///< drop elasticity (Greco)
+  std::optional<double> ca_e;        ///< elastic capillary number (Roscoe); default: Ca
+};
+
+/// A few lines for `softflow theory --lambda L --ca C [--p P --p-d PD --ca-e CE]`:
+/// Taylor D, Chaffey-Brenner theta, the slip-drop D at alpha = 0.1 and 1,
+/// the Greco correction as coefficients of p and p_d and its value at the
+/// given p, p_d, and Roscoe's elastic sphere at Ca_e.
+std::string theory_table(double lambda, double ca, const TheoryQuery& query = {});
 
 }  // namespace softflow::analysis::theory
