@@ -13,7 +13,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "softflow/common/error.hpp"
 #include "softflow/io/case_config.hpp"
+#include "softflow/fem/dof_map.hpp"
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
@@ -91,4 +93,39 @@ TEST(ViscoelasticRestart, DropInOldroydBMatrixContinuesToRoundOff) {
       "[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\npolymer_viscosity = 0.5\n"
       "relaxation_time = 0.5\n[[objects]]\nviscosity_ratio = 1.0\ncapillary_number = 0.1\n",
       "drop_in_oldroyd_b");
+}
+
+TEST(ViscoelasticFailure, ANonFiniteConformationStopsTheRunNamingWhereAndWhatToTry) {
+  // A log-conformation that is no longer finite (here: planted in a saved
+  // state) must stop the step with a SolverError (exit code 3) that names
+  // the step, the time, the phase and what to try, not run on with NaN.
+  const auto config = io::parse_case(
+      "[cell]\nlength = 8.0\nheight = 8.0\nwidth = 8.0\n"
+      "[[objects]]\nmodel = \"neo_hookean\"\nelastic_capillary_number = 0.1\n"
+      "[mesh]\nequator_nodes = 16\nfar_size = 2.0\n"
+      "[time]\nstep = 0.05\nend = 1.0\n[output]\nfields = false\n",
+      "nan_particle");
+  simulation::DropSimulation sim(config, simulation::build_mesh(config).mesh);
+  sim.step();
+  io::Checkpoint checkpoint;
+  sim.save(checkpoint);
+  // NaN in the particle's copy of s (region 1), every component.
+  const auto sources = sim.output_fields();
+  const fem::DofMap* dofs = sources.at(1).dofs;  // log_conformation (after velocity/pressure)
+  auto entry = checkpoint.state.entries().at("fields/log_conformation/values");
+  ASSERT_EQ(static_cast<int>(entry.values.size()), dofs->n_dofs());
+  for (int d = 0; d < dofs->n_dofs(); ++d)
+    if (dofs->region_of(d) == 1) entry.values[d] = std::nan("");
+  checkpoint.state.insert("fields/log_conformation/values", entry);
+  simulation::DropSimulation broken(config, checkpoint.reference_mesh);
+  broken.restore(checkpoint);
+  try {
+    broken.step();
+    FAIL() << "a non-finite conformation was carried on";
+  } catch (const SolverError& e) {
+    const std::string message = e.what();
+    for (const char* piece : {"step 2", "t = 0.1000", "log-conformation", "in object 1", "neo_hookean",
+                              "time.step", "finer mesh"})
+      EXPECT_NE(message.find(piece), std::string::npos) << piece << " in: " << message;
+  }
 }

@@ -82,8 +82,12 @@ physics::ViscoelasticCoupling ViscoelasticPhases::coupling(
 void ViscoelasticPhases::advance(const fem::DofMap& stokes_dofs, std::span<const double> solution,
                                  double dt, double t_new, int step) {
   velocity_.assign_from(stokes_dofs, physics::kVelocityField, solution);
+  // s_n too: a restored state may carry what a run never would, and the
+  // source's eigen-decomposition would otherwise fail without saying where.
+  check_finite(t_new, step);
   transport_->step(velocity_, &mesh_velocity_, source_, dt, t_new);
-  update_conformation_and_stress(t_new, step);
+  check_finite(t_new, step);
+  update_conformation_and_stress();
   update_velocity_gradient();
 }
 
@@ -92,7 +96,7 @@ void ViscoelasticPhases::restart_time_history() {
   gradient_steps_ = 0;
 }
 
-void ViscoelasticPhases::update_conformation_and_stress(double t_new, int step) {
+void ViscoelasticPhases::check_finite(double t_new, int step) {
   // s must be finite; c = exp(s) is then positive definite by construction.
   const auto& dofs = log_conformation_.dofs();
   int bad = -1;
@@ -111,6 +115,10 @@ void ViscoelasticPhases::update_conformation_and_stress(double t_new, int step) 
         step, t_new, node, region == 0 ? std::string("in the matrix") : fmt::format("in object {}", region),
         x.x(), x.y(), x.z(), ve::to_string(models_.at(region).model())));
   }
+}
+
+void ViscoelasticPhases::update_conformation_and_stress() {
+  const auto& dofs = log_conformation_.dofs();
   PetscScalar* c = nullptr;
   PetscScalar* tau = nullptr;
   const PetscScalar* s = nullptr;

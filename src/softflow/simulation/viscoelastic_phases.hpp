@@ -86,7 +86,10 @@ class ViscoelasticPhases {
   [[nodiscard]] StatePart state_part();
 
  private:
-  void update_conformation_and_stress(double t_new, int step);
+  /// Throws SolverError (step, time, node, region, position, what to try)
+  /// if s has a non-finite value anywhere. Collective.
+  void check_finite(double t_new, int step);
+  void update_conformation_and_stress();
   void update_velocity_gradient();
 
   const mesh::Mesh& mesh_;
