@@ -22,15 +22,15 @@ Usage: scripts/validation/elastic_particle.py [build_dir] [work_dir] [--jobs N] 
 import argparse
 import concurrent.futures
 import csv
-import json
 import math
 import os
-import subprocess
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from case_runs import read_csv, read_run, run_case  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -82,42 +82,14 @@ def all_cases():
     return cases
 
 
-def run(build, work, name, text):
-    directory = os.path.join(work, name)
-    if os.path.exists(os.path.join(directory, "summary.json")):
-        return directory
-    os.makedirs(work, exist_ok=True)
-    path = os.path.join(work, name + ".toml")
-    with open(path, "w") as f:
-        f.write(text)
-    subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q",
-                    "--overwrite"], check=False)
-    return directory
-
-
 def load(directory):
-    summary_path = os.path.join(directory, "summary.json")
-    if not os.path.exists(summary_path):
+    r = read_run(directory, WINDOW)
+    if r is None:
         return None
-    summary = json.load(open(summary_path))
-    rows = list(csv.DictReader(open(os.path.join(directory, "timeseries.csv"))))
-    stress = list(csv.DictReader(open(os.path.join(directory, "stress.csv"))))
-    t = [float(r["t"]) for r in rows]
-    tail = [r for r in rows if float(r["t"]) >= t[-1] - WINDOW]
-    stress_tail = [r for r in stress if float(r["t"]) >= t[-1] - WINDOW]
-    mean = lambda rs, key: sum(float(r[key]) for r in rs) / len(rs)  # noqa: E731
-    d_tail = [float(r["D"]) for r in tail]
-    return {
-        "t": t, "D": [float(r["D"]) for r in rows], "theta": [float(r["theta_deg"]) for r in rows],
-        "D_steady": mean(tail, "D"), "D_amplitude": (max(d_tail) - min(d_tail)) / 2,
-        "theta_steady": mean(tail, "theta_deg"),
-        "stress": {k: mean(stress_tail, k) for k in ("tau_xx", "tau_yy", "tau_zz", "tau_xy", "N1",
-                                                     "tau_1", "tau_2", "tau_3", "spread")},
-        "deviation": float(rows[-1]["ellipsoid_dev"]),
-        "volume_drift": float(rows[-1]["volume"]) / float(rows[0]["volume"]) - 1.0,
-        "wall": summary["wall_seconds"], "unknowns": summary["unknowns"], "steps": summary["steps"],
-        "status": summary["status"], "end": t[-1],
-    }
+    stress = [row for row in read_csv(os.path.join(directory, "stress.csv")) if float(row["t"]) >= r["tail_from"]]
+    r["stress"] = {k: sum(float(row[k]) for row in stress) / len(stress)
+                   for k in ("tau_xx", "tau_yy", "tau_zz", "tau_xy", "N1", "tau_1", "tau_2", "tau_3", "spread")}
+    return r
 
 
 def roscoe_d(ca_e):
@@ -237,7 +209,7 @@ def main():
     if not args.report_only:
         jobs = [(name, case_text(name, *spec)) for name, spec in all_cases().items()]
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-            list(pool.map(lambda j: run(args.build, args.work, *j), jobs))
+            list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
     report(args.work)
 
 

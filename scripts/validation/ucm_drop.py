@@ -17,15 +17,15 @@ Usage: scripts/validation/ucm_drop.py [build_dir] [work_dir] [--jobs N] [--repor
 import argparse
 import concurrent.futures
 import csv
-import json
 import math
 import os
-import subprocess
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from case_runs import read_run, run_case  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -69,34 +69,9 @@ def name_of(ca, ucm):
     return f"{'ucm' if ucm else 'newtonian'}_Ca{ca:g}"
 
 
-def run(build, work, name, text):
-    directory = os.path.join(work, name)
-    if os.path.exists(os.path.join(directory, "summary.json")):
-        return directory
-    os.makedirs(work, exist_ok=True)
-    path = os.path.join(work, name + ".toml")
-    with open(path, "w") as f:
-        f.write(text)
-    subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q",
-                    "--overwrite"], check=False)
-    return directory
-
-
 def load(directory):
-    summary_path = os.path.join(directory, "summary.json")
-    if not os.path.exists(summary_path):
-        return None
-    summary = json.load(open(summary_path))
-    rows = list(csv.DictReader(open(os.path.join(directory, "timeseries.csv"))))
-    t = [float(r["t"]) for r in rows]
-    tail = [r for r in rows if float(r["t"]) >= 0.9 * t[-1]]
-    mean = lambda key: sum(float(r[key]) for r in tail) / len(tail)  # noqa: E731
-    return {"t": t, "D": [float(r["D"]) for r in rows], "theta": [float(r["theta_deg"]) for r in rows],
-            "D_steady": mean("D"), "theta_steady": mean("theta_deg"),
-            "deviation": float(rows[-1]["ellipsoid_dev"]),
-            "volume_drift": float(rows[-1]["volume"]) / float(rows[0]["volume"]) - 1.0,
-            "wall": summary["wall_seconds"], "unknowns": summary["unknowns"],
-            "steps": summary["steps"], "status": summary["status"]}
+    # Steady values: means over the last 10 % of the run.
+    return read_run(directory, 0.1 * T_END)
 
 
 def taylor(lam, ca):
@@ -182,7 +157,7 @@ def main():
     if not args.report_only:
         jobs = [(name_of(ca, ucm), case_text(name_of(ca, ucm), ca, ucm)) for ca in CAS for ucm in (True, False)]
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-            list(pool.map(lambda j: run(args.build, args.work, *j), jobs))
+            list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
     report(args.work)
 
 

@@ -17,13 +17,14 @@ import argparse
 import csv
 import math
 import os
-import subprocess
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+from case_runs import read_csv, run_case  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -69,13 +70,9 @@ def reference(eta_p, lam, alpha, cessation, times):
     return out
 
 
-def run_case(build, work, name, matrix, flow, dt):
+def run_flow(build, work, name, matrix, flow, dt):
     slug = name.replace(" ", "_").replace("-", "").lower() + f"_dt{dt:g}"
-    directory = os.path.join(work, slug)
-    os.makedirs(work, exist_ok=True)
-    path = os.path.join(work, slug + ".toml")
-    with open(path, "w") as f:
-        f.write(f"""[case]
+    directory = run_case(build, work, slug, f"""[case]
 name = "{slug}"
 [cell]
 length = 2.0
@@ -92,10 +89,8 @@ end = {T_END}
 interval_minutes = 0
 [output]
 fields = false
-""")
-    subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q", "--overwrite"],
-                   check=True)
-    rows = list(csv.DictReader(open(os.path.join(directory, "stress.csv"))))
+""", rerun=True)
+    rows = read_csv(os.path.join(directory, "stress.csv"))
     return [(float(r["t"]), float(r["tau_xy"]), float(r["N1"])) for r in rows]
 
 
@@ -117,7 +112,7 @@ def main():
         previous = None
         errors = []
         for dt in DTS:
-            series = run_case(args.build, args.work, name, matrix, flow, dt)
+            series = run_flow(args.build, args.work, name, matrix, flow, dt)
             times = [t for t, _, _ in series]
             exact = reference(eta_p, lam, alpha, "cessation" in name, times)
             e_xy = max(abs(xy - ex[0, 1]) for (t, xy, _), ex in zip(series, exact) if t >= errors_from - 1e-9)

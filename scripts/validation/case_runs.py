@@ -1,0 +1,52 @@
+"""Running softflow cases for the validation scripts and reading their output.
+
+run_case writes CASE.toml in `work` and runs `softflow run` into work/NAME,
+unless that directory already holds a summary.json (a finished run: scripts
+can be re-run to regenerate their reports, or resumed after an interruption).
+read_run reads summary.json and the time series, with steady values as the
+means over the rows at t >= t_end - window."""
+import csv
+import json
+import os
+import subprocess
+
+
+def run_case(build, work, name, text, rerun=False):
+    directory = os.path.join(work, name)
+    if not rerun and os.path.exists(os.path.join(directory, "summary.json")):
+        return directory
+    os.makedirs(work, exist_ok=True)
+    path = os.path.join(work, name + ".toml")
+    with open(path, "w") as f:
+        f.write(text)
+    subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q", "--overwrite"],
+                   check=False)
+    return directory
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def read_run(directory, window):
+    """None if the run has no summary; else its series and steady values (D, theta)."""
+    summary_path = os.path.join(directory, "summary.json")
+    if not os.path.exists(summary_path):
+        return None
+    summary = json.load(open(summary_path))
+    rows = read_csv(os.path.join(directory, "timeseries.csv"))
+    t = [float(r["t"]) for r in rows]
+    tail = [r for r in rows if float(r["t"]) >= t[-1] - window]
+    mean = lambda key: sum(float(r[key]) for r in tail) / len(tail)  # noqa: E731
+    d_tail = [float(r["D"]) for r in tail]
+    return {
+        "summary": summary, "rows": rows, "tail_from": t[-1] - window,
+        "t": t, "D": [float(r["D"]) for r in rows], "theta": [float(r["theta_deg"]) for r in rows],
+        "D_steady": mean("D"), "D_amplitude": (max(d_tail) - min(d_tail)) / 2,
+        "theta_steady": mean("theta_deg"),
+        "deviation": float(rows[-1]["ellipsoid_dev"]),
+        "volume_drift": float(rows[-1]["volume"]) / float(rows[0]["volume"]) - 1.0,
+        "wall": summary["wall_seconds"], "unknowns": summary["unknowns"], "steps": summary["steps"],
+        "status": summary["status"], "end": t[-1],
+    }
