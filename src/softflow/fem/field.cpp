@@ -296,26 +296,32 @@ void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f,
   // Jacobi-CG converges in a mesh-independent number of iterations.
   check(PCSetType(pc, PCJACOBI), "PCSetType");
   check(KSPSetTolerances(ksp.get(), 1e-12, 0.0, PETSC_DEFAULT, 1000), "KSPSetTolerances");
-  PetscScalar* out = nullptr;
-  check(VecGetArray(target.vector(), &out), "VecGetArray");
+  solve_by_component(ksp.get(), rhs, scalar, target, "L2 projection onto '" + target.name() + "'");
+  target.update_ghosts();
+}
+
+void solve_by_component(KSP ksp, std::span<const la::Vector> rhs, Field& scalar, Field& target,
+                        const std::string& what) {
+  const int n_c = target.components();
+  if (static_cast<int>(rhs.size()) != n_c || scalar.components() != 1)
+    throw Error(fmt::format("solve_by_component: {} right-hand sides for {} components", rhs.size(), n_c));
+  const auto range = scalar.ownership();
   for (int c = 0; c < n_c; ++c) {
-    check(KSPSolve(ksp.get(), rhs[c].get(), scalar.vector()), "KSPSolve(L2 projection)");
+    check(KSPSolve(ksp, rhs[c].get(), scalar.vector()), "KSPSolve");
     KSPConvergedReason reason;
-    check(KSPGetConvergedReason(ksp.get(), &reason), "KSPGetConvergedReason");
-    if (reason < 0) {
-      check(VecRestoreArray(target.vector(), &out), "VecRestoreArray");
-      throw SolverError(fmt::format("L2 projection onto '{}' did not converge: {}", target.name(),
-                                    KSPConvergedReasons[reason]));
-    }
+    check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+    if (reason < 0)
+      throw SolverError(fmt::format("{} failed: {}", what, KSPConvergedReasons[reason]));
     // The same node ranges (one field each): owned scalar dof i is owned
     // component dof i * n_c + c.
+    PetscScalar* out = nullptr;
     const PetscScalar* in = nullptr;
+    check(VecGetArray(target.vector(), &out), "VecGetArray");
     check(VecGetArrayRead(scalar.vector(), &in), "VecGetArrayRead");
     for (int i = 0; i < range.size(); ++i) out[i * n_c + c] = in[i];
     check(VecRestoreArrayRead(scalar.vector(), &in), "VecRestoreArrayRead");
+    check(VecRestoreArray(target.vector(), &out), "VecRestoreArray");
   }
-  check(VecRestoreArray(target.vector(), &out), "VecRestoreArray");
-  target.update_ghosts();
 }
 
 }  // namespace softflow::fem

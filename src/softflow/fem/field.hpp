@@ -130,6 +130,14 @@ struct ElementMatrix {
 /// gathered; restored by scatter() after checking the size. Collective.
 StatePart state_part(Field& field);
 
+/// Solves `ksp` (an operator on `scalar`'s dofs: target's space, one
+/// component) once per component, rhs[c] for component c, and writes the
+/// solutions into `target`'s components (the same node ranges: owned scalar
+/// dof i is owned component dof i * n_c + c). The caller updates target's
+/// ghosts. Throws SolverError "<what> failed: <reason>". Collective.
+void solve_by_component(KSP ksp, std::span<const la::Vector> rhs, Field& scalar, Field& target,
+                        const std::string& what);
+
 /// L2 projection onto a field's space: find u_h with (u_h, v) = (f, v) for
 /// every v, component by component, with f evaluated at the quadrature
 /// points of the current mesh (degree-`quadrature_degree` rule). Per region

@@ -135,23 +135,7 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
   const la::Solver ksp = la::lu_solver(operator_.matrix->get(), "transport_");
 
   check(VecCopy(s_.vector(), previous_.vector()), "VecCopy");  // s_n becomes the history
-  PetscScalar* out = nullptr;
-  check(VecGetArray(s_.vector(), &out), "VecGetArray");
-  for (int comp = 0; comp < n_c; ++comp) {
-    check(KSPSolve(ksp.get(), rhs[comp].get(), scalar_.vector()), "KSPSolve(transport)");
-    KSPConvergedReason reason;
-    check(KSPGetConvergedReason(ksp.get(), &reason), "KSPGetConvergedReason");
-    if (reason < 0)
-      throw SolverError(fmt::format("transport of '{}' failed: {}", s_.name(),
-                                    KSPConvergedReasons[reason]));
-    // The same node ranges (fem::Field): owned scalar dof i is owned
-    // component dof i * n_c + comp.
-    const PetscScalar* in = nullptr;
-    check(VecGetArrayRead(scalar_.vector(), &in), "VecGetArrayRead");
-    for (int i = 0; i < range.size(); ++i) out[i * n_c + comp] = in[i];
-    check(VecRestoreArrayRead(scalar_.vector(), &in), "VecRestoreArrayRead");
-  }
-  check(VecRestoreArray(s_.vector(), &out), "VecRestoreArray");
+  fem::solve_by_component(ksp.get(), rhs, scalar_, s_, "transport of '" + s_.name() + "'");
   s_.update_ghosts();
   previous_.update_ghosts();
   ++steps_;
