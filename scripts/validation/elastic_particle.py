@@ -92,6 +92,11 @@ def load(directory):
     return r
 
 
+def reached_steady(r):
+    """Completed, or stopped late enough (t >= 8: D, theta plateau by t ~ 3) to average."""
+    return r["status"] == "completed" or r["end"] >= 8.0
+
+
 def roscoe_d(ca_e):
     return 1.25 * ca_e
 
@@ -117,6 +122,11 @@ def report(work):
         if r is None:
             md.append(f"| {c:g} | | | | {roscoe_d(c):.4f} | | | {roscoe_theta(c):.2f} | | | | | not run |")
             continue
+        if not reached_steady(r):
+            md.append(f"| {c:g} | {r['unknowns']} | (D = {r['D'][-1]:.3f} when it stopped) | | {roscoe_d(c):.4f} | | | "
+                      f"{roscoe_theta(c):.2f} | | | | {r['wall']:.0f} | {r['status']} (t = {r['end']:g}): "
+                      f"{r['summary'].get('stop_reason', '')[:60]}... |")
+            continue
         md.append(f"| {c:g} | {r['unknowns']} | {r['D_steady']:.4f} | {r['D_amplitude']:.1e} | "
                   f"{roscoe_d(c):.4f} | {r['D_steady'] / roscoe_d(c) - 1:+.1%} | {r['theta_steady']:.2f} | "
                   f"{roscoe_theta(c):.2f} | {r['theta_steady'] - roscoe_theta(c):+.2f} | "
@@ -130,7 +140,7 @@ def report(work):
            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for c in STUDY_C:
         r = results[case_name(c, 28, 0.02)]
-        if r is None:
+        if r is None or not reached_steady(r):
             continue
         s = r["stress"]
         md.append(f"| {c:g} | " + " | ".join(f"{s[k]:.4f}" for k in ("tau_xx", "tau_yy", "tau_zz", "tau_xy")) +
@@ -145,20 +155,32 @@ def report(work):
              [(case_name(0.1, 28, dt), f"{dt:g}") for dt in STUDY_T], "dt")):
         md += ["", title, "", f"| {key} | unknowns | D | D ampl. | theta [deg] | spread | wall time [s] | status |",
                "|---|---|---|---|---|---|---|---|"]
-        values = []
+        values, amplitudes = [], []
         for name, label in rows:
             r = results[name]
             if r is None:
                 md.append(f"| {label} | | | | | | | not run |")
                 continue
             values.append(r["D_steady"])
+            amplitudes.append(r["D_amplitude"])
             md.append(f"| {label} | {r['unknowns']} | {r['D_steady']:.5f} | {r['D_amplitude']:.1e} | "
                       f"{r['theta_steady']:.3f} | {r['stress']['spread']:.3f} | {r['wall']:.0f} | {r['status']} |")
-        if len(values) == 3 and values[1] != values[2] and (values[0] - values[1]) / (values[1] - values[2]) > 0:
-            ratio = (values[0] - values[1]) / (values[1] - values[2])
+        if len(values) == 3:
             factor = 1.4 if "Mesh" in title else 2.0
-            md += ["", f"Differences {values[0] - values[1]:+.2e}, {values[1] - values[2]:+.2e}: observed order "
-                   f"{math.log(ratio) / math.log(factor):.2f} (refinement factor {factor:g})."]
+            d1, d2 = values[0] - values[1], values[1] - values[2]
+            amplitude = max(amplitudes)
+            text = f"Differences {d1:+.2e}, {d2:+.2e}"
+            # Each difference must stand above the oscillation of the two runs it compares.
+            if d1 * d2 > 0 and abs(d1) > amplitudes[0] + amplitudes[1] and abs(d2) > amplitudes[1] + amplitudes[2]:
+                order = math.log(d1 / d2) / math.log(factor)
+                extrapolated = values[2] - d2 / (factor ** order - 1)
+                text += (f": observed order {order:.2f} (refinement factor {factor:g}); Richardson "
+                         f"extrapolation D = {extrapolated:.5f}, the finest run "
+                         f"{values[2] / extrapolated - 1:+.2%} from it.")
+            else:
+                text += (f": no order can be read, the differences are not above the residual "
+                         f"oscillation of D (half-amplitude up to {amplitude:.1e}) the averages carry.")
+            md += ["", text]
     for name, (c, n, dt) in all_cases().items():
         r = results[name]
         if r:
@@ -179,6 +201,8 @@ def report(work):
             continue
         axes[0].plot(r["t"], r["D"], label=f"Ca_e = {c:g}")
         axes[1].plot(r["t"][1:], r["theta"][1:], label=f"Ca_e = {c:g}")
+        if not reached_steady(r):
+            continue
         cs.append(c)
         ds.append(r["D_steady"])
         ths.append(r["theta_steady"])
