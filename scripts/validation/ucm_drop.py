@@ -41,11 +41,15 @@ def relaxation_time(ca):
     return P_D * ca * LAMBDA
 
 
-def dt_for(ca):
-    return relaxation_time(ca) / 5.0
+def dt_for(ca, per_relaxation=5):
+    return relaxation_time(ca) / per_relaxation
 
 
-def case_text(name, ca, ucm):
+# Resolution study at Ca = 0.1: (equator nodes, far size, steps per relaxation time).
+RESOLUTION = [(28, 4.0, 10), (40, 2.8, 5)]
+
+
+def case_text(name, ca, ucm, equator=28, far=4.0, per_relaxation=5):
     drop = (f'model = "ucm"\npolymer_viscosity = {LAMBDA}\nrelaxation_time = {relaxation_time(ca):.10g}\n'
             if ucm else f"viscosity_ratio = {LAMBDA}\n")
     return f"""[case]
@@ -53,10 +57,10 @@ name = "{name}"
 [[objects]]
 {drop}capillary_number = {ca}
 [mesh]
-equator_nodes = 28
-far_size = 4.0
+equator_nodes = {equator}
+far_size = {far}
 [time]
-step = {dt_for(ca):.10g}
+step = {dt_for(ca, per_relaxation):.10g}
 end = {T_END}
 [checkpoint]
 interval_minutes = 0
@@ -65,8 +69,9 @@ fields = false
 """
 
 
-def name_of(ca, ucm):
-    return f"{'ucm' if ucm else 'newtonian'}_Ca{ca:g}"
+def name_of(ca, ucm, equator=28, per_relaxation=5):
+    suffix = "" if (equator, per_relaxation) == (28, 5) else f"_N{equator}_dtl{per_relaxation}"
+    return f"{'ucm' if ucm else 'newtonian'}_Ca{ca:g}{suffix}"
 
 
 def load(directory):
@@ -115,6 +120,18 @@ def report(work):
                   f"{u['wall']:.0f} / {n['wall']:.0f} | {u['status']} / {n['status']} |")
         rows.append([ca, dt_for(ca), u["D_steady"], n["D_steady"], taylor(LAMBDA, ca), u["theta_steady"],
                      n["theta_steady"], shift, g, u["wall"], n["wall"]])
+    md += ["", "## Resolution at Ca = 0.1 (UCM and Newtonian twin on each mesh and step)", "",
+           "| equator nodes | far size | dt | D (UCM) | D (Newt.) | theta UCM [deg] | theta Newt. [deg] | shift [deg] | "
+           "Greco shift [deg] | unknowns | wall time UCM / Newt. [s] |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for n, far, k in [(28, 4.0, 5)] + RESOLUTION:
+        u = load(os.path.join(work, name_of(0.1, True, n, k)))
+        w = load(os.path.join(work, name_of(0.1, False, n, k)))
+        if u is None or w is None:
+            md.append(f"| {n} | {far:g} | {dt_for(0.1, k):g} | | | | | | {greco_shift(LAMBDA, 0.1, 0, P_D):+.3f} | | not run |")
+            continue
+        md.append(f"| {n} | {far:g} | {dt_for(0.1, k):g} | {u['D_steady']:.5f} | {w['D_steady']:.5f} | "
+                  f"{u['theta_steady']:.3f} | {w['theta_steady']:.3f} | {u['theta_steady'] - w['theta_steady']:+.3f} | "
+                  f"{greco_shift(LAMBDA, 0.1, 0, P_D):+.3f} | {u['unknowns']} | {u['wall']:.0f} / {w['wall']:.0f} |")
     with open(os.path.join(OUT, "ucm_drop.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["Ca", "dt", "D_ucm", "D_newtonian", "D_taylor", "theta_ucm_deg", "theta_newtonian_deg",
@@ -156,6 +173,8 @@ def main():
     args = parser.parse_args()
     if not args.report_only:
         jobs = [(name_of(ca, ucm), case_text(name_of(ca, ucm), ca, ucm)) for ca in CAS for ucm in (True, False)]
+        jobs += [(name_of(0.1, ucm, n, k), case_text(name_of(0.1, ucm, n, k), 0.1, ucm, n, far, k))
+                 for n, far, k in RESOLUTION for ucm in (True, False)]
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
     report(args.work)
