@@ -35,22 +35,26 @@ T_END = 6.0
 CAS = [0.05, 0.1, 0.2]
 
 
-def relaxation_time(ca):
+def relaxation_time(ca, p_d=P_D):
     # p_d = Psi_1d Gamma / (2 R eta_d^2), Psi_1d = 2 eta_d lambda_d (UCM):
     # lambda_d = p_d R eta_d / Gamma = p_d Ca lambda / gamma_dot (eta_m = R = gamma_dot = 1).
-    return P_D * ca * LAMBDA
+    return p_d * ca * LAMBDA
 
 
-def dt_for(ca, per_relaxation=5):
-    return relaxation_time(ca) / per_relaxation
+def dt_for(ca, per_relaxation=5, p_d=P_D):
+    return relaxation_time(ca, p_d) / per_relaxation
+
+
+# Drop elasticity at Ca = 0.1: Greco's shift is linear in p_d.
+P_D_STUDY = [0.25, 1.0]
 
 
 # Resolution study at Ca = 0.1: (equator nodes, far size, steps per relaxation time).
 RESOLUTION = [(28, 4.0, 10), (40, 2.8, 5)]
 
 
-def case_text(name, ca, ucm, equator=28, far=4.0, per_relaxation=5):
-    drop = (f'model = "ucm"\npolymer_viscosity = {LAMBDA}\nrelaxation_time = {relaxation_time(ca):.10g}\n'
+def case_text(name, ca, ucm, equator=28, far=4.0, per_relaxation=5, p_d=P_D):
+    drop = (f'model = "ucm"\npolymer_viscosity = {LAMBDA}\nrelaxation_time = {relaxation_time(ca, p_d):.10g}\n'
             if ucm else f"viscosity_ratio = {LAMBDA}\n")
     return f"""[case]
 name = "{name}"
@@ -60,7 +64,7 @@ name = "{name}"
 equator_nodes = {equator}
 far_size = {far}
 [time]
-step = {dt_for(ca, per_relaxation):.10g}
+step = {dt_for(ca, per_relaxation, p_d):.10g}
 end = {T_END}
 [checkpoint]
 interval_minutes = 0
@@ -132,6 +136,19 @@ def report(work):
         md.append(f"| {n} | {far:g} | {dt_for(0.1, k):g} | {u['D_steady']:.5f} | {w['D_steady']:.5f} | "
                   f"{u['theta_steady']:.3f} | {w['theta_steady']:.3f} | {u['theta_steady'] - w['theta_steady']:+.3f} | "
                   f"{greco_shift(LAMBDA, 0.1, 0, P_D):+.3f} | {u['unknowns']} | {u['wall']:.0f} / {w['wall']:.0f} |")
+    md += ["", "## Drop elasticity at Ca = 0.1 (28 equator nodes, dt = lambda_d / 5; Greco's shift is linear in p_d)", "",
+           "| p_d | lambda_d | D (UCM) | D (Newt.) | theta UCM [deg] | theta Newt. [deg] | shift [deg] | Greco shift [deg] |",
+           "|---|---|---|---|---|---|---|---|"]
+    for p_d in sorted(P_D_STUDY + [P_D]):
+        tag = "" if p_d == P_D else f"_pd{p_d:g}"
+        u = load(os.path.join(work, f"ucm_Ca0.1{tag}"))
+        w = load(os.path.join(work, f"newtonian_Ca0.1{tag}"))
+        g = greco_shift(LAMBDA, 0.1, 0, p_d)
+        if u is None or w is None:
+            md.append(f"| {p_d:g} | {relaxation_time(0.1, p_d):g} | | | | | | {g:+.3f} |")
+            continue
+        md.append(f"| {p_d:g} | {relaxation_time(0.1, p_d):g} | {u['D_steady']:.5f} | {w['D_steady']:.5f} | "
+                  f"{u['theta_steady']:.3f} | {w['theta_steady']:.3f} | {u['theta_steady'] - w['theta_steady']:+.3f} | {g:+.3f} |")
     with open(os.path.join(OUT, "ucm_drop.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["Ca", "dt", "D_ucm", "D_newtonian", "D_taylor", "theta_ucm_deg", "theta_newtonian_deg",
@@ -175,6 +192,9 @@ def main():
         jobs = [(name_of(ca, ucm), case_text(name_of(ca, ucm), ca, ucm)) for ca in CAS for ucm in (True, False)]
         jobs += [(name_of(0.1, ucm, n, k), case_text(name_of(0.1, ucm, n, k), 0.1, ucm, n, far, k))
                  for n, far, k in RESOLUTION for ucm in (True, False)]
+        jobs += [(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}",
+                  case_text(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}", 0.1, ucm, p_d=p_d))
+                 for p_d in P_D_STUDY for ucm in (True, False)]
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
     report(args.work)
