@@ -465,10 +465,6 @@ std::string timeseries_rows(const StepReport& r) {
   return out;
 }
 
-}  // namespace softflow::simulation
-
-namespace softflow::simulation {
-
 std::string stress_header() {
   return "step,t,region,volume,tau_xx,tau_yy,tau_zz,tau_xy,tau_yz,tau_xz,N1,tau_1,tau_2,tau_3,"
          "spread\n";

@@ -280,7 +280,7 @@ void StokesSystem::factor(const MatrixRecord& record) {
   if (problem.semi_implicit_tension.active())
     problem.semi_implicit_tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
   // The viscoelastic terms' matrix reads c_n and whether DEVSS-G was on
-  // (its theta); the loads (u_m, G*) do not matter here: zero fields.
+  // (its theta); the loads (u_m, G_n) do not matter here: zero fields.
   std::optional<fem::Field> conformation, velocity_gradient;
   if (!record.conformation.empty()) {
     // The space of every conformation field: P1, one copy per region.

@@ -51,24 +51,25 @@ void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
     const Eigen::Matrix<double, 10, 3> cg = g * c;  // row l: (c g_l)^T, c symmetric
     const Eigen::Matrix<double, 10, 10> gcg = g * cg.transpose();
     const double scale = modulus * dt * w;
-    for (int k = 0; k < 10; ++k)
+    for (int k = 0; k < 10; ++k) {
+      Eigen::Matrix3d convection;  // column b: dc/dx_b g_k
+      for (int b = 0; b < 3; ++b) convection.col(b) = grad_c[b] * g.row(k).transpose();
       for (int l = 0; l < 10; ++l)
-        for (int b = 0; b < 3; ++b) {
-          const Eigen::Vector3d convection = grad_c[b] * g.row(k).transpose();
+        for (int b = 0; b < 3; ++b)
           for (int a = 0; a < 3; ++a) {
-            double entry = g(k, b) * cg(l, a) - n[l] * convection(a);
+            double entry = g(k, b) * cg(l, a) - n[l] * convection(a, b);
             if (a == b) entry += gcg(k, l);
             matrix(3 * k + a, 3 * l + b) += scale * entry;
           }
-        }
+    }
 
     // Load: D(v) : A = (sym(A) g_k)_a for v = N_k e_a.
     const ve::Mat3 stress = modulus * (prediction.constant() - ve::Mat3::Identity());
     ve::Mat3 rhs = -stress;
     if (theta > 0.0) {
       const Eigen::VectorXd gv = coupling.velocity_gradient->value(p);
-      const ve::Mat3 gstar = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(gv.data());
-      rhs += theta * (gstar + gstar.transpose());
+      const ve::Mat3 g_n = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(gv.data());
+      rhs += theta * (g_n + g_n.transpose());
     }
     for (int k = 0; k < 10; ++k) load.segment<3>(3 * k) += w * (rhs * g.row(k).transpose());
   }
