@@ -45,9 +45,12 @@ std::vector<ObjectMeasures> object_measures(const mesh::Mesh& mesh, const fem::D
       om.area += w;
       om.pressure_jump += w * (l[0] * jump[0] + l[1] * jump[1] + l[2] * jump[2]);
       for (int k = 0; k < 6; ++k) {
-        const int v = dofs.dof(velocity, tri[k], 0);
+        // With slip the two copies differ tangentially: their mean (one dof
+        // with a continuous velocity).
+        const int vm = dofs.dof(velocity, tri[k], 0), vd = dofs.dof(velocity, tri[k], object);
         om.mean_interface_velocity +=
-            w * n2[k] * Eigen::Vector3d(solution[v], solution[v + 1], solution[v + 2]);
+            (0.5 * w * n2[k]) * Eigen::Vector3d(solution[vm] + solution[vd], solution[vm + 1] + solution[vd + 1],
+                                                solution[vm + 2] + solution[vd + 2]);
       }
     }
   }

@@ -18,14 +18,20 @@ Space::Space(const mesh::Mesh& mesh, int degree, Continuity continuity)
   for (int i = 0; i < n_nodes; ++i) master_[i] = mesh.master(i);
 
   // Regions touching each representative node through the element nodes
-  // this space uses.
+  // this space uses (for an interface space: the object of each interface
+  // triangle through its 3 or 6 nodes).
   std::vector<std::vector<int>> regions(n_nodes);
-  for (int t = 0; t < mesh.n_tets(); ++t) {
-    const int region = mesh.tet_region[t];
-    for (int k = 0; k < per_element; ++k) {
-      auto& r = regions[master_[mesh.tets[t][k]]];
-      if (std::find(r.begin(), r.end(), region) == r.end()) r.push_back(region);
-    }
+  auto touch = [&](int node, int region) {
+    auto& r = regions[master_[node]];
+    if (std::find(r.begin(), r.end(), region) == r.end()) r.push_back(region);
+  };
+  if (continuity == Continuity::on_interfaces) {
+    for (std::size_t f = 0; f < mesh.interface_faces.size(); ++f)
+      for (int k = 0; k < (degree == 1 ? 3 : 6); ++k)
+        touch(mesh.interface_faces[f][k], mesh.interface_object[f]);
+  }
+  for (int t = 0; t < mesh.n_tets() && per_element > 0; ++t) {
+    for (int k = 0; k < per_element; ++k) touch(mesh.tets[t][k], mesh.tet_region[t]);
   }
 
   copy_begin_.assign(n_nodes + 1, 0);
@@ -34,7 +40,7 @@ Space::Space(const mesh::Mesh& mesh, int degree, Continuity continuity)
     auto& r = regions[n];
     if (r.empty()) continue;
     std::sort(r.begin(), r.end());
-    if (continuity_ == Continuity::continuous) r.resize(1);
+    if (continuity_ != Continuity::per_region) r.resize(1);  // objects never touch
     for (int region : r) {
       copies_.push_back({region, n_dofs_++});
       dof_node_.push_back(n);
@@ -51,8 +57,10 @@ Space::Space(const mesh::Mesh& mesh, int degree, Continuity continuity)
 }
 
 std::string Space::describe() const {
-  return fmt::format("P{} {}", degree_,
-                     continuity_ == Continuity::continuous ? "continuous" : "per region");
+  const char* kind = continuity_ == Continuity::continuous   ? "continuous"
+                     : continuity_ == Continuity::per_region ? "per region"
+                                                             : "on interfaces";
+  return fmt::format("P{} {}", degree_, kind);
 }
 
 std::span<const Space::Copy> Space::copies(int node) const {
@@ -63,7 +71,7 @@ std::span<const Space::Copy> Space::copies(int node) const {
 
 int Space::dof(int node, int region) const {
   const auto c = copies(node);
-  if (continuity_ == Continuity::continuous) return c.empty() ? -1 : c.front().dof;
+  if (continuity_ != Continuity::per_region) return c.empty() ? -1 : c.front().dof;
   for (const Copy& copy : c)
     if (copy.region == region) return copy.dof;
   return -1;

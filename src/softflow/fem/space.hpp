@@ -18,6 +18,10 @@ enum class Continuity {
   /// multiple) values at interface nodes, so the field may jump there
   /// (pressure, the log-conformation tensor, a slip velocity).
   per_region,
+  /// Values only at the nodes of interface triangles, one per node (region
+  /// = the object), none inside elements: the Lagrange multipliers of
+  /// constraints that couple the two sides of an interface (slip).
+  on_interfaces,
 };
 
 /// A scalar P1 or P2 Lagrange space on the isoparametric P2 mesh.
@@ -43,8 +47,12 @@ class Space {
 
   [[nodiscard]] int degree() const { return degree_; }
   [[nodiscard]] Continuity continuity() const { return continuity_; }
-  /// Local nodes per tetrahedron: 4 (P1) or 10 (P2).
-  [[nodiscard]] int n_element_nodes() const { return degree_ == 1 ? 4 : 10; }
+  /// Local nodes per tetrahedron: 4 (P1) or 10 (P2); 0 for a space that
+  /// lives on the interfaces only.
+  [[nodiscard]] int n_element_nodes() const {
+    if (continuity_ == Continuity::on_interfaces) return 0;
+    return degree_ == 1 ? 4 : 10;
+  }
   [[nodiscard]] int n_dofs() const { return n_dofs_; }
   [[nodiscard]] int n_nodes() const { return static_cast<int>(master_.size()); }
   /// "P2 continuous", "P1 per region": for messages and output.
@@ -56,8 +64,9 @@ class Space {
   /// one, none at nodes the space does not use (edge nodes for P1).
   [[nodiscard]] std::span<const Copy> copies(int node) const;
   /// The dof of `node` as seen from `region`: for a per-region space -1 if
-  /// that region does not touch the node; for a continuous space the node's
-  /// one dof whatever the region. -1 where the space has no value.
+  /// that region does not touch the node; for a continuous or interface
+  /// space the node's one dof whatever the region. -1 where the space has
+  /// no value.
   [[nodiscard]] int dof(int node, int region) const;
   /// The dofs of tetrahedron `tet` in local node order (n_element_nodes()).
   [[nodiscard]] std::span<const int> element_dofs(int tet) const {

@@ -62,9 +62,14 @@ SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const std::vector<Field
                                  int region) {
   SubdomainPiece piece;
   piece.region = region;
+  // Fields without element values (interface multipliers) are not point data.
+  auto on_elements = [](const fem::DofMap& dofs, int f) {
+    return dofs.field(f).space->n_element_nodes() > 0;
+  };
   for (const auto& source : sources)
     for (int f = 0; f < source.dofs->n_fields(); ++f)
-      piece.fields.push_back({source.dofs->field(f).name, source.dofs->field(f).components, {}});
+      if (on_elements(*source.dofs, f))
+        piece.fields.push_back({source.dofs->field(f).name, source.dofs->field(f).components, {}});
   std::vector<int> local(mesh.n_nodes(), -1);
   for (int t = 0; t < mesh.n_tets(); ++t) {
     if (mesh.tet_region[t] != region) continue;
@@ -78,10 +83,11 @@ SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const std::vector<Field
         for (const auto& source : sources) {
           const fem::DofMap& dofs = *source.dofs;
           const auto d = dofs.element_dofs(t);
-          for (int f = 0; f < dofs.n_fields(); ++f, ++out_field) {
+          for (int f = 0; f < dofs.n_fields(); ++f) {
+            if (!on_elements(dofs, f)) continue;
+            auto& out = piece.fields[out_field++].values;
             const int n_c = dofs.field(f).components;
             const int* fd = d.data() + dofs.element_offset(f);
-            auto& out = piece.fields[out_field].values;
             for (int c = 0; c < n_c; ++c) {
               if (dofs.field(f).space->degree() == 2 || k < 4) {
                 out.push_back(source.values[fd[k * n_c + c]]);

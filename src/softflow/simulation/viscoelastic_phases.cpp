@@ -34,15 +34,19 @@ void for_each_owned_block(fem::Field& field, F&& f) {
 
 }  // namespace
 
-ViscoelasticPhases::ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<ve::Constitutive> models)
+ViscoelasticPhases::ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<ve::Constitutive> models,
+                                       bool slip_velocity)
     : mesh_(mesh),
       models_(std::move(models)),
       p1_(std::make_shared<fem::Space>(mesh, 1, fem::Continuity::per_region)),
       p2_(std::make_shared<fem::Space>(mesh, 2, fem::Continuity::continuous)),
+      velocity_space_(slip_velocity
+                          ? std::make_shared<fem::Space>(mesh, 2, fem::Continuity::per_region)
+                          : p2_),
       log_conformation_(mesh, "log_conformation", p1_, ve::kSymmetricComponents),
       conformation_(mesh, "conformation", p1_, ve::kSymmetricComponents),
       stress_(mesh, "polymer_stress", p1_, ve::kSymmetricComponents),
-      velocity_(mesh, "velocity", p2_, 3),
+      velocity_(mesh, "velocity", velocity_space_, 3),
       mesh_velocity_(mesh, "mesh_velocity", p2_, 3),
       gradient_(mesh, "velocity_gradient", p1_, physics::kVelocityGradientComponents) {
   if (static_cast<int>(models_.size()) != mesh.n_objects + 1)

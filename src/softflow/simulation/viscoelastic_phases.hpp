@@ -49,7 +49,10 @@ class ViscoelasticPhases {
  public:
   /// `models[r]` for region r (0 = matrix, k = object k); the mesh is the
   /// run's and must outlive this object.
-  ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<physics::viscoelastic::Constitutive> models);
+  /// `slip_velocity`: the Stokes velocity has a copy per region (interface
+  /// slip), and the transport reads each region's own copy.
+  ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<physics::viscoelastic::Constitutive> models,
+                     bool slip_velocity = false);
   ~ViscoelasticPhases();
   ViscoelasticPhases(const ViscoelasticPhases&) = delete;
   ViscoelasticPhases& operator=(const ViscoelasticPhases&) = delete;
@@ -94,7 +97,7 @@ class ViscoelasticPhases {
 
   const mesh::Mesh& mesh_;
   std::vector<physics::viscoelastic::Constitutive> models_;
-  std::shared_ptr<const fem::Space> p1_, p2_;
+  std::shared_ptr<const fem::Space> p1_, p2_, velocity_space_;
   fem::Field log_conformation_, conformation_, stress_;
   fem::Field velocity_, mesh_velocity_;
   fem::Field gradient_;

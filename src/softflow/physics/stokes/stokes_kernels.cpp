@@ -1,6 +1,7 @@
 #include "softflow/physics/stokes/stokes_kernels.hpp"
 
 #include "softflow/element/quadrature.hpp"
+#include "softflow/element/shape_functions.hpp"
 
 namespace softflow::physics {
 
@@ -65,6 +66,19 @@ TriangleStiffness surface_stiffness(const element::TriangleNodes& x) {
                    p.surface_gradients.transpose();
   }
   return s;
+}
+
+TriangleStiffness surface_mass(const element::TriangleNodes& x) {
+  // Degree 5: exact on flat triangles (degree-4 integrand).
+  static const element::QuadratureRule rule = element::triangle_rule(5);
+  TriangleStiffness m = TriangleStiffness::Zero();
+  for (int q = 0; q < rule.size(); ++q) {
+    const auto p = element::surface_point(x, rule.points[q]);
+    const auto n = element::p2_triangle_values(rule.points[q]);
+    const Eigen::Map<const Eigen::Matrix<double, 6, 1>> values(n.data());
+    m.noalias() += (rule.weights[q] * p.area_scale) * values * values.transpose();
+  }
+  return m;
 }
 
 }  // namespace softflow::physics

@@ -58,4 +58,9 @@ void add_surface_tension(const element::TriangleNodes& x, double gamma,
 /// integral_T grad_s N_a ds: the explicit tension's load per unit Gamma.
 TriangleStiffness surface_stiffness(const element::TriangleNodes& x);
 
+/// The mass matrix of one curved P2 triangle, M_ab = integral_T N_a N_b ds:
+/// how the slip multipliers (tractions, P2 on the interface) load the two
+/// velocity copies (physics/stokes/interface_slip.hpp).
+TriangleStiffness surface_mass(const element::TriangleNodes& x);
+
 }  // namespace softflow::physics

@@ -77,6 +77,27 @@ struct ViscoelasticCoupling {
   [[nodiscard]] double step_viscosity(int region) const;
 };
 
+/// Navier slip on the objects' interfaces (thesis eqs. 2.17-2.18, the sign
+/// of eq. 2.18 as corrected in SPEC §9): with n the object's outward normal,
+///   n.(u_m - u_d) = 0,   (I - n n)(u_m - u_d) = alpha_k (I - n n)(sigma_m n).
+/// It needs a StokesSystem built with separate velocity copies at the
+/// interfaces (interface_slip = true, physics/stokes/interface_slip.hpp).
+struct InterfaceSlip {
+  /// alpha_k of object k at index k - 1, dimensional (velocity per stress:
+  /// the case's dimensionless slip times R / eta_m); missing entries are 0,
+  /// i.e. no slip, which such a system imposes through the same multipliers.
+  std::vector<double> coefficient;
+
+  [[nodiscard]] double of(int object) const {
+    return object - 1 < static_cast<int>(coefficient.size()) ? coefficient[object - 1] : 0.0;
+  }
+  [[nodiscard]] bool any() const {
+    for (double a : coefficient)
+      if (a > 0.0) return true;
+    return false;
+  }
+};
+
 /// Everything that defines one instantaneous Stokes problem on a given mesh:
 ///
 ///   -div(2 eta_r D(u)) + grad p = f,  div u = 0   in every region r,
@@ -96,6 +117,8 @@ struct StokesProblem {
   /// The viscoelastic phases' stress (inactive: all Newtonian). `viscosity`
   /// then holds each such phase's solvent viscosity mu (0 for UCM).
   ViscoelasticCoupling viscoelastic;
+  /// Navier slip per object (none by default).
+  InterfaceSlip slip;
   /// The pressure level is fixed at one matrix vertex (the gauge) to this value.
   int pressure_gauge_node = -1;
   double pressure_gauge_value = 0.0;

@@ -10,6 +10,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/common/state.hpp"
 #include "softflow/fem/field.hpp"
+#include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
 #include "softflow/physics/stokes/viscoelastic_terms.hpp"
 
@@ -22,20 +23,27 @@ using la::check;
 constexpr int kQuadratureDegree = 5;
 }  // namespace
 
-fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool double_interface_velocity) {
+fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool interface_slip) {
   using fem::Continuity;
   auto velocity = std::make_shared<fem::Space>(
-      mesh, 2, double_interface_velocity ? Continuity::per_region : Continuity::continuous);
+      mesh, 2, interface_slip ? Continuity::per_region : Continuity::continuous);
   auto pressure = std::make_shared<fem::Space>(mesh, 1, Continuity::per_region);
-  return fem::DofMap(mesh, {{"velocity", velocity, 3}, {"pressure", pressure, 1}});
+  std::vector<fem::FieldSpec> fields{{"velocity", velocity, 3}, {"pressure", pressure, 1}};
+  if (interface_slip)
+    fields.push_back(
+        {"multiplier", std::make_shared<fem::Space>(mesh, 2, Continuity::on_interfaces), 3});
+  return fem::DofMap(mesh, std::move(fields));
 }
 
 StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings& settings,
-                           bool double_interface_velocity)
+                           bool interface_slip)
     : mesh_(mesh),
       settings_(settings),
-      dofs_(make_stokes_dof_map(mesh, double_interface_velocity)),
+      slip_(interface_slip),
+      dofs_(make_stokes_dof_map(mesh, interface_slip)),
       tabulation_(kQuadratureDegree) {
+  if (slip_)
+    for (int k = 1; k <= mesh_.n_objects; ++k) surfaces_.push_back(extract_interface(mesh_, k));
   // The element kernels are written for the Taylor-Hood element.
   if (dofs_.element_size() != TetMatrix::RowsAtCompileTime)
     throw SolverError(fmt::format("StokesSystem: {} element dofs, the kernels take {}",
@@ -60,6 +68,15 @@ void StokesSystem::partition() {
   for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) {
     const int node = mesh_.interface_faces[f][0];
     if (range_.owns(dofs_.dof(kVelocityField, node, 0))) owned_interface_faces_.push_back(f);
+  }
+  if (slip_) {
+    std::vector<char> seen(mesh_.n_nodes(), 0);
+    for (const auto& tri : mesh_.interface_faces)
+      for (int node : tri)
+        if (!seen[node] && range_.owns(dofs_.dof(kMultiplierField, node, 0))) {
+          seen[node] = 1;
+          owned_interface_nodes_.push_back(node);
+        }
   }
   std::vector<std::vector<PetscInt>> owned_by_field(dofs_.n_fields());
   for (PetscInt i = range_.begin; i < range_.end; ++i)
@@ -93,9 +110,39 @@ void StokesSystem::create_matrices() {
       if (record) tet_blocks_.push_back(b);
     }
     for (int f : owned_interface_faces_) {
-      const auto d = interface_velocity_dofs(f);
+      const auto d = interface_velocity_dofs(f, tension_region(f));
       const auto b = m.add_block(std::span<const PetscInt>(d), std::span<const PetscInt>(d));
       if (record) interface_blocks_.push_back(b);
+    }
+    if (slip_) {
+      // Velocity rows of both copies x the face's multipliers.
+      for (int f : owned_interface_faces_) {
+        const int object = mesh_.interface_object[f];
+        std::array<PetscInt, 36> rows;
+        std::array<PetscInt, 18> columns;
+        const auto outside = interface_velocity_dofs(f, 0), inside = interface_velocity_dofs(f, object);
+        std::copy(outside.begin(), outside.end(), rows.begin());
+        std::copy(inside.begin(), inside.end(), rows.begin() + 18);
+        for (int k = 0; k < 6; ++k)
+          for (int c = 0; c < 3; ++c)
+            columns[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[f][k], object, c);
+        const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns));
+        if (record) slip_coupling_blocks_.push_back(b);
+      }
+      // Each node's constraint rows x (u_m, u_d, lambda) there.
+      for (int node : owned_interface_nodes_) {
+        std::array<PetscInt, 3> rows;
+        std::array<PetscInt, 9> columns;
+        const int object = dofs_.region_of(dofs_.dof(kMultiplierField, node, 0));
+        for (int c = 0; c < 3; ++c) {
+          rows[c] = dofs_.dof(kMultiplierField, node, object, c);
+          columns[c] = dofs_.dof(kVelocityField, node, 0, c);
+          columns[3 + c] = dofs_.dof(kVelocityField, node, object, c);
+          columns[6 + c] = rows[c];
+        }
+        const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns));
+        if (record) slip_constraint_blocks_.push_back(b);
+      }
     }
     m.create();
   };
@@ -170,12 +217,13 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
           fs.segment<3>(3 * a) += (scale * load) * na;
         }
       }
-      const auto rows = interface_velocity_dofs(f);
+      const auto rows = interface_velocity_dofs(f, tension_region(f));
       check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
     }
     a_->set_block(interface_blocks_[i], block);
     if (iterative) pmat_->set_block(interface_blocks_[i], block);
   }
+  if (slip_) assemble_slip(geometry, problem);
   a_->assemble();
   if (iterative) pmat_->assemble();
   check(VecAssemblyBegin(rhs), "VecAssemblyBegin");
@@ -227,6 +275,9 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
            mesh_.n_nodes()))
     throw SolverError("StokesProblem: semi-implicit tension needs a normal and a normal "
                       "velocity for every mesh node");
+  if (problem.slip.any() && !slip_)
+    throw SolverError("StokesProblem: slip on an interface needs a StokesSystem built with "
+                      "interface_slip = true");
   if (static_cast<int>(problem.viscosity.size()) < mesh_.n_objects + 1)
     throw SolverError(fmt::format("StokesProblem: {} viscosities for {} regions",
                                   problem.viscosity.size(), mesh_.n_objects + 1));
@@ -248,6 +299,7 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   r.problem.viscosity = problem.viscosity;
   r.problem.interfacial_tension = problem.interfacial_tension;
   r.problem.pressure_gauge_node = problem.pressure_gauge_node;
+  r.problem.slip = problem.slip;
   r.problem.semi_implicit_tension.theta_dt = problem.semi_implicit_tension.theta_dt;
   if (problem.semi_implicit_tension.active())
     r.problem.semi_implicit_tension.node_normal = problem.semi_implicit_tension.node_normal;
@@ -259,6 +311,40 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   }
   if (!analysis_) analysis_ = r;
   factors_ = std::move(r);
+}
+
+void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem) {
+  const bool iterative = static_cast<bool>(pmat_);
+  for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i) {
+    const int f = owned_interface_faces_[i];
+    const auto m = surface_mass(fem::triangle_nodes(geometry, mesh_.interface_faces[f]));
+    Eigen::Matrix<double, 36, 18> block = Eigen::Matrix<double, 36, 18>::Zero();
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b)
+        for (int c = 0; c < 3; ++c) {
+          block(3 * a + c, 3 * b + c) = m(a, b);        // + integral lambda_h . v_m
+          block(18 + 3 * a + c, 3 * b + c) = -m(a, b);  // - integral lambda_h . v_d
+        }
+    a_->set_block(slip_coupling_blocks_[i], block);
+    if (iterative) pmat_->set_block(slip_coupling_blocks_[i], block);
+  }
+  const auto normal = interface_node_normals(surfaces_, geometry);
+  const auto scale = interface_node_scale(geometry);
+  for (std::size_t i = 0; i < owned_interface_nodes_.size(); ++i) {
+    const int node = owned_interface_nodes_[i];
+    const int object = dofs_.region_of(dofs_.dof(kMultiplierField, node, 0));
+    const double alpha = problem.slip.of(object);
+    if (!(alpha >= 0.0) || !std::isfinite(alpha))
+      throw SolverError(fmt::format("StokesProblem: slip coefficient {} of object {} (allowed: "
+                                    "finite, >= 0)", alpha, object));
+    const Eigen::Matrix3d tangential =
+        Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
+    Eigen::Matrix<double, 3, 9> block;
+    block << scale[node] * Eigen::Matrix3d::Identity(), -scale[node] * Eigen::Matrix3d::Identity(),
+        -scale[node] * alpha * tangential;
+    a_->set_block(slip_constraint_blocks_[i], block);
+    if (iterative) pmat_->set_block(slip_constraint_blocks_[i], block);
+  }
 }
 
 std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(const mesh::Mesh& geometry,
@@ -312,6 +398,7 @@ void save_matrix_record(StateRecord& out, const std::string& prefix,
   out.set(prefix + "viscosity", problem.viscosity);
   out.set(prefix + "interfacial_tension", problem.interfacial_tension);
   out.set(prefix + "pressure_gauge_node", problem.pressure_gauge_node);
+  out.set(prefix + "slip", problem.slip.coefficient);
   out.set(prefix + "theta_dt", problem.semi_implicit_tension.theta_dt);
   out.set(prefix + "node_normal", problem.semi_implicit_tension.node_normal);
   // Each region's model as (model, mu, G, lambda, alpha); dt.
@@ -346,6 +433,8 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
       r.problem.viscosity = in.get_array(p + "viscosity");
       r.problem.interfacial_tension = in.get_array(p + "interfacial_tension");
       r.problem.pressure_gauge_node = in.get_int(p + "pressure_gauge_node");
+      // Checkpoints from before slip existed: no slip.
+      if (in.contains(p + "slip")) r.problem.slip.coefficient = in.get_array(p + "slip");
       r.problem.semi_implicit_tension.theta_dt = in.get_double(p + "theta_dt");
       r.problem.semi_implicit_tension.node_normal = in.get_points(p + "node_normal");
       // Checkpoints of Newtonian runs from before the viscoelastic phases
@@ -369,20 +458,24 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
     if (factors_->nodes != analysis_->nodes ||
         factors_->problem.semi_implicit_tension.theta_dt !=
             analysis_->problem.semi_implicit_tension.theta_dt ||
-        factors_->conformation != analysis_->conformation || factors_->devss != analysis_->devss)
+        factors_->conformation != analysis_->conformation || factors_->devss != analysis_->devss ||
+        factors_->problem.slip.coefficient != analysis_->problem.slip.coefficient)
       factor(*factors_);
   }
   solver_->restore_reuse_state(in.get_bool(prefix + "refactor_next"),
                                in.get_int(prefix + "n_factorizations"));
 }
 
-std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face) const {
-  // Shared (no-slip) velocity: the matrix-side copy is the interface velocity.
+std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face, int region) const {
   const auto& tri = mesh_.interface_faces[face];
   std::array<PetscInt, 18> rows;
   for (int k = 0; k < 6; ++k)
-    for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.dof(kVelocityField, tri[k], 0, c);
+    for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.dof(kVelocityField, tri[k], region, c);
   return rows;
+}
+
+int StokesSystem::tension_region(int face) const {
+  return slip_ ? mesh_.interface_object[face] : 0;
 }
 
 int default_pressure_gauge_node(const mesh::Mesh& mesh) {

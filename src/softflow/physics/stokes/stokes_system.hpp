@@ -15,6 +15,7 @@
 #include "softflow/la/petsc.hpp"
 #include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/interface/interface_mesh.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
 
 namespace softflow::physics {
@@ -24,10 +25,12 @@ inline constexpr int kVelocityField = 0;
 inline constexpr int kPressureField = 1;
 
 /// The unknowns of thesis §2.3.1: velocity = 3 x P2, continuous across
-/// interfaces (no slip) or one copy per region (`double_interface_velocity`,
-/// for slip constraints); pressure = P1 per region, so it may jump across an
-/// interface. Fields "velocity" (kVelocityField) and "pressure".
-fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool double_interface_velocity);
+/// interfaces (no slip) or, with `interface_slip`, one copy per region
+/// coupled by multipliers (field "multiplier", kMultiplierField, 3 x P2 on
+/// the interfaces; physics/stokes/interface_slip.hpp); pressure = P1 per
+/// region, so it may jump across an interface. Fields "velocity"
+/// (kVelocityField) and "pressure" (kPressureField).
+fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool interface_slip);
 
 struct StokesResult {
   /// Every dof of the Stokes dof map, gathered on every rank.
@@ -57,14 +60,18 @@ struct StokesResult {
 /// M/eta the pressure mass weighted by 1/viscosity per phase.
 class StokesSystem {
  public:
+  /// `interface_slip`: separate velocity copies at interfaces coupled by
+  /// multipliers, for problems with Navier slip (StokesProblem::slip).
   StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings& settings,
-               bool double_interface_velocity = false);
+               bool interface_slip = false);
   ~StokesSystem();
   StokesSystem(const StokesSystem&) = delete;
   StokesSystem& operator=(const StokesSystem&) = delete;
 
   [[nodiscard]] const fem::DofMap& dofs() const { return dofs_; }
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
+  /// Whether the velocity has a copy per region coupled by slip multipliers.
+  [[nodiscard]] bool interface_slip() const { return slip_; }
   [[nodiscard]] la::OwnershipRange ownership() const { return range_; }
   /// Preconditioner builds so far (LU factorisations with the direct method).
   [[nodiscard]] int n_factorizations() const { return solver_->n_setups(); }
@@ -115,11 +122,21 @@ class StokesSystem {
   std::pair<la::Vector, la::Vector> assemble_system(const mesh::Mesh& geometry,
                                                     const StokesProblem& problem);
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
-  /// The 18 velocity unknowns of interface triangle `face` (matrix side).
-  [[nodiscard]] std::array<PetscInt, 18> interface_velocity_dofs(int face) const;
+  /// The 18 velocity unknowns of interface triangle `face` on the side of
+  /// `region` (the same for both with a continuous velocity).
+  [[nodiscard]] std::array<PetscInt, 18> interface_velocity_dofs(int face, int region) const;
+  /// The side that carries the tension load: the object's copy with slip
+  /// (so that the multipliers are the matrix traction), else the shared one.
+  [[nodiscard]] int tension_region(int face) const;
+  /// Slip coupling (interface_slip.hpp): multiplier columns of the velocity
+  /// rows of each owned interface face, constraint rows of each owned node.
+  void assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem);
 
   const mesh::Mesh& mesh_;
   la::SaddlePointSettings settings_;
+  bool slip_ = false;
+  std::vector<InterfaceMesh> surfaces_;    // with slip: for the node normals
+  std::vector<int> owned_interface_nodes_;  // with slip: nodes whose multipliers this rank owns
   fem::DofMap dofs_;
   fem::TetTabulation tabulation_;
   la::OwnershipRange range_;
@@ -129,6 +146,7 @@ class StokesSystem {
   std::unique_ptr<la::CooMatrix> a_;
   std::unique_ptr<la::CooMatrix> pmat_;  // only for the iterative method: -M/eta in the pressure block
   std::vector<la::CooMatrix::Block> tet_blocks_, interface_blocks_;
+  std::vector<la::CooMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
   std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
   std::optional<MatrixRecord> analysis_, factors_;  // direct method only
