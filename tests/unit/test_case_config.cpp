@@ -50,6 +50,7 @@ void expect_same(const ObjectConfig& a, const ObjectConfig& b) {
   EXPECT_EQ(a.interfacial_tension, b.interfacial_tension);
   EXPECT_EQ(a.capillary_number, b.capillary_number);
   EXPECT_EQ(a.elastic_capillary_number, b.elastic_capillary_number);
+  EXPECT_EQ(a.slip, b.slip);
 }
 
 void expect_same(const CaseConfig& a, const CaseConfig& b) {
@@ -1149,6 +1150,101 @@ TEST(DimensionlessGroups, OscillatoryFlowAddsDeborahNumbers) {
   EXPECT_DOUBLE_EQ(find_group(groups, "Wi_d", 1).value, 3.0 * 0.4);
   EXPECT_DOUBLE_EQ(find_group(groups, "De_d", 1).value, 3.0 * 4.0);
   EXPECT_EQ(find_group(groups, "Wi", 0).definition, "lambda_m gamma0 omega");
+}
+
+// ---- Navier slip (thesis eq. 2.18, SPEC §1 and §9) ----
+
+TEST(SlipKey, DefaultIsNoSlipAndNotPrinted) {
+  const CaseConfig c = parse_case("[[objects]]\n", "c.toml");
+  EXPECT_EQ(c.objects[0].slip, 0.0);
+  EXPECT_EQ(navier_slip_coefficient(c, c.objects[0]), 0.0);
+  // Cases without slip print as before (checkpoints compare with them).
+  EXPECT_EQ(to_toml(c).find("slip"), std::string::npos) << to_toml(c);
+  EXPECT_EQ(ObjectConfig{}.slip, 0.0);
+}
+
+TEST(SlipKey, AValueReadsBackAndGivesTheDimensionalCoefficient) {
+  const CaseConfig c = parse_case(
+      "[matrix]\nviscosity = 4\n[[objects]]\nradius = 2\nslip = 0.5\n"
+      "[[objects]]\ncentre = [5, 0, 0]\nslip = 0\n"
+      "[[objects]]\ncentre = [-5, 0, 0]\nmodel = \"ucm\"\nmodulus = 1\n"
+      "relaxation_time = 1\nslip = 3\n",
+      "c.toml");
+  EXPECT_EQ(c.objects[0].slip, 0.5);
+  EXPECT_EQ(c.objects[1].slip, 0.0);
+  EXPECT_EQ(c.objects[2].slip, 3.0);  // a viscoelastic drop may slip
+  // alpha_dim = slip R / eta_m = 0.5 * 2 / 4.
+  EXPECT_DOUBLE_EQ(navier_slip_coefficient(c, c.objects[0]), 0.25);
+  const std::string toml = to_toml(c);
+  EXPECT_NE(toml.find("slip = 0.5\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("slip = 3.0\n"), std::string::npos) << toml;
+  const CaseConfig again = parse_case(toml, "c.toml");
+  expect_same(c, again);
+  EXPECT_EQ(toml, to_toml(again));
+  // An elastic particle may state the default.
+  EXPECT_EQ(error_of("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1\nslip = 0\n"), "");
+}
+
+TEST(SlipKeyErrors, NegativeAndNonFiniteValuesAreRefused) {
+  EXPECT_ERROR("[[objects]]\nslip = -0.1\n", "case.toml: objects[1].slip = -0.1: must be >= 0");
+  EXPECT_ERROR("[[objects]]\n[[objects]]\nslip = -1e-300\n", "objects[2].slip = -1e-300: must be >= 0");
+  EXPECT_ERROR("[[objects]]\nslip = inf\n", "objects[1].slip = inf: must be a finite number");
+  EXPECT_ERROR("[[objects]]\nslip = nan\n", "objects[1].slip = nan: must be a finite number");
+  EXPECT_ERROR("[[objects]]\nslip = 1e400\n", "objects[1].slip = 1e400");
+  EXPECT_ERROR("[[objects]]\nslip = \"0.1\"\n", "objects[1].slip = \"0.1\": must be a number");
+}
+
+TEST(SlipKeyErrors, ElasticParticlesTakeNoSlip) {
+  EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1\nslip = 0.2\n",
+               "case.toml: objects[1].slip = 0.2: model = \"neo_hookean\" is an elastic particle, "
+               "which takes only slip = 0 (no slip); slip > 0 is for drops (model = "
+               "\"newtonian\", \"oldroyd_b\", \"giesekus\" or \"ucm\")");
+  EXPECT_ERROR("[[objects]]\n[[objects]]\nmodel = \"kelvin_voigt\"\nsolvent_viscosity = 1\n"
+               "modulus = 1\nslip = 1\n",
+               "objects[2].slip = 1: model = \"kelvin_voigt\" is an elastic particle");
+  // Reported once, beside the particle's other problems.
+  const std::string e =
+      error_of("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = -1\nslip = 0.2\n");
+  EXPECT_NE(e.find("objects[1].modulus = -1"), std::string::npos) << e;
+  EXPECT_NE(e.find("objects[1].slip = 0.2"), std::string::npos) << e;
+  EXPECT_EQ(e.find("objects[1].slip"), e.rfind("objects[1].slip")) << e;
+  // With the model unknown, nothing is said about slip.
+  EXPECT_EQ(error_of("[[objects]]\nmodel = \"rubber\"\nslip = 0.2\n").find("slip"),
+            std::string::npos);
+}
+
+TEST(SlipKeyErrors, NamesForSlipAreSuggested) {
+  EXPECT_ERROR("[[objects]]\nnavier_slip = 0.1\n", "(did you mean 'objects[1].slip'?)");
+  EXPECT_ERROR("[[objects]]\nslip_coefficient = 0.1\n", "(did you mean 'objects[1].slip'?)");
+  EXPECT_ERROR("[[objects]]\nsilp = 0.1\n", "(did you mean 'objects[1].slip'?)");
+  EXPECT_ERROR("[objects]\nslip = 0.1\n", "write [[objects]]");
+}
+
+TEST(SlipKey, TheReferenceDocumentsIt) {
+  const std::string doc = case_file_keys_markdown();
+  EXPECT_NE(doc.find("`slip`"), std::string::npos);
+  EXPECT_NE(doc.find("(I - nn)(u_m - u_d) = alpha (I - nn)(sigma_m n)"), std::string::npos);
+}
+
+TEST(DimensionlessGroups, SlipIsReportedForInterfacesThatSlip) {
+  const CaseConfig c = parse_case(
+      "[[objects]]\nslip = 0.25\n[[objects]]\ncentre = [5, 0, 0]\n"
+      "[[objects]]\ncentre = [-5, 0, 0]\nmodel = \"neo_hookean\"\nmodulus = 1\n",
+      "g.toml");
+  const auto groups = dimensionless_groups(c);
+  EXPECT_EQ(find_group(groups, "alpha", 1).value, 0.25);
+  EXPECT_NE(find_group(groups, "alpha", 1).definition.find("eta_m / R"), std::string::npos);
+  EXPECT_FALSE(has_group(groups, "alpha", 2));  // no slip: not reported
+  EXPECT_FALSE(has_group(groups, "alpha", 3));
+  const auto json = to_json(groups);
+  bool seen = false;
+  for (const auto& g : json)
+    if (g["symbol"] == "alpha") {
+      EXPECT_EQ(g["object"], 1);
+      EXPECT_EQ(g["value"], 0.25);
+      seen = true;
+    }
+  EXPECT_TRUE(seen);
 }
 
 }  // namespace

@@ -275,6 +275,17 @@ void resolve_tension(const TableRead& t, const CaseConfig& c, const FlowState& f
                           *o.capillary_number;
 }
 
+/// Navier slip is a property of a liquid interface here: an elastic
+/// particle (no interfacial tension either) takes slip = 0 only.
+void check_slip(const TableRead& t, const ObjectConfig& o, Diagnostics& diag) {
+  if (t.status("slip") != Read::ok || o.slip == 0.0 || !is_elastic_solid(o.model)) return;
+  diag.error(t.path("slip"), *t.value("slip"),
+             fmt::format("model = \"{}\" is an elastic particle, which takes only slip = 0 (no "
+                         "slip); slip > 0 is for drops (model = \"newtonian\", \"oldroyd_b\", "
+                         "\"giesekus\" or \"ucm\")",
+                         physics::viscoelastic::to_string(o.model)));
+}
+
 /// A run in time (end > 0) takes n = round(end / step) steps: at least one,
 /// and as many as an int counts. A step beyond end would run past t_end (or,
 /// below end / 2, round to no step at all); a step so small that n overflows
@@ -403,6 +414,11 @@ double mean_radius(const geometry::ObjectSpec& object) {
   return std::cbrt(a.x() * a.y() * a.z());
 }
 
+double navier_slip_coefficient(const CaseConfig& c, const ObjectConfig& o) {
+  // slip = alpha_dim eta_m / R (thesis §2.1), eta_m zero-shear.
+  return o.slip * mean_radius(o.geometry) / c.matrix_viscosity;
+}
+
 geometry::ShearCellSpec CaseConfig::shear_cell_spec() const {
   geometry::ShearCellSpec spec;
   spec.box = box;
@@ -489,6 +505,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
     // An elastic particle has no interfacial tension (Gamma = 0, SPEC §1).
     if (model_known && !is_elastic_solid(o.model))
       resolve_tension(objects_read[k], c, flow, o, diag);
+    if (model_known) check_slip(objects_read[k], o, diag);
   }
   diag.throw_if_any();
   return c;
@@ -598,6 +615,11 @@ std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
               "lambda_d omega");
       }
     }
+    // SPEC §1: the slip alpha of an interface that has slip.
+    if (o.slip > 0.0)
+      add("alpha", "Navier slip coefficient", o.slip,
+          "alpha_dim eta_m / R, alpha_dim the dimensional coefficient of (I - nn)(u_m - u_d) = "
+          "alpha_dim (I - nn)(sigma_m n)");
     add("beta", "blockage ratio", d / c.box.height, "2R / H");
     add("L/D", "box length in diameters", c.box.length / d, "L / 2R");
     add("H/D", "box height in diameters", c.box.height / d, "H / 2R");

@@ -60,6 +60,18 @@ struct ObjectConfig {
   /// (then parameters.modulus = eta_m gamma_dot / Ca_e); empty when the file
   /// gives the modulus, and for a liquid object.
   std::optional<double> elastic_capillary_number;
+  /// alpha, the dimensionless Navier slip coefficient of the interface
+  /// ([[objects]] slip; thesis eq. 2.18 with the sign of SPEC §9):
+  ///   (I - nn)(u_m - u_d) = alpha (I - nn)(sigma_m . n),
+  /// n the object's outward normal (into the matrix), u_m, sigma_m the
+  /// matrix's velocity and stress, u_d the object's velocity; it dissipates
+  /// (u_m - u_d).(sigma_m n) = alpha |(I - nn) sigma_m n|^2 >= 0. Made
+  /// dimensionless through R / eta_m (thesis §2.1): the solver's dimensional
+  /// coefficient is slip * R / eta_m (navier_slip_coefficient), R the
+  /// object's equivalent-sphere radius mean_radius(geometry), eta_m the
+  /// matrix's zero-shear viscosity. 0 = no slip (the default); finite and
+  /// >= 0, and 0 for an elastic particle.
+  double slip = 0.0;
 };
 
 /// [time]: the time loop (thesis §2.3.3). end = 0 means one Stokes solve of
@@ -147,6 +159,12 @@ struct CaseConfig {
 /// scale of every dimensionless group of an object.
 [[nodiscard]] double mean_radius(const geometry::ObjectSpec& object);
 
+/// The dimensional Navier slip coefficient of `object`'s interface,
+/// object.slip * R / eta_m (R = mean_radius, eta_m the matrix's zero-shear
+/// viscosity), in the case's units: the alpha of
+/// (I - nn)(u_m - u_d) = alpha (I - nn)(sigma_m . n). 0 without slip.
+[[nodiscard]] double navier_slip_coefficient(const CaseConfig& config, const ObjectConfig& object);
+
 /// True for the models of an elastic particle (neo_hookean, kelvin_voigt):
 /// a solid, without interfacial tension.
 [[nodiscard]] bool is_elastic_solid(physics::viscoelastic::ConstitutiveModel model);
@@ -206,8 +224,8 @@ struct DimensionlessGroup {
 /// oscillatory flow), then per object: for a drop Ca, omega*, lambda, p
 /// (viscoelastic matrix), p_d and Wi_d (viscoelastic drop); for an elastic
 /// particle Ca_e, p (viscoelastic matrix) and mu_d/eta_m (Kelvin-Voigt);
-/// for every object the blockage beta = 2R/H and the box size in diameters
-/// L/2R, H/2R, W/2R.
+/// the slip alpha of an interface with slip > 0; for every object the
+/// blockage beta = 2R/H and the box size in diameters L/2R, H/2R, W/2R.
 std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& config);
 
 /// [{"symbol", "name", "object" (omitted for case-wide groups), "value"

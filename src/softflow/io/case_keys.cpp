@@ -401,6 +401,18 @@ Table<ObjectConfig> objects_table() {
           [](const ObjectConfig& o) { return !o.elastic_capillary_number; });
   for (auto& k : viscoelastic) table.keys.push_back(std::move(k));
   for (auto& k : tension) table.keys.push_back(std::move(k));
+  // Navier slip, last: a property of the interface like the tension. It
+  // applies to every model so that slip = 0 may be written for any object;
+  // case_config.cpp refuses slip > 0 on an elastic particle.
+  table.keys.push_back(
+      number("slip", field(&ObjectConfig::slip), 0.0, Range::at_least(0),
+             "alpha, the Navier slip coefficient of the interface, made dimensionless through "
+             "R / eta_m: (I - nn)(u_m - u_d) = alpha (I - nn)(sigma_m n), n the outward normal, "
+             "so the dimensional coefficient is alpha R / eta_m (R = (abc)^(1/3), eta_m the "
+             "matrix's zero-shear viscosity). 0 = no slip; drops only (an elastic particle "
+             "takes 0)")
+          // Cases without slip print as they always did.
+          .printed_if([](const ObjectConfig& o) { return o.slip != 0.0; }));
   return table;
 }
 
@@ -430,8 +442,10 @@ CaseKeys build() {
       {"eta", "matrix", "viscosity"},
       {"eta_m", "matrix", "viscosity"},
       // The constitutive keys, by the symbols of thesis §2.2 (per table:
-      // [matrix] and [[objects]] each have their own). Not "alpha": the
-      // slip coefficient will want it too.
+      // [matrix] and [[objects]] each have their own). Not "alpha": in
+      // [[objects]] it names both the Giesekus mobility (alpha_d) and the
+      // slip coefficient (alpha), so it suggests neither; "navier_slip" or
+      // "slip_coefficient" find `slip` by containing it.
       {"type", "matrix", "model"},
       {"type", "objects", "model"},
       {"constitutive", "matrix", "model"},
