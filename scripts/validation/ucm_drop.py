@@ -49,6 +49,18 @@ def dt_for(ca, per_relaxation=5, p_d=P_D):
 P_D_STUDY = [0.25, 1.0]
 
 
+# Fixed drop Deborah number lambda_d gamma_dot (= Ca p_d lambda): Greco's shift
+# is proportional to Ca p_d, i.e. the same at every Ca on one of these lines;
+# (Ca, p_d) pairs, the Ca -> 0 end is where the second-order theory holds.
+FIXED_DEBORAH = {0.05: [(0.0125, 2.0), (0.025, 1.0), (0.05, 0.5), (0.1, 0.25)],
+                 0.1: [(0.025, 2.0), (0.05, 1.0), (0.1, 0.5)]}
+
+
+def pair_name(ca, p_d, ucm):
+    tag = "" if p_d == P_D else f"_pd{p_d:g}"
+    return f"{'ucm' if ucm else 'newtonian'}_Ca{ca:g}{tag}"
+
+
 # Resolution study at Ca = 0.1: (equator nodes, far size, steps per relaxation time).
 RESOLUTION = [(28, 4.0, 10), (40, 2.8, 5)]
 
@@ -149,12 +161,38 @@ def report(work):
             continue
         md.append(f"| {p_d:g} | {relaxation_time(0.1, p_d):g} | {u['D_steady']:.5f} | {w['D_steady']:.5f} | "
                   f"{u['theta_steady']:.3f} | {w['theta_steady']:.3f} | {u['theta_steady'] - w['theta_steady']:+.3f} | {g:+.3f} |")
+    md += ["", "## Fixed drop Deborah number: the Ca -> 0 limit of the shift (28 equator nodes, dt = lambda_d / 5)", "",
+           "Greco's shift depends on Ca and p_d only through the drop's Deborah number "
+           "De_d = lambda_d gamma_dot = Ca p_d lambda, so along each line below it is constant; the "
+           "theory is the first term of an expansion in Ca, so the runs should approach it as Ca -> 0. "
+           "The last column extrapolates the shift linearly in Ca to Ca = 0 from the two smallest Ca.", "",
+           "| De_d | Ca | p_d | D (UCM) | D (Newt.) | shift [deg] | Greco shift [deg] | extrapolated to Ca = 0 [deg] |",
+           "|---|---|---|---|---|---|---|---|"]
+    deborah_lines = {}
+    for de, pairs in FIXED_DEBORAH.items():
+        points = []
+        for ca, p_d in pairs:
+            u = load(os.path.join(work, pair_name(ca, p_d, True)))
+            w = load(os.path.join(work, pair_name(ca, p_d, False)))
+            g = greco_shift(LAMBDA, ca, 0, p_d)
+            if u is None or w is None:
+                md.append(f"| {de:g} | {ca:g} | {p_d:g} | | | | {g:+.3f} | |")
+                continue
+            points.append((ca, u["theta_steady"] - w["theta_steady"], g, u, w))
+        deborah_lines[de] = points
+        for i, (ca, shift, g, u, w) in enumerate(points):
+            extrapolated = ""
+            if i == 0 and len(points) >= 2:
+                (c0, s0), (c1, s1) = (points[0][0], points[0][1]), (points[1][0], points[1][1])
+                extrapolated = f"{s0 - c0 * (s1 - s0) / (c1 - c0):+.3f}"
+            md.append(f"| {de:g} | {ca:g} | {pairs[[c for c, _ in pairs].index(ca)][1]:g} | {u['D_steady']:.5f} | "
+                      f"{w['D_steady']:.5f} | {shift:+.3f} | {g:+.3f} | {extrapolated} |")
     with open(os.path.join(OUT, "ucm_drop.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["Ca", "dt", "D_ucm", "D_newtonian", "D_taylor", "theta_ucm_deg", "theta_newtonian_deg",
                     "shift_deg", "greco_shift_deg", "wall_ucm_s", "wall_newtonian_s"])
         w.writerows(rows)
-    fig, axes = plt.subplots(1, 4, figsize=(19, 4.2))
+    fig, axes = plt.subplots(1, 5, figsize=(23, 4.2))
     for ca, shift, g, u, n in shifts:
         axes[0].plot(u["t"], u["D"], label=f"UCM Ca = {ca:g}")
         axes[0].plot(n["t"], n["D"], ":", color=axes[0].lines[-1].get_color())
@@ -173,6 +211,14 @@ def report(work):
     axes[3].plot(grid, [chaffey_brenner(LAMBDA, c) + greco_shift(LAMBDA, c, 0, P_D) for c in grid], "-.",
                  color="k", label="Greco, p_d = 0.5")
     axes[3].set(xlabel="Ca", ylabel="steady theta [deg]", title="theta vs Ca (Fig. 2.12b)")
+    for de, points in deborah_lines.items():
+        if not points:
+            continue
+        line, = axes[4].plot([p[0] for p in points], [p[1] for p in points], "o-", label=f"softflow, De_d = {de:g}")
+        axes[4].axhline(points[0][2], ls="--", color=line.get_color(), label=f"Greco, De_d = {de:g}")
+    axes[4].axhline(0.0, color="gray", lw=0.5)
+    axes[4].set(xlabel="Ca", ylabel="theta shift UCM - Newtonian [deg]", xlim=(0, None),
+                title="shift at fixed drop Deborah number")
     for a in axes:
         a.legend(fontsize=7)
     fig.tight_layout()
@@ -195,6 +241,8 @@ def main():
         jobs += [(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}",
                   case_text(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}", 0.1, ucm, p_d=p_d))
                  for p_d in P_D_STUDY for ucm in (True, False)]
+        jobs += [(pair_name(ca, p_d, ucm), case_text(pair_name(ca, p_d, ucm), ca, ucm, p_d=p_d))
+                 for pairs in FIXED_DEBORAH.values() for ca, p_d in pairs for ucm in (True, False)]
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
     report(args.work)

@@ -1,8 +1,11 @@
 # Runs one case serially and on 2 MPI ranks, for the direct and the
-# iterative solver, and compares the summaries.
+# iterative solver (or the SOLVERS given), and compares the summaries.
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
-foreach(solver direct iterative)
+if(NOT DEFINED SOLVERS)
+  set(SOLVERS direct iterative)
+endif()
+foreach(solver ${SOLVERS})
   file(READ ${CASE} text)
   string(APPEND text "\n[solver]\ntype = \"${solver}\"\nrtol = 1e-10\n")
   file(WRITE ${WORK}/${solver}.toml "${text}")

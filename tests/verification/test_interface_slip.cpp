@@ -62,6 +62,21 @@ TEST(InterfaceSlip, WithTensionTheBalanceIncludesTheTensionWork) {
               1e-8 * r.boundary_work);
 }
 
+TEST(InterfaceSlip, IterativeSolverAgreesWithTheDirectOne) {
+  // FGMRES + Schur fieldsplit with the multipliers beside the pressure
+  // (their Schur complement estimated from A's diagonal): the same solution.
+  for (double lambda : {0.1, 10.0}) {
+    const auto direct = slip_drop_in_shear(lambda, 1.0, 0.5, 16);
+    const auto iterative = slip_drop_in_shear(lambda, 1.0, 0.5, 16, true, true);
+    std::printf("lambda %.1f: iterative %d iterations; |u-u_h| %.9e vs direct %.9e; slip diss. %.9e vs %.9e\n",
+                lambda, iterative.iterations, iterative.velocity_l2, direct.velocity_l2,
+                iterative.slip_dissipation, direct.slip_dissipation);
+    EXPECT_NEAR(iterative.velocity_l2, direct.velocity_l2, 1e-6 * direct.velocity_l2);
+    EXPECT_NEAR(iterative.slip_dissipation, direct.slip_dissipation, 1e-6 * direct.slip_dissipation);
+    EXPECT_NEAR(iterative.viscous_dissipation, direct.viscous_dissipation, 1e-7 * direct.viscous_dissipation);
+  }
+}
+
 class SlipDropInShear : public ::testing::TestWithParam<std::pair<double, double>> {};
 
 TEST_P(SlipDropInShear, ApproachesTheExactSlipField) {

@@ -189,6 +189,7 @@ void add(StageSeconds& total, const StageSeconds& s) {
 struct RunFiles {
   std::ofstream series;
   std::ofstream stress;  ///< stress.csv, for runs with viscoelastic phases
+  std::ofstream slip;    ///< slip.csv, for runs with interface slip
   std::unique_ptr<io::FieldSeries> fields;
 };
 
@@ -275,6 +276,15 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
                           {"spread", r.spread}});
     summary["final_stress"] = stresses;
   }
+  if (!last.slips.empty()) {
+    nlohmann::json slips = nlohmann::json::array();
+    for (std::size_t k = 0; k < last.slips.size(); ++k)
+      slips.push_back({{"object", k + 1},
+                       {"mean_slip_speed", last.slips[k].mean_slip_speed},
+                       {"max_slip_speed", last.slips[k].max_slip_speed},
+                       {"slip_dissipation", last.slips[k].dissipation}});
+    summary["final_slip"] = slips;
+  }
   return summary;
 }
 
@@ -353,6 +363,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       on_root_sharing_failure([&] {
         files.series << timeseries_rows(last) << std::flush;
         if (files.stress.is_open()) files.stress << stress_rows(last) << std::flush;
+        if (files.slip.is_open()) files.slip << slip_rows(last) << std::flush;
         if (files.fields && fields_due) files.fields->write(sim.mesh(), fields, sim.time(), last.step);
         io::write_text_file_atomically(
             directory / "progress.json",
@@ -477,14 +488,16 @@ void truncate_timeseries(const fs::path& path, int step, const std::string& head
   io::write_text_file_atomically(path, kept);
 }
 
-/// Opens timeseries.csv (and stress.csv for viscoelastic runs) for appending.
+/// Opens timeseries.csv (and stress.csv for viscoelastic runs, slip.csv
+/// for runs with slip) for appending.
 void open_series(const fs::path& directory, const DropSimulation& sim, RunFiles& files) {
-  files.series.open(directory / "timeseries.csv", std::ios::app);
-  if (!files.series)
-    throw Error(fmt::format("cannot append to {}/timeseries.csv", directory.string()));
-  if (!sim.viscoelastic()) return;
-  files.stress.open(directory / "stress.csv", std::ios::app);
-  if (!files.stress) throw Error(fmt::format("cannot append to {}/stress.csv", directory.string()));
+  auto open = [&](std::ofstream& file, const char* name) {
+    file.open(directory / name, std::ios::app);
+    if (!file) throw Error(fmt::format("cannot append to {}/{}", directory.string(), name));
+  };
+  open(files.series, "timeseries.csv");
+  if (sim.viscoelastic()) open(files.stress, "stress.csv");
+  if (sim.interface_slip()) open(files.slip, "slip.csv");
 }
 
 /// The case of `directory`/case.toml must be the one the checkpoint was
@@ -596,6 +609,7 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
     output->write_text("case.toml", io::to_toml(config));
     output->write_text("timeseries.csv", timeseries_header() + timeseries_rows(first));
     if (sim.viscoelastic()) output->write_text("stress.csv", stress_header() + stress_rows(first));
+    if (sim.interface_slip()) output->write_text("slip.csv", slip_header() + slip_rows(first));
     output->commit();
     open_series(directory, sim, files);
     if (config.write_fields)
@@ -634,6 +648,8 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
     truncate_timeseries(directory / "timeseries.csv", checkpoint.step, timeseries_header());
     if (sim.viscoelastic())
       truncate_timeseries(directory / "stress.csv", checkpoint.step, stress_header());
+    if (sim.interface_slip())
+      truncate_timeseries(directory / "slip.csv", checkpoint.step, slip_header());
     open_series(directory, sim, files);
     if (config.write_fields) {
       files.fields =

@@ -33,7 +33,8 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
       mesh_(std::move(mesh)),
       initial_nodes_(mesh_.nodes),
       reference_nodes_(mesh_.nodes) {
-  stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_));
+  stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_),
+                                                    has_interface_slip(config_));
   ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
   physics::InterfaceTrackerSettings tracking;
   // k = (k / gamma_dot) gamma_dot; at rest the factor is taken as k itself.
@@ -49,7 +50,8 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
   mesh_velocity_.assign(mesh_.n_nodes(), mesh::Point::Zero());
   last_quality_ = mesh::min_quality(mesh_);
   if (auto models = phase_models(config_); ViscoelasticPhases::needed(models))
-    viscoelastic_ = std::make_unique<ViscoelasticPhases>(mesh_, std::move(models));
+    viscoelastic_ =
+        std::make_unique<ViscoelasticPhases>(mesh_, std::move(models), stokes_->interface_slip());
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
   register_state();
@@ -62,6 +64,7 @@ StepReport DropSimulation::initial_report() const {
   r.min_quality = mesh::min_quality(mesh_);
   for (int k = 0; k < static_cast<int>(trackers_.size()); ++k) r.objects.push_back(measure(k, Vec3::Zero()));
   r.stresses = measure_stresses();
+  r.slips = measure_slips();
   return r;
 }
 
@@ -112,6 +115,7 @@ StepReport DropSimulation::step() {
     }
   }
   r.stresses = measure_stresses();
+  r.slips = measure_slips();
   ++steps_;
   last_centre_velocity_ = centre_velocity;
   r.step = steps_;
@@ -131,6 +135,7 @@ StepReport DropSimulation::current_report() const {
   for (int k = 0; k < static_cast<int>(trackers_.size()); ++k)
     r.objects.push_back(measure(k, last_centre_velocity_[k]));
   r.stresses = measure_stresses();
+  r.slips = measure_slips();
   return r;
 }
 
@@ -363,10 +368,15 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   return quality;
 }
 
-Vec3 DropSimulation::interface_velocity(int node) const {
-  // No slip: the matrix-side copy is the shared interface velocity.
-  const int v = stokes_->dofs().dof(physics::kVelocityField, node, 0);
-  return Vec3(solution_[v], solution_[v + 1], solution_[v + 2]);
+Vec3 DropSimulation::interface_velocity(int node, int object) const {
+  // No slip: the shared copy. With slip the copies agree along the normal
+  // (collocated constraint) and the tracker moves nodes with the normal
+  // part only (eq. 2.29): their mean, which favours neither side.
+  const auto& dofs = stokes_->dofs();
+  const int m = dofs.dof(physics::kVelocityField, node, 0);
+  const int d = dofs.dof(physics::kVelocityField, node, object);
+  return 0.5 * (Vec3(solution_[m], solution_[m + 1], solution_[m + 2]) +
+                Vec3(solution_[d], solution_[d + 1], solution_[d + 2]));
 }
 
 physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
@@ -390,7 +400,8 @@ physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       tension.node_normal[nodes[i]] = normals[i];
       if (!first_step)
-        tension.predicted_normal_velocity[nodes[i]] = normals[i].dot(interface_velocity(nodes[i]));
+        tension.predicted_normal_velocity[nodes[i]] =
+            normals[i].dot(interface_velocity(nodes[i], static_cast<int>(k) + 1));
     }
   }
   return tension;
@@ -414,7 +425,8 @@ void DropSimulation::correct_interfaces(const std::vector<std::vector<Vec3>>& x_
   for (std::size_t k = 0; k < trackers_.size(); ++k) {
     const auto& nodes = trackers_[k].surface().volume_node;
     std::vector<Vec3> u(nodes.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i) u[i] = interface_velocity(nodes[i]);
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      u[i] = interface_velocity(nodes[i], static_cast<int>(k) + 1);
     trackers_[k].correct(x_hat[k], u, centre_velocity[k], dt);
   }
 }
@@ -437,6 +449,12 @@ ObjectState DropSimulation::measure(int k, const Vec3& centre_velocity) const {
   s.W = fit.W;
   s.ellipsoid_deviation = fit.max_relative_deviation;
   return s;
+}
+
+std::vector<physics::SlipMeasures> DropSimulation::measure_slips() const {
+  if (!stokes_->interface_slip()) return {};
+  if (solution_.empty()) return std::vector<physics::SlipMeasures>(mesh_.n_objects);  // t = 0
+  return physics::slip_measures(mesh_, stokes_->dofs(), solution_);
 }
 
 std::vector<RegionStress> DropSimulation::measure_stresses() const {
@@ -462,6 +480,20 @@ std::string timeseries_rows(const StepReport& r) {
         o.centre.y(), o.centre.z(), o.centre_velocity.x(), o.centre_velocity.y(),
         o.centre_velocity.z(), o.volume, o.area, o.ellipsoid_deviation, r.min_quality,
         r.stokes_iterations, r.step_seconds);
+  return out;
+}
+
+bool DropSimulation::interface_slip() const { return stokes_->interface_slip(); }
+
+std::string slip_header() { return "step,t,object,area,mean_slip_speed,max_slip_speed,slip_dissipation\n"; }
+
+std::string slip_rows(const StepReport& r) {
+  std::string out;
+  for (std::size_t k = 0; k < r.slips.size(); ++k) {
+    const auto& s = r.slips[k];
+    out += fmt::format("{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g}\n", r.step, r.time, k + 1,
+                       s.area, s.mean_slip_speed, s.max_slip_speed, s.dissipation);
+  }
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
+#include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
 #include "softflow/simulation/viscoelastic_phases.hpp"
 
@@ -59,6 +60,8 @@ struct StepReport {
   /// The mean polymer/elastic stress of every region with a conformation
   /// tensor (none for Newtonian runs).
   std::vector<RegionStress> stresses;
+  /// Per object, the slip across its interface (runs with slip only).
+  std::vector<physics::SlipMeasures> slips;
 };
 
 /// One time step from t_n to t_{n+1} = t_n + dt:
@@ -125,6 +128,8 @@ class DropSimulation {
   [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
   /// The viscoelastic phases (nullptr if every phase is Newtonian).
   [[nodiscard]] const ViscoelasticPhases* viscoelastic() const { return viscoelastic_.get(); }
+  /// Whether the run has interface slip (slip.csv, both velocity copies in the fields).
+  [[nodiscard]] bool interface_slip() const;
 
  private:
   std::vector<std::vector<physics::Vec3>> predict_interfaces() const;
@@ -134,13 +139,16 @@ class DropSimulation {
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
                    StageSeconds& stages);
-  /// The fluid velocity of the last solve at an interface node.
-  [[nodiscard]] physics::Vec3 interface_velocity(int node) const;
+  /// The fluid velocity of the last solve at interface node `node` of
+  /// object `object` (1-based).
+  [[nodiscard]] physics::Vec3 interface_velocity(int node, int object) const;
   [[nodiscard]] physics::SemiImplicitTension semi_implicit_tension(
       const std::vector<std::vector<physics::Vec3>>& x_hat, double dt) const;
   void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,
                           const std::vector<physics::Vec3>& centre_velocity, double dt);
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;
+  /// SlipMeasures of every object from the last solution (empty without slip).
+  [[nodiscard]] std::vector<physics::SlipMeasures> measure_slips() const;
   [[nodiscard]] std::vector<RegionStress> measure_stresses() const;
   void check_solution_finite() const;
   void register_state();
@@ -178,5 +186,9 @@ std::string timeseries_rows(const StepReport& report);
 /// values of <tau> and the spread (RegionStress).
 std::string stress_header();
 std::string stress_rows(const StepReport& report);
+/// slip.csv (runs with interface slip): per object and step the mean and
+/// largest tangential slip speed and the slip dissipation.
+std::string slip_header();
+std::string slip_rows(const StepReport& report);
 
 }  // namespace softflow::simulation

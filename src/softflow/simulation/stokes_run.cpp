@@ -85,7 +85,7 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
                mesh.n_nodes(), mesh.n_tets(), meshed.report["interface_nodes"].get<int>(),
                meshed.report["min_quality"].get<double>());
 
-  physics::StokesSystem stokes(mesh, solver_settings(config));  // step 2
+  physics::StokesSystem stokes(mesh, solver_settings(config), has_interface_slip(config));  // step 2
   const auto result = stokes.solve(stokes_problem(config, mesh, 0.0));  // the initial state
   const auto& dofs = stokes.dofs();
   if (!options.quiet && root)

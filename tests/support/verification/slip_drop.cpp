@@ -64,7 +64,7 @@ void energy_terms(const mesh::Mesh& mesh, const physics::StokesSystem& system,
 }  // namespace
 
 SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int equator_nodes,
-                                  bool interface_slip) {
+                                  bool interface_slip, bool iterative) {
   const double h0 = 2 * M_PI / (equator_nodes / 2.0);
   const auto exact = DropInLinearFlow::simple_shear(DropInLinearFlow::Kind::instantaneous, lambda,
                                                     1.0, gamma);  // TEMP
@@ -77,7 +77,12 @@ SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int
   spec.sizing.growth = 0.3 * 24 / equator_nodes;
   const auto mesh = geometry::build_shear_cell(spec);
 
-  physics::StokesSystem system(mesh, la::SaddlePointSettings{}, interface_slip);
+  la::SaddlePointSettings settings;
+  if (iterative) {
+    settings.method = la::SaddlePointMethod::iterative;
+    settings.rtol = 1e-10;
+  }
+  physics::StokesSystem system(mesh, settings, interface_slip);
   physics::StokesProblem problem;
   problem.viscosity = {1.0, lambda};
   problem.interfacial_tension = {gamma};
@@ -92,6 +97,7 @@ SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int
   r.equator_nodes = equator_nodes;
   r.h0 = h0;
   r.unknowns = system.dofs().n_dofs();
+  r.iterations = result.solve.iterations;
   const auto errors = fem::stokes_errors(
       mesh, system.dofs(), x,
       [&](const Vector3d& p, int region) { return exact.velocity(p, region == 1); },

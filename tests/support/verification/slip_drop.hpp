@@ -22,13 +22,16 @@ struct SlipDropResult {
   /// alpha integral |(I - nn) lambda_h|^2: the slip dissipation the Navier
   /// law implies from the multipliers alone.
   double navier_dissipation = 0.0;
+  /// Solver iterations (1 for the direct method).
+  int iterations = 0;
 };
 
 /// Unit drop (viscosity ratio lambda, dimensionless slip alpha, tension
 /// gamma) in a box [-3, 3]^3 in simple shear, the exact instantaneous slip
 /// field on every box face; mesh as verification::drop_in_shear.
 /// `interface_slip = false` solves the no-slip system (alpha must be 0).
+/// `iterative`: FGMRES with the Schur fieldsplit (rtol 1e-10) instead of LU.
 SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int equator_nodes,
-                                  bool interface_slip = true);
+                                  bool interface_slip = true, bool iterative = false);
 
 }  // namespace softflow::verification

@@ -131,6 +131,9 @@ class StokesSystem {
   /// Slip coupling (interface_slip.hpp): multiplier columns of the velocity
   /// rows of each owned interface face, constraint rows of each owned node.
   void assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem);
+  /// The iterative method's preconditioning matrix: the multipliers' Schur
+  /// complement estimate in place of their constraint block (after a_ is assembled).
+  void assemble_slip_schur_estimate(const mesh::Mesh& geometry, const StokesProblem& problem);
 
   const mesh::Mesh& mesh_;
   la::SaddlePointSettings settings_;
@@ -147,6 +150,7 @@ class StokesSystem {
   std::unique_ptr<la::CooMatrix> pmat_;  // only for the iterative method: -M/eta in the pressure block
   std::vector<la::CooMatrix::Block> tet_blocks_, interface_blocks_;
   std::vector<la::CooMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
+  std::vector<la::CooMatrix::Block> slip_penalty_blocks_;  // pmat_ only
   std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
   std::optional<MatrixRecord> analysis_, factors_;  // direct method only
