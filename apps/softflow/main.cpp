@@ -7,6 +7,7 @@
 //   softflow check examples/drop_shear.toml        validate the case file
 //   softflow keys                                  every case-file key (docs/case_file_keys.md)
 //   softflow theory --lambda 1.4 --ca 0.2          Taylor, Chaffey-Brenner, ... values
+//   softflow theory --lambda 1 --ca 0.1 --slip 0.5 ... and the slip-drop D at alpha = 0.5
 //   mpirun -np 2 softflow run CASE.toml            the same, on 2 MPI ranks
 //   softflow run CASE.toml -- -stokes_ksp_monitor  PETSc options after "--"
 //
@@ -236,6 +237,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   auto* ca_e_option = theory->add_option(
       "--ca-e", ca_e, "elastic capillary number eta_m gamma_dot / G (Roscoe; default: --ca)");
+  double slip = 0.0;
+  auto* slip_option = theory->add_option(
+      "--slip", slip,
+      "Navier slip alpha = alpha_dim eta_m / R: the slip-drop D (thesis Fig. 2.11) at this alpha "
+      "(default: at 0.1 and 1)");
 
   const auto started = std::chrono::steady_clock::now();
   try {
@@ -303,6 +309,7 @@ int main(int argc, char** argv) {
   if (*theory) {  // no PETSc, no case file: a pure query
     try {
       if (*ca_e_option) theory_query.ca_e = ca_e;
+      if (*slip_option) theory_query.slip = slip;
       std::cout << softflow::analysis::theory::theory_table(lambda, ca, theory_query);
       return kOk;
     } catch (const softflow::InputError& e) {

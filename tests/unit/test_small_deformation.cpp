@@ -103,3 +103,17 @@ TEST(SmallDeformation, TheoryTableEvaluatesGrecoAndRoscoeAtTheGivenElasticity) {
   EXPECT_NE(table.find("35.7902 deg (shift -0.1857 deg)"), std::string::npos) << table;
   EXPECT_NE(table.find("Ca_e = 0.2 (Roscoe): D 0.25"), std::string::npos) << table;
 }
+
+TEST(SmallDeformation, TheoryTableGivesTheSlipDropAtTheGivenSlip) {
+  // lambda = 1, Ca = 0.1, alpha = 0.5: (19 + 16 + 80 * 0.5) / (16 (1 + 1 + 2.5))
+  // = 75/72, so D = 0.1041666... -> "0.104167".
+  TheoryQuery query;
+  query.slip = 0.5;
+  const std::string table = theory_table(1.0, 0.1, query);
+  EXPECT_NE(table.find("  Slip drop D, slip alpha = 0.5         0.104167\n"), std::string::npos)
+      << table;
+  EXPECT_EQ(table.find("0.1075"), std::string::npos) << table;  // not the default alpha = 0.1
+  EXPECT_EQ(table.find("alpha = 1 "), std::string::npos) << table;
+  query.slip = -1.0;
+  EXPECT_THROW(theory_table(1.0, 0.1, query), softflow::InputError);
+}

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -104,7 +105,9 @@ std::string theory_table(double lambda, double ca, const TheoryQuery& query) {
     out += fmt::format("    at p = {:g}, p_d = {:g}:                 {:.6g} deg (shift {:+.4g} deg)\n",
                        query.p, query.p_d, greco_angle_deg(lambda, ca, query.p, query.p_d),
                        greco_angle_deg(lambda, ca, query.p, query.p_d) - cb);
-  for (const double alpha : {0.1, 1.0}) {
+  const std::vector<double> slips =
+      query.slip ? std::vector<double>{*query.slip} : std::vector<double>{0.1, 1.0};
+  for (const double alpha : slips) {
     out += fmt::format("  Slip drop D, slip alpha = {:<4g}        {:.6g}\n", alpha,
                        slip_taylor_deformation(lambda, ca, alpha));
   }

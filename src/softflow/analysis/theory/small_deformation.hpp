@@ -53,12 +53,15 @@ struct TheoryQuery {
   double p = 0.0;                    ///< matrix elasticity (Greco)
   double p_d = 0.0;                  ///< drop elasticity (Greco)
   std::optional<double> ca_e;        ///< elastic capillary number (Roscoe); default: Ca
+  /// Navier slip alpha (made dimensionless with R / eta_m) of the slip-drop
+  /// D; default: the examples alpha = 0.1 and 1.
+  std::optional<double> slip;
 };
 
-/// A few lines for `softflow theory --lambda L --ca C [--p P --p-d PD --ca-e CE]`:
-/// Taylor D, Chaffey-Brenner theta, the slip-drop D at alpha = 0.1 and 1,
-/// the Greco correction as coefficients of p and p_d and its value at the
-/// given p, p_d, and Roscoe's elastic sphere at Ca_e.
+/// A few lines for `softflow theory --lambda L --ca C [--p P --p-d PD --ca-e CE --slip A]`:
+/// Taylor D, Chaffey-Brenner theta, the slip-drop D at the given alpha (else
+/// at alpha = 0.1 and 1), the Greco correction as coefficients of p and p_d
+/// and its value at the given p, p_d, and Roscoe's elastic sphere at Ca_e.
 std::string theory_table(double lambda, double ca, const TheoryQuery& query = {});
 
 }  // namespace softflow::analysis::theory
