@@ -77,31 +77,67 @@ TEST(InterfaceSlip, IterativeSolverAgreesWithTheDirectOne) {
   }
 }
 
+double relative(double a, double b) { return std::abs(a / b - 1.0); }
+
 class SlipDropInShear : public ::testing::TestWithParam<std::pair<double, double>> {};
 
 TEST_P(SlipDropInShear, ApproachesTheExactSlipField) {
-  // Two coarse meshes (N = 16, 24), as DropInShear for the no-slip drop:
-  // errors fall, the slip jump and dissipation approach the exact ones.
+  // N = 24 -> 32 (about 4 s per case). N = 16 is pre-asymptotic (measured
+  // slopes 16 -> 24: velocity 1.4-2.2, pressure 0.6-1.1, as for the no-slip
+  // drop); from 24 on the rates are those of SlipDropInShearSlow below.
   const auto [lambda, alpha] = GetParam();
   std::vector<SlipDropResult> runs;
-  for (int n : {16, 24}) {
+  for (int n : {24, 32}) {
     runs.push_back(slip_drop_in_shear(lambda, alpha, 0.5, n));
     print("exact", lambda, alpha, runs.back());
   }
   const double su = slope(runs[0].velocity_l2, runs[1].velocity_l2, runs[0].h0, runs[1].h0);
   const double sp = slope(runs[0].pressure_l2, runs[1].pressure_l2, runs[0].h0, runs[1].h0);
   const double sj = slope(runs[0].jump_l2, runs[1].jump_l2, runs[0].h0, runs[1].h0);
-  std::printf("lambda %.1f alpha %.1f slopes (N 16 -> 24): velocity %.2f pressure %.2f jump %.2f\n",
+  std::printf("lambda %.1f alpha %.1f slopes (N 24 -> 32): velocity %.2f pressure %.2f jump %.2f\n",
               lambda, alpha, su, sp, sj);
-  EXPECT_GT(su, 1.5);
-  EXPECT_GT(sp, 1.0);
-  EXPECT_GT(sj, 1.5);
+  EXPECT_GT(su, 2.3);
+  EXPECT_GT(sp, 1.6);
+  EXPECT_GT(sj, 1.9);
   const auto& fine = runs.back();
-  EXPECT_LT(fine.jump_l2, 0.05 * fine.exact_jump_l2);
-  EXPECT_NEAR(fine.slip_dissipation, fine.exact_slip_dissipation, 0.03 * fine.exact_slip_dissipation);
+  EXPECT_LT(fine.jump_l2, 0.1 * fine.exact_jump_l2);
+  EXPECT_LT(relative(fine.slip_dissipation, fine.exact_slip_dissipation), 0.06);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     SlipAndViscosityRatios, SlipDropInShear,
     ::testing::Values(std::pair{1.0, 0.1}, std::pair{1.0, 1.0}, std::pair{1.0, 10.0},
                       std::pair{0.5, 1.0}, std::pair{5.0, 1.0}));
+
+// Meshes up to N = 48 (54k unknowns): label slow (tests/README.md).
+class SlipDropInShearSlow : public ::testing::TestWithParam<std::pair<double, double>> {};
+
+TEST_P(SlipDropInShearSlow, RatesOfTheTaylorHoodElement) {
+  // Measured slopes 32 -> 48 over the nine alpha x lambda pairs of the
+  // issue: velocity L2 2.66-3.11 (the no-slip drop's P2 interpolant
+  // converges at ~2.75 on these graded meshes), pressure 1.82-1.93, jump
+  // 2.1-3.5 (2.1-2.2 at alpha = 0.1 with lambda != 1: the collocated law
+  // reads the traction (O(h^2) at nodes) through nodal normals (O(h^2)),
+  // so 2 is the rate to expect); slip dissipation within 1.6 % at N = 48.
+  const auto [lambda, alpha] = GetParam();
+  std::vector<SlipDropResult> runs;
+  for (int n : {32, 48}) {
+    runs.push_back(slip_drop_in_shear(lambda, alpha, 0.5, n));
+    print("slow", lambda, alpha, runs.back());
+  }
+  const double su = slope(runs[0].velocity_l2, runs[1].velocity_l2, runs[0].h0, runs[1].h0);
+  const double sp = slope(runs[0].pressure_l2, runs[1].pressure_l2, runs[0].h0, runs[1].h0);
+  const double sj = slope(runs[0].jump_l2, runs[1].jump_l2, runs[0].h0, runs[1].h0);
+  std::printf("lambda %.1f alpha %.1f slopes (N 32 -> 48): velocity %.2f pressure %.2f jump %.2f\n",
+              lambda, alpha, su, sp, sj);
+  EXPECT_GT(su, 2.5);
+  EXPECT_GT(sp, 1.7);
+  EXPECT_GT(sj, 1.9);
+  EXPECT_LT(relative(runs.back().slip_dissipation, runs.back().exact_slip_dissipation), 0.02);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllPairs, SlipDropInShearSlow,
+    ::testing::Values(std::pair{0.5, 0.1}, std::pair{0.5, 1.0}, std::pair{0.5, 10.0},
+                      std::pair{1.0, 0.1}, std::pair{1.0, 1.0}, std::pair{1.0, 10.0},
+                      std::pair{5.0, 0.1}, std::pair{5.0, 1.0}, std::pair{5.0, 10.0}));
