@@ -55,7 +55,9 @@ nlohmann::json theory_json(const io::CaseConfig& config) {
     out.push_back({{"object", k + 1},
                    {"capillary_number", ca},
                    {"viscosity_ratio", o.viscosity_ratio},
-                   {"taylor_D", analysis::theory::taylor_deformation(o.viscosity_ratio, ca)},
+                   {"slip", o.slip},
+                   // Taylor's D, generalised to a slipping interface (SPEC §10).
+                   {"taylor_D", analysis::theory::slip_taylor_deformation(o.viscosity_ratio, ca, o.slip)},
                    {"chaffey_brenner_theta_deg",
                     analysis::theory::chaffey_brenner_angle_deg(o.viscosity_ratio, ca)}});
   }

@@ -276,7 +276,8 @@ std::string theory_curve_csv(const io::Sweep& sweep) {
       const double l = lambda ? v : o.viscosity_ratio;
       const double k = ca ? v : fixed_ca;
       csv += fmt::format("{},{:.8g},{:.8g},{:.8g}\n", group, v,
-                         analysis::theory::taylor_deformation(l, k),
+                         // Taylor's D, generalised to the drop's slip (o.slip = 0: Taylor's).
+                         analysis::theory::slip_taylor_deformation(l, k, o.slip),
                          analysis::theory::chaffey_brenner_angle_deg(l, k));
     }
   }
