@@ -42,6 +42,16 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
       slip_(interface_slip),
       dofs_(make_stokes_dof_map(mesh, interface_slip)),
       tabulation_(kQuadratureDegree) {
+  // Stale LU factors precondition a slip system worse: its constraint rows
+  // carry the nodal normals, which turn with the deforming drop, and
+  // alpha (I - nn) lambda then mixes the large normal traction (the Laplace
+  // pressure) into the tangential law. Measured (unit drop, lambda 1,
+  // Ca 0.1, alpha 1, N 28, 40 steps of 0.02): refactoring after 25
+  // iterations gives 19.8 iterations per step and 0.63 s of solve per
+  // step; after 8, 5.7 iterations, 4 factorisations and 0.30 s (one
+  // factorisation costs about 42 iterations here). No-slip runs keep the
+  // default, measured best for them (PLATFORM.md).
+  if (slip_) settings_.max_reuse_iterations = std::min(settings_.max_reuse_iterations, 8);
   if (slip_)
     for (int k = 1; k <= mesh_.n_objects; ++k) surfaces_.push_back(extract_interface(mesh_, k));
   // The element kernels are written for the Taylor-Hood element.
