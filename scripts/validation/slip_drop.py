@@ -80,6 +80,10 @@ def load(directory):
     return run
 
 
+def fmt(value):
+    return "-" if math.isnan(value) else f"{value:.4g}"
+
+
 def report(work):
     os.makedirs(OUT, exist_ok=True)
     md = ["# Drop with interfacial slip under shear (thesis §2.5.2, Fig. 2.11)", "",
@@ -100,7 +104,7 @@ def report(work):
                 continue
             series.setdefault(alpha, []).append((ca, r))
             md.append(f"| {alpha:g} | {ca:g} | {r['D_steady']:.5f} | {th:.5f} | {r['D_steady'] / th - 1:+.2%} | "
-                      f"{r['theta_steady']:.2f} | {r['slip_speed']:.4g} | {r['slip_dissipation']:.4g} | "
+                      f"{r['theta_steady']:.2f} | {fmt(r['slip_speed'])} | {fmt(r['slip_dissipation'])} | "
                       f"{r['deviation']:.2%} | {r['unknowns']} | {r['wall']:.0f} | {r['status']} |")
             rows.append([alpha, ca, r["D_steady"], th, r["theta_steady"], r["slip_speed"],
                          r["slip_dissipation"], r["unknowns"], r["wall"]])
@@ -118,10 +122,19 @@ def report(work):
                   f"{r['unknowns']} | {r['wall']:.0f} |")
     if len(mesh_d) == 3:
         (n0, d0, t0), (n1, d1, t1), (n2, d2, t2) = mesh_d
-        ratio = n1 / n0  # ~ n2 / n1 (1.4)
         if (d0 - d1) * (d1 - d2) > 0:
-            order = math.log(abs(d0 - d1) / abs(d1 - d2)) / math.log(ratio)
-            extrapolated = d2 + (d2 - d1) / ((n2 / n1) ** order - 1)
+            # D(N) = D* + c N^-p through the three points (unequal ratios): bisection on p.
+            target = (d0 - d1) / (d1 - d2)
+            g = lambda p: (n0 ** -p - n1 ** -p) / (n1 ** -p - n2 ** -p) - target  # noqa: E731
+            lo, hi = 0.1, 10.0
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if g(lo) * g(mid) <= 0:
+                    hi = mid
+                else:
+                    lo = mid
+            order = 0.5 * (lo + hi)
+            extrapolated = d2 - (d1 - d2) * n2 ** -order / (n1 ** -order - n2 ** -order)
             md += ["", f"Observed order of D in the equator-node count: {order:.2f}; Richardson value "
                    f"{extrapolated:.5f} (theory {slip_taylor(LAMBDA, 0.1, 1.0):.5f}); finest mesh "
                    f"{abs(d2 / extrapolated - 1):.2%} from it."]
