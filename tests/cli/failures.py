@@ -95,6 +95,24 @@ def main(softflow, case_source, work):
     # An absurd interfacial tension (Ca = 1e-300) blows the interface up in one step.
     text = base.replace("capillary_number = 0.1", "capillary_number = 1e-300")
     expect_stop(softflow, work, "blow_up", text, 6, [r"step 1 \(t = ", "object 1", "try"])
+
+    # An initial mesh below time.min_quality: refused before the run, naming
+    # the mesh keys, exit 2, and nothing written (it used to stop at step 1
+    # advising a smaller time step).
+    text = base.replace("end = 1.0", "end = 1.0\nmin_quality = 0.5")
+    out = os.path.join(work, "poor_initial_mesh")
+    case = out + ".toml"
+    with open(case, "w") as f:
+        f.write(text)
+    result = run([softflow, "run", case, "-o", out, "-q"])
+    if result.returncode != 2:
+        fail(f"poor_initial_mesh: exit {result.returncode}, expected 2\n{result.stderr}")
+    for pattern in ["initial mesh", "time.min_quality = 0.5", "mesh.equator_nodes", "mesh.far_size"]:
+        if pattern not in result.stderr:
+            fail(f"poor_initial_mesh: the message lacks '{pattern}':\n{result.stderr}")
+    if os.path.exists(out):
+        fail("poor_initial_mesh: an output directory was written")
+    print(f"poor_initial_mesh: exit 2: {result.stderr.strip()[:200]}")
     return 0
 
 

@@ -21,6 +21,7 @@
 #include <mpi.h>
 
 #include "softflow/analysis/theory/small_deformation.hpp"
+#include "softflow/mesh/quality.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/io/output_directory.hpp"
@@ -592,11 +593,29 @@ void refuse_to_replace_unfinished_run(const fs::path& directory) {
                   directory.string(), what, directory.string()));
 }
 
+/// A mesh that starts below time.min_quality would stop the run at its first
+/// step with advice about the time step; say before the run what it is and
+/// which mesh keys change it (issue 11). Nothing is written.
+void check_initial_mesh_quality(const io::CaseConfig& config, const mesh::Mesh& mesh) {
+  const double quality = mesh::min_quality(mesh);
+  if (quality >= config.time.min_quality) return;
+  const int worst = mesh::worst_tet(mesh);
+  const auto& x = mesh.nodes[mesh.tets[worst][0]];
+  throw MeshError(fmt::format(
+      "the initial mesh has minimum element quality {:.3g} (element {}, region {}, near ({:.3f}, "
+      "{:.3f}, {:.3f})), below time.min_quality = {:.3g}, so the run would stop at its first step. "
+      "Mesh finer or smoother: a larger mesh.equator_nodes (now {}), a smaller mesh.far_size (now "
+      "{:g}) or mesh.growth (now {:g}), mesh.optimize_high_order = true; or lower time.min_quality",
+      quality, worst, mesh.tet_region[worst], x.x(), x.y(), x.z(), config.time.min_quality,
+      config.sizing.equator_nodes, config.sizing.far_size, config.sizing.growth));
+}
+
 nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
                              MeshedCase meshed) {
   const fs::path directory = options.output_directory.value_or(fs::path(config.output_directory));
   if (!options.overwrite)
     on_root_sharing_failure([&] { refuse_to_replace_unfinished_run(directory); });
+  check_initial_mesh_quality(config, meshed.mesh);
   // Staged, then committed at once: an older directory is replaced in one
   // step, and from then on the run writes in place, so that its progress,
   // time series and checkpoints are readable while it runs.
