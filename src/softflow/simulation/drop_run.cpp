@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cerrno>
 #include <cmath>
+#include <limits>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -41,6 +42,7 @@ double seconds_since(Clock::time_point t) {
 }
 
 std::string format_duration(double seconds) {
+  if (!std::isfinite(seconds)) return "--";  // not known yet
   const long s = std::lround(seconds);
   if (s >= 3600) return fmt::format("{}h{:02d}m", s / 3600, (s % 3600) / 60);
   if (s >= 60) return fmt::format("{}m{:02d}s", s / 60, s % 60);
@@ -301,7 +303,8 @@ nlohmann::json progress_json(const StepReport& r, int n_steps, const io::CaseCon
                       {"steps", n_steps},          {"t", r.time},
                       {"t_end", config.time.end},  {"dt", config.time.step},
                       {"objects", objects},        {"wall_seconds", wall_seconds},
-                      {"eta_seconds", eta_seconds},
+                      {"eta_seconds", std::isfinite(eta_seconds) ? nlohmann::json(eta_seconds)
+                                                                 : nlohmann::json(nullptr)},
                       {"pid", static_cast<long>(::getpid())},
                       {"host", host_name()}};
   // The first object's D and theta at the top level: what a batch script greps for.
@@ -350,6 +353,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
+  double first_step_seconds = 0.0;
   try {
     while (sim.steps() < n_steps) {
       last = sim.step();
@@ -358,7 +362,14 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       ++ledger.timed_steps;
       longest_step = std::max(longest_step, last.step_seconds);
       const double elapsed = seconds_since(session_start);
-      const double eta = elapsed / (last.step - first_step) * (n_steps - last.step);
+      // The session's first step carries one-off costs (the first LU
+      // factorisation, a restart's refactorisation): the estimate comes from
+      // the steps after it, and is unknown ("--", null) until there is one.
+      if (last.step == first_step + 1) first_step_seconds = elapsed;
+      const int later_steps = last.step - first_step - 1;
+      const double eta = later_steps > 0
+                             ? (elapsed - first_step_seconds) / later_steps * (n_steps - last.step)
+                             : std::numeric_limits<double>::quiet_NaN();
       // Gathering a field is collective: every rank takes part, rank 0 writes.
       const bool fields_due = config.write_fields && config.time.fields_interval > 0 &&
                               last.step % config.time.fields_interval == 0;
