@@ -23,6 +23,7 @@
 //     up past an ellipsoid fit)
 // A run in time that stops with 2, 3, 5 or 6 keeps its output so far, its
 // last checkpoint, and a summary.json saying why.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -34,6 +35,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <petscsys.h>
 
 #include "softflow/analysis/theory/small_deformation.hpp"
@@ -217,7 +219,17 @@ int main(int argc, char** argv) {
   sweep->add_option("case", case_file, "case file (TOML) with lists")->required()->check(CLI::ExistingFile);
   sweep->add_option("-j,--jobs", jobs, "cases run at the same time (each on one core)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](const std::string& value) -> std::string {
+            try {
+              std::size_t used = 0;
+              const long n = std::stol(value, &used);
+              if (used == value.size() && n >= 1) return {};
+            } catch (const std::exception&) {
+            }
+            return "--jobs = " + value + ": a whole number of cases at a time, at least 1";
+          },
+          "INT >= 1"));
   sweep->add_flag("-q,--quiet", quiet, "print nothing but errors");
   sweep->add_option("--wall-time-limit", wall_time_limit,
                     "stop before this much wall time has passed: running cases checkpoint (exit "
@@ -244,11 +256,28 @@ int main(int argc, char** argv) {
       "(default: at 0.1 and 1)");
 
   const auto started = std::chrono::steady_clock::now();
+  // A first word that is no subcommand: say so and list them (CLI11 would
+  // only say that a subcommand is required).
+  if (ours.size() > 1 && ours[1][0] != '-') {
+    std::vector<std::string> names;
+    for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    if (std::find(names.begin(), names.end(), ours[1]) == names.end()) {
+      std::cerr << fmt::format("softflow: unknown subcommand '{}' (allowed: {}); softflow --help "
+                               "describes them\n",
+                               ours[1], fmt::join(names, ", "));
+      return kInputError;
+    }
+  }
   try {
     int n = static_cast<int>(ours.size());
     app.parse(n, ours.data());
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInputError;
+  }
+  if (run->count("--output") > 0 && output_dir.empty()) {
+    std::cerr << "softflow: -o/--output is empty: give a directory, or leave the option out to "
+                 "use [output] directory\n";
+    return kInputError;
   }
   softflow::simulation::RunOptions options;
   options.quiet = quiet;

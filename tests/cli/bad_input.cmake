@@ -43,3 +43,47 @@ foreach(entry ${cases})
   endif()
   message(STATUS "${name}: exit ${rc}: ${err}")
 endforeach()
+
+# Command-line mistakes (issue 11, item 7): one message naming what is wrong,
+# exit 1, nothing run. Each: name|arguments (^-separated)|a substring of the message.
+file(WRITE ${WORK}/good.toml "[[objects]]\n[mesh]\nequator_nodes = 16\nfar_size = 2.0\n")
+set(command_cases
+  "unknown_subcommand|frobnicate|unknown subcommand 'frobnicate' (allowed: run,"
+  "zero_jobs|sweep^good.toml^--jobs^0|--jobs = 0: a whole number of cases at a time, at least 1"
+  "empty_output|run^good.toml^-o^|-o/--output is empty")
+foreach(entry ${command_cases})
+  string(REPLACE "|" ";" parts "${entry}")
+  list(GET parts 0 name)
+  list(GET parts 1 argument_text)
+  list(GET parts 2 expected_text)
+  # A trailing "^" stands for an empty last argument (-o ""), which an
+  # unquoted list expansion would drop.
+  set(empty_last FALSE)
+  if(argument_text MATCHES "\\^$")
+    set(empty_last TRUE)
+    string(REGEX REPLACE "\\^$" "" argument_text "${argument_text}")
+  endif()
+  string(REPLACE "^" ";" arguments "${argument_text}")
+  if(empty_last)
+    execute_process(COMMAND ${SOFTFLOW} ${arguments} "" WORKING_DIRECTORY ${WORK}
+                    RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
+  else()
+    execute_process(COMMAND ${SOFTFLOW} ${arguments} WORKING_DIRECTORY ${WORK}
+                    RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
+  endif()
+  if(NOT rc EQUAL 1)
+    message(FATAL_ERROR "${name}: exit code ${rc}, expected 1\n${err}${out}")
+  endif()
+  string(FIND "${err}" "${expected_text}" found)
+  if(found EQUAL -1)
+    message(FATAL_ERROR "${name}: message lacks '${expected_text}':\n${err}")
+  endif()
+  string(LENGTH "${err}" length)
+  if(length GREATER 300)
+    message(FATAL_ERROR "${name}: a message of ${length} characters:\n${err}")
+  endif()
+  message(STATUS "${name}: exit ${rc}: ${err}")
+endforeach()
+if(EXISTS ${WORK}/output)
+  message(FATAL_ERROR "a refused command wrote ${WORK}/output")
+endif()
