@@ -92,6 +92,16 @@ def main(softflow, case_source, work):
                  "-stokes_ksp_max_it", "5", "-stokes_ksp_norm_type", "none",
                  "-stokes_ksp_convergence_test", "skip", "-stokes_pc_type", "none"])
 
+    # The direct solver's factorisation failing (PETSc's own LU, which does
+    # not pivot, on the saddle point): the advice must not be to switch to
+    # the direct solver.
+    out, summary, message = expect_stop(
+        softflow, work, "lu_failed", base, 3,
+        [r"step 1 \(t = ", "DIVERGED_PC_FAILED", "LU factorisation failed", "time.step"],
+        ["--", "-stokes_pc_factor_mat_solver_type", "petsc"])
+    if 'type = "direct"' in message:
+        fail(f"lu_failed: advises the direct solver to a direct run: {message}")
+
     # An absurd interfacial tension (Ca = 1e-300) blows the interface up in one step.
     text = base.replace("capillary_number = 0.1", "capillary_number = 1e-300")
     expect_stop(softflow, work, "blow_up", text, 6, [r"step 1 \(t = ", "object 1", "try"])

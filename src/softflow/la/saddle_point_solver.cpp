@@ -133,10 +133,19 @@ SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
         r.reason, r.iterations));
   }
   if (r.reason.rfind("DIVERGED", 0) == 0) {
-    throw SolverError(fmt::format(
-        "Stokes solver did not converge: {} after {} iterations (residual {:.3e}); try "
-        "[solver] type = \"direct\", a larger max_iterations, or a finer mesh",
-        r.reason, r.iterations, r.residual_norm));
+    // The advice depends on the method: switching to the direct solver is
+    // no help when it is the direct solver whose factorisation failed.
+    const bool direct = settings_.method == SaddlePointMethod::direct;
+    const char* advice =
+        direct ? (r.reason == "DIVERGED_PC_FAILED"
+                      ? "the LU factorisation failed (a zero pivot: check solver.petsc_options for a "
+                        "factorisation without pivoting, the case's viscosities and tensions, or a "
+                        "tangled mesh; try a smaller time.step)"
+                      : "try a smaller time.step or a finer mesh")
+               : "try [solver] type = \"direct\", a larger max_iterations, or a finer mesh";
+    throw SolverError(fmt::format("Stokes solver did not converge: {} after {} iterations "
+                                  "(residual {:.3e}); {}",
+                                  r.reason, r.iterations, r.residual_norm, advice));
   }
   refactor_next_ = settings_.method == SaddlePointMethod::direct &&
                    r.iterations > settings_.max_reuse_iterations;
