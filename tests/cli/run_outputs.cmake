@@ -13,6 +13,12 @@ foreach(f case.toml summary.json fields.pvd matrix.vtu object_1.vtu)
     message(FATAL_ERROR "missing ${f}")
   endif()
 endforeach()
+# Without -q the static solve prints each interface's pressure jump (README).
+execute_process(COMMAND ${SOFTFLOW} run ${WORK}/case.toml -o ${WORK}/out_loud --overwrite
+                RESULT_VARIABLE rc OUTPUT_VARIABLE printed ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT printed MATCHES "object 1: pressure jump [0-9.]+ \\(Laplace 2 Gamma / R = ")
+  message(FATAL_ERROR "the static solve does not print the pressure jump (${rc}):\n${printed}${err}")
+endif()
 file(READ ${WORK}/out/summary.json summary)
 foreach(key unknowns velocity pressure solve_seconds assembly_seconds iterations
             dimensionless_groups pressure_jump volume area centre min_quality interface_nodes)

@@ -119,6 +119,16 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
       {"objects", object_summary(config, measures)},
   };
   summary["wall_seconds"] = seconds_since(start);
+  if (!options.quiet && root)
+    for (const auto& o : summary["objects"]) {
+      // What the README promises for end = 0: the jump across each interface.
+      std::string laplace;
+      if (o.contains("laplace_pressure_jump"))
+        laplace = fmt::format(" (Laplace 2 Gamma / R = {:.6g})", o["laplace_pressure_jump"].get<double>());
+      fmt::print("object {}: pressure jump {:.6g}{}, volume {:.6g}, area {:.6g}\n",
+                 o["object"].get<int>(), o["pressure_jump"].get<double>(), laplace,
+                 o["volume"].get<double>(), o["area"].get<double>());
+    }
 
   on_root_sharing_failure([&] {  // step 4
     output->write_text("case.toml", io::to_toml(config));
