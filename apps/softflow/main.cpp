@@ -24,6 +24,7 @@
 // A run in time that stops with 2, 3, 5 or 6 keeps its output so far, its
 // last checkpoint, and a summary.json saying why.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -36,6 +37,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <petscksp.h>
 #include <petscsys.h>
 
 #include "softflow/analysis/theory/small_deformation.hpp"
@@ -88,6 +90,56 @@ void insert_case_petsc_options(const softflow::io::CaseConfig& config) {
       PetscOptionsInsertString(nullptr, config.petsc_options.c_str()) != 0)
     throw softflow::InputError(fmt::format("solver.petsc_options = \"{}\": PETSc rejected it",
                                            config.petsc_options));
+}
+
+/// The Stokes solver's PETSc options (prefix stokes_, from the case's
+/// petsc_options or after "--") are read once here, on a scratch solver,
+/// with PETSc's own error printing off: a wrong value (e.g. an unknown
+/// -stokes_ksp_type) is bad input, exit 1 with one line, not a PETSc error
+/// dump at the first solve.
+void check_petsc_options(const softflow::io::CaseConfig& config) {
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  KSP ksp = nullptr;
+  PetscErrorCode code = KSPCreate(PETSC_COMM_WORLD, &ksp);
+  if (!code) code = KSPSetOptionsPrefix(ksp, "stokes_");
+  if (!code) code = KSPSetFromOptions(ksp);
+  if (ksp) KSPDestroy(&ksp);
+  PetscPopErrorHandler();
+  if (!code) return;
+  const char* text = nullptr;
+  char* specific = nullptr;
+  PetscErrorMessage(code, &text, &specific);
+  throw softflow::InputError(fmt::format(
+      "PETSc options{}: PETSc rejected them: {}{}",
+      config.petsc_options.empty() ? " after \"--\""
+                                   : fmt::format(" (solver.petsc_options = \"{}\" or after \"--\")",
+                                                 config.petsc_options),
+      specific && *specific ? specific : (text ? text : "unknown error"),
+      ""));
+}
+
+/// The options the user gave (solver.petsc_options and after "--") that
+/// nothing read by the end: most likely misspelt. PETSc would run on
+/// silently; say so, as its -options_left does.
+void warn_unused_petsc_options(const softflow::io::CaseConfig& config,
+                               const std::vector<char*>& command_line) {
+  std::vector<std::string> names;
+  auto collect = [&](const std::string& token) {
+    if (token.size() > 1 && token[0] == '-' && std::isalpha(static_cast<unsigned char>(token[1])))
+      names.push_back(token);
+  };
+  std::istringstream words(config.petsc_options);
+  for (std::string w; words >> w;) collect(w);
+  for (std::size_t i = 1; i < command_line.size(); ++i) collect(command_line[i]);
+  std::vector<std::string> unused;
+  for (const auto& name : names) {
+    PetscBool used = PETSC_TRUE;
+    PetscOptionsUsed(nullptr, name.c_str() + 1, &used);  // stored without the "-"
+    if (!used) unused.push_back(name);
+  }
+  if (!unused.empty() && is_root())
+    std::cerr << fmt::format("softflow: warning: PETSc never read these options (misspelt?): {}\n",
+                             fmt::join(unused, " "));
 }
 
 /// "3600", "90s", "45m", "2h", "1.5h" -> seconds.
@@ -360,6 +412,7 @@ int main(int argc, char** argv) {
       const auto config = read_case(
           *restart ? std::filesystem::path(run_dir) / "case.toml" : std::filesystem::path(case_file));
       insert_case_petsc_options(config);
+      check_petsc_options(config);
       if (*restart) {
         softflow::simulation::restart_drop_case(config, run_dir, options);
       } else if (*check) {
@@ -370,6 +423,7 @@ int main(int argc, char** argv) {
       } else if (*run) {
         softflow::simulation::run_case(config, options);
       }
+      if (*run || *restart) warn_unused_petsc_options(config, petsc);
       return kOk;
     } catch (const softflow::RunInterrupted& e) {
       return report("", e, kInterrupted);

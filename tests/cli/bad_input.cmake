@@ -13,6 +13,7 @@ set(cases
   "step_beyond_end|[time]\nstep = 2.0\nend = 1.0\n|1|time.step = 2.0"
   "control_character|[output]\ndirectory = \"out\\u0007x\"\n|1|control character"
   "particle_with_tension|[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1.0\ncapillary_number = 0.1\n|1|objects[1].capillary_number = 0.1: only for model"
+  "petsc_value|[solver]\npetsc_options = \"-stokes_ksp_type nonsense\"\n|1|PETSc rejected them: Unable to find requested KSP type nonsense"
   "model_parameter_missing|[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\nmodulus = 1.0\n|1|matrix.relaxation_time: missing")
 # Arrays nested 10000 deep (toml11 recursion): refused, not a crash.
 string(REPEAT "[" 10000 open)

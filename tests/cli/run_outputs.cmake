@@ -19,6 +19,12 @@ execute_process(COMMAND ${SOFTFLOW} run ${WORK}/case.toml -o ${WORK}/out_loud --
 if(NOT rc EQUAL 0 OR NOT printed MATCHES "object 1: pressure jump [0-9.]+ \\(Laplace 2 Gamma / R = ")
   message(FATAL_ERROR "the static solve does not print the pressure jump (${rc}):\n${printed}${err}")
 endif()
+# A PETSc option nothing reads (misspelt) is named in a warning, not ignored.
+execute_process(COMMAND ${SOFTFLOW} run ${WORK}/case.toml -o ${WORK}/out_typo -q -- -stokes_ksp_typo gmres
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT err MATCHES "warning: PETSc never read these options \\(misspelt\\?\\): -stokes_ksp_typo")
+  message(FATAL_ERROR "an unused PETSc option went unreported (${rc}): ${err}")
+endif()
 file(READ ${WORK}/out/summary.json summary)
 foreach(key unknowns velocity pressure solve_seconds assembly_seconds iterations
             dimensionless_groups pressure_jump volume area centre min_quality interface_nodes)
