@@ -27,6 +27,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -78,6 +79,21 @@ class PetscSession {
  private:
   std::vector<char*> args_;
 };
+
+/// Before MPI starts (command-line errors): whether this process is the
+/// launcher's rank 0, so that under mpirun a message is printed once, not
+/// once per rank. Outside a launcher every process is.
+bool launcher_rank_zero() {
+  for (const char* variable : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+    if (const char* rank = std::getenv(variable)) return std::string(rank) == "0";
+  return true;
+}
+
+/// std::cerr on the launcher's rank 0, a sink elsewhere.
+std::ostream& error_stream() {
+  static std::ostream sink(nullptr);
+  return launcher_rank_zero() ? std::cerr : sink;
+}
 
 bool is_root() {
   int rank = 0;
@@ -314,7 +330,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> names;
     for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());
     if (std::find(names.begin(), names.end(), ours[1]) == names.end()) {
-      std::cerr << fmt::format("softflow: unknown subcommand '{}' (allowed: {}); softflow --help "
+      error_stream() << fmt::format("softflow: unknown subcommand '{}' (allowed: {}); softflow --help "
                                "describes them\n",
                                ours[1], fmt::join(names, ", "));
       return kInputError;
@@ -324,10 +340,12 @@ int main(int argc, char** argv) {
     int n = static_cast<int>(ours.size());
     app.parse(n, ours.data());
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kOk : kInputError;
+    return app.exit(e, launcher_rank_zero() ? std::cout : error_stream(), error_stream()) == 0
+               ? kOk
+               : kInputError;
   }
   if (run->count("--output") > 0 && output_dir.empty()) {
-    std::cerr << "softflow: -o/--output is empty: give a directory, or leave the option out to "
+    error_stream() << "softflow: -o/--output is empty: give a directory, or leave the option out to "
                  "use [output] directory\n";
     return kInputError;
   }
@@ -339,7 +357,7 @@ int main(int argc, char** argv) {
   if (!wall_time_limit.empty()) {
     double seconds = 0.0;
     if (const auto error = parse_duration(wall_time_limit, seconds); !error.empty()) {
-      std::cerr << "softflow: " << error << "\n";
+      error_stream() << "softflow: " << error << "\n";
       return kInputError;
     }
     options.wall_time_limit = seconds;
@@ -358,7 +376,7 @@ int main(int argc, char** argv) {
       std::cout << "# the first case, resolved:\n" << softflow::io::to_toml(expanded.cases.front().config);
       return kOk;
     } catch (const softflow::InputError& e) {
-      std::cerr << "softflow: " << e.what() << "\n";
+      error_stream() << "softflow: " << e.what() << "\n";
       return kInputError;
     }
   }
@@ -374,10 +392,10 @@ int main(int argc, char** argv) {
       for (std::size_t i = 1; i < petsc.size(); ++i) sweep_options.petsc_args.emplace_back(petsc[i]);
       return softflow::simulation::run_sweep(case_file, sweep_options);
     } catch (const softflow::InputError& e) {
-      std::cerr << "softflow: " << e.what() << "\n";
+      error_stream() << "softflow: " << e.what() << "\n";
       return kInputError;
     } catch (const std::exception& e) {
-      std::cerr << "softflow: error: " << e.what() << "\n";
+      error_stream() << "softflow: error: " << e.what() << "\n";
       return kOtherError;
     }
   }
@@ -394,7 +412,7 @@ int main(int argc, char** argv) {
       std::cout << softflow::analysis::theory::theory_table(lambda, ca, theory_query);
       return kOk;
     } catch (const softflow::InputError& e) {
-      std::cerr << "softflow: " << e.what() << "\n";
+      error_stream() << "softflow: " << e.what() << "\n";
       return kInputError;
     }
   }
@@ -439,7 +457,7 @@ int main(int argc, char** argv) {
       return report("error: ", e, kOtherError);
     }
   } catch (const std::exception& e) {
-    std::cerr << "softflow: " << e.what() << "\n";
+    error_stream() << "softflow: " << e.what() << "\n";
     return kOtherError;
   }
 }
