@@ -427,14 +427,19 @@ int main(int argc, char** argv) {
             run_dir));
       // A restart's case is the resolved case.toml its run wrote (checked
       // against the checkpoint's own copy before anything else happens).
-      const auto config = read_case(
-          *restart ? std::filesystem::path(run_dir) / "case.toml" : std::filesystem::path(case_file));
+      const auto case_path =
+          *restart ? std::filesystem::path(run_dir) / "case.toml" : std::filesystem::path(case_file);
+      const auto config = read_case(case_path);
+      try {  // geometry errors name the file as key errors do
+        softflow::geometry::validate(config.shear_cell_spec());
+      } catch (const softflow::InputError& e) {
+        throw softflow::InputError(fmt::format("{}: {}", case_path.string(), e.what()));
+      }
       insert_case_petsc_options(config);
       check_petsc_options(config);
       if (*restart) {
         softflow::simulation::restart_drop_case(config, run_dir, options);
       } else if (*check) {
-        softflow::geometry::validate(config.shear_cell_spec());
         if (is_root()) std::cout << softflow::io::to_toml(config);
       } else if (*mesh) {
         softflow::simulation::mesh_case(config, quiet);

@@ -4,7 +4,7 @@ set(cases
   "unknown_key|[mesh]\nequator_node = 40\n|1|did you mean 'mesh.equator_nodes'"
   "wrong_type|[cell]\nheight = \"tall\"\n|1|cell.height"
   "out_of_range|[[objects]]\nradius = -1\n|1|objects[1].radius = -1"
-  "overlap|[[objects]]\n[[objects]]\ncentre = [1.0, 0.0, 0.0]\n|1|objects[2]"
+  "overlap|[[objects]]\n[[objects]]\ncentre = [1.0, 0.0, 0.0]\n|1|overlap.toml: objects[2]"
   "crosses_wall|[[objects]]\ncentre = [0.0, 14.5, 0.0]\n|1|crosses the wall"
   "crosses_periodic_face|[[objects]]\ncentre = [14.6, 0.0, 0.0]\n|1|objects[1]"
   "syntax|equator_nodes = = 4\n|1|syntax"
