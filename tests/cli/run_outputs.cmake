@@ -27,7 +27,8 @@ if(NOT rc EQUAL 0 OR NOT err MATCHES "warning: PETSc never read these options \\
 endif()
 file(READ ${WORK}/out/summary.json summary)
 foreach(key unknowns velocity pressure solve_seconds assembly_seconds iterations
-            dimensionless_groups pressure_jump volume area centre min_quality interface_nodes)
+            dimensionless_groups pressure_jump volume area centre min_quality interface_nodes
+            equator_nodes equator_nodes_requested)
   string(FIND "${summary}" "\"${key}\"" found)
   if(found EQUAL -1)
     message(FATAL_ERROR "summary.json lacks '${key}'")

@@ -53,7 +53,10 @@ MeshedCase build_mesh(const io::CaseConfig& config) {
     out.report = {{"nodes", r.n_nodes},
                   {"tetrahedra", r.n_tets},
                   {"interface_nodes", r.n_interface_nodes},
+                  // What the case asked for and what the mesher made of it
+                  // (2 x 2 pi r / mean edge on the first object's equator).
                   {"equator_nodes", r.n_equator_nodes},
+                  {"equator_nodes_requested", config.sizing.equator_nodes},
                   {"min_quality", r.min_quality},
                   {"seconds", r.seconds}};
   });
