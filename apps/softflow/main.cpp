@@ -126,12 +126,11 @@ void check_petsc_options(const softflow::io::CaseConfig& config) {
   char* specific = nullptr;
   PetscErrorMessage(code, &text, &specific);
   throw softflow::InputError(fmt::format(
-      "PETSc options{}: PETSc rejected them: {}{}",
+      "PETSc options{}: PETSc rejected them: {}",
       config.petsc_options.empty() ? " after \"--\""
                                    : fmt::format(" (solver.petsc_options = \"{}\" or after \"--\")",
                                                  config.petsc_options),
-      specific && *specific ? specific : (text ? text : "unknown error"),
-      ""));
+      specific && *specific ? specific : (text ? text : "unknown error")));
 }
 
 /// The options the user gave (solver.petsc_options and after "--") that
