@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <Eigen/LU>
+#include <fmt/format.h>
 
 namespace softflow::mesh {
 
@@ -93,6 +94,12 @@ int worst_tet(const Mesh& mesh) {
 double min_quality(const Mesh& mesh) {
   const int k = worst_tet(mesh);
   return k < 0 ? 1.0 : tet_quality(mesh, k);
+}
+
+std::string describe_element(const Mesh& mesh, int tet) {
+  const auto& x = mesh.nodes[mesh.tets[tet][0]];
+  return fmt::format("element {} (region {}, near ({:.3f}, {:.3f}, {:.3f}))", tet,
+                     mesh.tet_region[tet], x.x(), x.y(), x.z());
 }
 
 }  // namespace softflow::mesh

@@ -1,6 +1,8 @@
 // Shape quality of curved P2 tetrahedra: straight-shape measure times curving distortion.
 #pragma once
 
+#include <string>
+
 #include "softflow/mesh/mesh.hpp"
 
 namespace softflow::mesh {
@@ -18,5 +20,9 @@ double min_quality(const Mesh& mesh);
 
 /// Index of a tetrahedron of smallest quality; -1 for a mesh without tetrahedra.
 int worst_tet(const Mesh& mesh);
+
+/// "element T (region R, near (x, y, z))", the position of its first
+/// vertex: how failure messages say where an element is.
+std::string describe_element(const Mesh& mesh, int tet);
 
 }  // namespace softflow::mesh

@@ -610,14 +610,12 @@ void refuse_to_replace_unfinished_run(const fs::path& directory) {
 void check_initial_mesh_quality(const io::CaseConfig& config, const mesh::Mesh& mesh) {
   const double quality = mesh::min_quality(mesh);
   if (quality >= config.time.min_quality) return;
-  const int worst = mesh::worst_tet(mesh);
-  const auto& x = mesh.nodes[mesh.tets[worst][0]];
   throw MeshError(fmt::format(
-      "the initial mesh has minimum element quality {:.3g} (element {}, region {}, near ({:.3f}, "
-      "{:.3f}, {:.3f})), below time.min_quality = {:.3g}, so the run would stop at its first step. "
+      "the initial mesh has minimum element quality {:.3g} at {}, below time.min_quality = {:.3g}, "
+      "so the run would stop at its first step. "
       "Mesh finer or smoother: a larger mesh.equator_nodes (now {}), a smaller mesh.far_size (now "
       "{:g}) or mesh.growth (now {:g}), mesh.optimize_high_order = true; or lower time.min_quality",
-      quality, worst, mesh.tet_region[worst], x.x(), x.y(), x.z(), config.time.min_quality,
+      quality, mesh::describe_element(mesh, mesh::worst_tet(mesh)), config.time.min_quality,
       config.sizing.equator_nodes, config.sizing.far_size, config.sizing.growth));
 }
 

@@ -350,14 +350,12 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   const double quality = mesh::min_quality(mesh_);
   last_quality_ = quality;
   if (quality < config_.time.min_quality) {
-    const int worst = mesh::worst_tet(mesh_);
-    const auto& x = mesh_.nodes[mesh_.tets[worst][0]];
     throw MeshError(fmt::format(
-        "step {} (t = {:.4f}): the moving mesh degraded: element {} (region {}, near ({:.3f}, "
-        "{:.3f}, {:.3f})) has quality {:.3g} < time.min_quality = {:.3g}. The deformation is "
-        "too large for a mesh that is never remeshed; try a smaller time.step, a larger "
-        "interface.redistribution_factor, or a finer mesh{}",
-        steps_ + 1, time_ + config_.time.step, worst, mesh_.tet_region[worst], x.x(), x.y(), x.z(),
+        "step {} (t = {:.4f}): the moving mesh degraded: {} has quality {:.3g} < "
+        "time.min_quality = {:.3g}. The deformation is too large for a mesh that is never "
+        "remeshed; try a smaller time.step, a larger interface.redistribution_factor, or a finer "
+        "mesh{}",
+        steps_ + 1, time_ + config_.time.step, mesh::describe_element(mesh_, mesh::worst_tet(mesh_)),
         quality, config_.time.min_quality,
         // Explicit tension collapses the interface mesh above the capillary step limit.
         config_.interface.semi_implicit_tension
