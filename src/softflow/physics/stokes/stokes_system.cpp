@@ -51,9 +51,10 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
   // step; after 8, 5.7 iterations, 4 factorisations and 0.30 s (one
   // factorisation costs about 42 iterations here). No-slip runs keep the
   // default, measured best for them (PLATFORM.md).
-  if (slip_) settings_.max_reuse_iterations = std::min(settings_.max_reuse_iterations, 8);
-  if (slip_)
+  if (slip_) {
+    settings_.max_reuse_iterations = std::min(settings_.max_reuse_iterations, 8);
     for (int k = 1; k <= mesh_.n_objects; ++k) surfaces_.push_back(extract_interface(mesh_, k));
+  }
   // The element kernels are written for the Taylor-Hood element.
   if (dofs_.element_size() != TetMatrix::RowsAtCompileTime)
     throw SolverError(fmt::format("StokesSystem: {} element dofs, the kernels take {}",
@@ -153,7 +154,7 @@ void StokesSystem::create_matrices() {
       for (int node : owned_interface_nodes_) {
         std::array<PetscInt, 3> rows;
         std::array<PetscInt, 9> columns;
-        const int object = dofs_.region_of(dofs_.dof(kMultiplierField, node, 0));
+        const int object = interface_object_of(node);
         for (int c = 0; c < 3; ++c) {
           rows[c] = dofs_.dof(kMultiplierField, node, object, c);
           columns[c] = dofs_.dof(kVelocityField, node, 0, c);
@@ -174,7 +175,7 @@ void StokesSystem::create_matrices() {
     // With slip, a penalty on the jump at each interface node (preconditioner
     // only; see assemble_slip_schur_estimate).
     for (int node : owned_interface_nodes_) {
-      const int object = dofs_.region_of(dofs_.dof(kMultiplierField, node, 0));
+      const int object = interface_object_of(node);
       std::array<PetscInt, 6> d;
       for (int c = 0; c < 3; ++c) {
         d[c] = dofs_.dof(kVelocityField, node, 0, c);
@@ -256,9 +257,16 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
     a_->set_block(interface_blocks_[i], block);
     if (iterative) pmat_->set_block(interface_blocks_[i], block);
   }
-  if (slip_) assemble_slip(geometry, problem);
-  a_->assemble();
-  if (iterative && slip_) assemble_slip_schur_estimate(geometry, problem);
+  if (slip_) {
+    // The nodal normals and scales serve the operator and the preconditioner.
+    const SlipNodes nodes{interface_node_normals(surfaces_, geometry),
+                          interface_node_scale(geometry)};
+    assemble_slip(geometry, problem, nodes);
+    a_->assemble();
+    if (iterative) assemble_slip_schur_estimate(problem, nodes);
+  } else {
+    a_->assemble();
+  }
   if (iterative) pmat_->assemble();
   check(VecAssemblyBegin(rhs), "VecAssemblyBegin");
   check(VecAssemblyEnd(rhs), "VecAssemblyEnd");
@@ -347,7 +355,16 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   factors_ = std::move(r);
 }
 
-void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem) {
+Eigen::Matrix<double, 3, 9> StokesSystem::slip_constraint_block(int node, const SlipNodes& nodes,
+                                                                 const Eigen::Matrix3d& lambda_block) {
+  const double s = nodes.scale[node];
+  Eigen::Matrix<double, 3, 9> block;
+  block << s * Eigen::Matrix3d::Identity(), -s * Eigen::Matrix3d::Identity(), -s * lambda_block;
+  return block;
+}
+
+void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem,
+                                 const SlipNodes& nodes) {
   const bool iterative = static_cast<bool>(pmat_);
   for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i) {
     const int f = owned_interface_faces_[i];
@@ -362,27 +379,22 @@ void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem
     a_->set_block(slip_coupling_blocks_[i], block);
     if (iterative) pmat_->set_block(slip_coupling_blocks_[i], block);
   }
-  const auto normal = interface_node_normals(surfaces_, geometry);
-  const auto scale = interface_node_scale(geometry);
+  // The constraint rows; the preconditioning matrix gets its own
+  // (assemble_slip_schur_estimate).
   for (std::size_t i = 0; i < owned_interface_nodes_.size(); ++i) {
     const int node = owned_interface_nodes_[i];
-    const int object = dofs_.region_of(dofs_.dof(kMultiplierField, node, 0));
+    const int object = interface_object_of(node);
     const double alpha = problem.slip.of(object);
     if (!(alpha >= 0.0) || !std::isfinite(alpha))
       throw SolverError(fmt::format("StokesProblem: slip coefficient {} of object {} (allowed: "
                                     "finite, >= 0)", alpha, object));
-    const Eigen::Matrix3d tangential =
-        Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
-    Eigen::Matrix<double, 3, 9> block;
-    block << scale[node] * Eigen::Matrix3d::Identity(), -scale[node] * Eigen::Matrix3d::Identity(),
-        -scale[node] * alpha * tangential;
-    a_->set_block(slip_constraint_blocks_[i], block);
-    if (iterative) pmat_->set_block(slip_constraint_blocks_[i], block);
+    a_->set_block(slip_constraint_blocks_[i],
+                  slip_constraint_block(node, nodes, alpha * nodes.tangential(node)));
   }
 }
 
-void StokesSystem::assemble_slip_schur_estimate(const mesh::Mesh& geometry,
-                                                const StokesProblem& problem) {
+void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
+                                                const SlipNodes& nodes) {
   // With separate copies, an object's velocity block alone is a pure
   // traction problem: singular (rigid motions), so the Schur factorisation
   // needs help. The preconditioning matrix adds a penalty on the jump at
@@ -405,11 +417,9 @@ void StokesSystem::assemble_slip_schur_estimate(const mesh::Mesh& geometry,
   check(MatGetDiagonal(a_->get(), diagonal.get()), "MatGetDiagonal");
   const PetscScalar* a = nullptr;
   check(VecGetArrayRead(diagonal.get(), &a), "VecGetArrayRead");
-  const auto normal = interface_node_normals(surfaces_, geometry);
-  const auto scale = interface_node_scale(geometry);
   for (std::size_t i = 0; i < owned_interface_nodes_.size(); ++i) {
     const int node = owned_interface_nodes_[i];
-    const int object = dofs_.region_of(dofs_.dof(kMultiplierField, node, 0));
+    const int object = interface_object_of(node);
     double a_m = 0.0, a_d = 0.0;  // averaged over the 3 components
     for (int c = 0; c < 3; ++c) {
       a_m += a[dofs_.dof(kVelocityField, node, 0, c) - range_.begin] / 3.0;
@@ -421,13 +431,10 @@ void StokesSystem::assemble_slip_schur_estimate(const mesh::Mesh& geometry,
     jump_penalty << penalty * Eigen::Matrix3d::Identity(), -penalty * Eigen::Matrix3d::Identity(),
         -penalty * Eigen::Matrix3d::Identity(), penalty * Eigen::Matrix3d::Identity();
     pmat_->set_block(slip_penalty_blocks_[i], jump_penalty);
-    const Eigen::Matrix3d tangential =
-        Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
-    Eigen::Matrix<double, 3, 9> block;
-    block << scale[node] * Eigen::Matrix3d::Identity(), -scale[node] * Eigen::Matrix3d::Identity(),
-        -scale[node] * (scale[node] * compliance * Eigen::Matrix3d::Identity() +
-                        problem.slip.of(object) * tangential);
-    pmat_->set_block(slip_constraint_blocks_[i], block);
+    pmat_->set_block(slip_constraint_blocks_[i],
+                     slip_constraint_block(node, nodes,
+                                           nodes.scale[node] * compliance * Eigen::Matrix3d::Identity() +
+                                               problem.slip.of(object) * nodes.tangential(node)));
   }
   check(VecRestoreArrayRead(diagonal.get(), &a), "VecRestoreArrayRead");
 }
@@ -557,6 +564,10 @@ std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face, int reg
   for (int k = 0; k < 6; ++k)
     for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.dof(kVelocityField, tri[k], region, c);
   return rows;
+}
+
+int StokesSystem::interface_object_of(int node) const {
+  return dofs_.region_of(dofs_.dof(kMultiplierField, node, 0));
 }
 
 int StokesSystem::tension_region(int face) const {

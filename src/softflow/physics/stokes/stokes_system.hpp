@@ -128,12 +128,28 @@ class StokesSystem {
   /// The side that carries the tension load: the object's copy with slip
   /// (so that the multipliers are the matrix traction), else the shared one.
   [[nodiscard]] int tension_region(int face) const;
+  /// What the slip constraint rows need at the interface nodes of the
+  /// geometry being assembled (indexed by mesh node).
+  struct SlipNodes {
+    std::vector<Eigen::Vector3d> normal;  ///< interface_node_normals
+    std::vector<double> scale;            ///< s_i, interface_node_scale
+    [[nodiscard]] Eigen::Matrix3d tangential(int node) const {
+      return Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
+    }
+  };
+  /// The object (1-based) of an interface node: its multipliers' region.
+  [[nodiscard]] int interface_object_of(int node) const;
+  /// Constraint rows of `node` over (u_m, u_d, lambda): s_i [I, -I, -lambda_block].
+  static Eigen::Matrix<double, 3, 9> slip_constraint_block(int node, const SlipNodes& nodes,
+                                                           const Eigen::Matrix3d& lambda_block);
   /// Slip coupling (interface_slip.hpp): multiplier columns of the velocity
   /// rows of each owned interface face, constraint rows of each owned node.
-  void assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem);
-  /// The iterative method's preconditioning matrix: the multipliers' Schur
-  /// complement estimate in place of their constraint block (after a_ is assembled).
-  void assemble_slip_schur_estimate(const mesh::Mesh& geometry, const StokesProblem& problem);
+  void assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem,
+                     const SlipNodes& nodes);
+  /// The iterative method's preconditioning matrix: the jump penalty and the
+  /// multipliers' Schur complement estimate in their constraint block (after
+  /// a_ is assembled: it reads a_'s diagonal).
+  void assemble_slip_schur_estimate(const StokesProblem& problem, const SlipNodes& nodes);
 
   const mesh::Mesh& mesh_;
   la::SaddlePointSettings settings_;
