@@ -4,17 +4,15 @@
 // drop, whose conformation is transported with its own velocity copy. And
 // the physics' direction: slip lowers the drop's deformation.
 #include <cmath>
-#include <filesystem>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "softflow/io/case_config.hpp"
-#include "softflow/io/checkpoint.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
 #include "softflow/simulation/run_support.hpp"
+#include "support/verification/restart_runs.hpp"
 
 using namespace softflow;
 
@@ -27,47 +25,20 @@ io::CaseConfig slip_case(const std::string& object, const std::string& name) {
                         name);
 }
 
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  double worst = 0.0;
-  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
-    worst = std::max(worst, std::abs(a[i] - b[i]));
-  return worst;
-}
-
 void expect_exact_restart(const io::CaseConfig& config, const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() /
-                    fmt::format("softflow_{}_{}.h5", name, ::getpid());
-  simulation::DropSimulation sim(config, simulation::build_mesh(config).mesh);
-  ASSERT_TRUE(sim.interface_slip()) << name;
-  io::Checkpoint checkpoint;
-  simulation::StepReport last;
-  for (int n = 1; n <= 6; ++n) {
-    last = sim.step();
-    if (n == 3) {
-      sim.save(checkpoint);
-      checkpoint.softflow_version = SOFTFLOW_VERSION;
-      checkpoint.case_toml = io::to_toml(config);
-      io::write_checkpoint(path, checkpoint);
-    }
-  }
-  ASSERT_EQ(last.slips.size(), 1u);
-  EXPECT_GT(last.slips[0].mean_slip_speed, 1e-3) << name;  // the copies really differ
-  EXPECT_GT(last.slips[0].dissipation, 0.0) << name;
+  const auto runs = verification::run_and_restart(config, 3, 6, name);
+  ASSERT_TRUE(runs.uninterrupted->interface_slip()) << name;
+  ASSERT_EQ(runs.last.slips.size(), 1u);
+  EXPECT_GT(runs.last.slips[0].mean_slip_speed, 1e-3) << name;  // the copies really differ
+  EXPECT_GT(runs.last.slips[0].dissipation, 0.0) << name;
 
-  const auto saved = io::read_checkpoint(path);
-  simulation::DropSimulation restarted(config, saved.reference_mesh);
-  restarted.restore(saved);
-  simulation::StepReport again;
-  for (int n = 4; n <= 6; ++n) again = restarted.step();
-  const auto a = sim.output_fields(), b = restarted.output_fields();
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t f = 0; f < a.size(); ++f)
-    EXPECT_LT(max_difference(a[f].values, b[f].values), 1e-10) << name << " field " << f;
-  EXPECT_NEAR(again.objects[0].deformation, last.objects[0].deformation, 1e-12) << name;
-  EXPECT_NEAR(again.slips[0].dissipation, last.slips[0].dissipation, 1e-10) << name;
-  EXPECT_EQ(restarted.stokes().n_factorizations(), sim.stokes().n_factorizations()) << name;
-  std::filesystem::remove(path);
+  const auto differences = verification::output_field_differences(*runs.uninterrupted, *runs.restarted);
+  for (std::size_t f = 0; f < differences.size(); ++f)
+    EXPECT_LT(differences[f], 1e-10) << name << " field " << f;
+  EXPECT_NEAR(runs.again.objects[0].deformation, runs.last.objects[0].deformation, 1e-12) << name;
+  EXPECT_NEAR(runs.again.slips[0].dissipation, runs.last.slips[0].dissipation, 1e-10) << name;
+  EXPECT_EQ(runs.restarted->stokes().n_factorizations(), runs.uninterrupted->stokes().n_factorizations())
+      << name;
 }
 
 }  // namespace

@@ -7,11 +7,9 @@
 // neo-Hookean particle in a Newtonian matrix, and a Newtonian drop in an
 // Oldroyd-B matrix.
 #include <cmath>
-#include <filesystem>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "softflow/common/error.hpp"
 #include "softflow/io/case_config.hpp"
@@ -20,25 +18,11 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
 #include "softflow/simulation/run_support.hpp"
+#include "support/verification/restart_runs.hpp"
 
 using namespace softflow;
 
 namespace {
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  double worst = 0.0;
-  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
-    worst = std::max(worst, std::abs(a[i] - b[i]));
-  return worst;
-}
-
-/// Every output field's values (velocity/pressure, then the conformation fields).
-std::vector<std::vector<double>> fields(const simulation::DropSimulation& sim) {
-  std::vector<std::vector<double>> out;
-  for (const auto& f : sim.output_fields()) out.push_back(f.values);
-  return out;
-}
 
 void expect_exact_restart(const std::string& phases, const std::string& name) {
   const auto config = io::parse_case(
@@ -46,39 +30,21 @@ void expect_exact_restart(const std::string& phases, const std::string& name) {
           "[mesh]\nequator_nodes = 16\nfar_size = 2.0\n"
           "[time]\nstep = 0.05\nend = 1.0\n[output]\nfields = false\n",
       name);
-  const auto path = std::filesystem::temp_directory_path() /
-                    fmt::format("softflow_{}_{}.h5", name, ::getpid());
-  simulation::DropSimulation sim(config, simulation::build_mesh(config).mesh);
-  ASSERT_NE(sim.viscoelastic(), nullptr) << name;
-  io::Checkpoint checkpoint;
-  simulation::StepReport last;
-  for (int n = 1; n <= 6; ++n) {
-    last = sim.step();
-    if (n == 3) {
-      sim.save(checkpoint);
-      checkpoint.softflow_version = SOFTFLOW_VERSION;
-      checkpoint.case_toml = io::to_toml(config);
-      io::write_checkpoint(path, checkpoint);
-    }
-  }
-  EXPECT_TRUE(checkpoint.state.contains("fields/log_conformation/values")) << name;
-  EXPECT_TRUE(checkpoint.state.contains("viscoelastic/transport/previous")) << name;
-  ASSERT_FALSE(last.stresses.empty());
-  EXPECT_GT(std::abs(last.stresses.front().mean(0, 1)), 1e-3) << name;  // a stress built up
+  const auto runs = verification::run_and_restart(config, 3, 6, name);
+  ASSERT_NE(runs.uninterrupted->viscoelastic(), nullptr) << name;
+  EXPECT_TRUE(runs.checkpoint.state.contains("fields/log_conformation/values")) << name;
+  EXPECT_TRUE(runs.checkpoint.state.contains("viscoelastic/transport/previous")) << name;
+  ASSERT_FALSE(runs.last.stresses.empty());
+  EXPECT_GT(std::abs(runs.last.stresses.front().mean(0, 1)), 1e-3) << name;  // a stress built up
 
-  const auto saved = io::read_checkpoint(path);
-  simulation::DropSimulation restarted(config, saved.reference_mesh);
-  restarted.restore(saved);
-  simulation::StepReport again;
-  for (int n = 4; n <= 6; ++n) again = restarted.step();
-  const auto a = fields(sim), b = fields(restarted);
-  ASSERT_EQ(a.size(), b.size());
-  ASSERT_GE(a.size(), 4u);  // Stokes + log_conformation, conformation, polymer_stress
-  for (std::size_t f = 0; f < a.size(); ++f) EXPECT_LT(max_difference(a[f], b[f]), 1e-10) << name << " field " << f;
-  EXPECT_NEAR(again.objects.front().deformation, last.objects.front().deformation, 1e-12) << name;
-  EXPECT_NEAR(again.stresses.front().mean(0, 1), last.stresses.front().mean(0, 1), 1e-10) << name;
-  EXPECT_EQ(restarted.stokes().n_factorizations(), sim.stokes().n_factorizations()) << name;
-  std::filesystem::remove(path);
+  const auto differences = verification::output_field_differences(*runs.uninterrupted, *runs.restarted);
+  ASSERT_GE(differences.size(), 4u);  // Stokes + log_conformation, conformation, polymer_stress
+  for (std::size_t f = 0; f < differences.size(); ++f)
+    EXPECT_LT(differences[f], 1e-10) << name << " field " << f;
+  EXPECT_NEAR(runs.again.objects.front().deformation, runs.last.objects.front().deformation, 1e-12) << name;
+  EXPECT_NEAR(runs.again.stresses.front().mean(0, 1), runs.last.stresses.front().mean(0, 1), 1e-10) << name;
+  EXPECT_EQ(runs.restarted->stokes().n_factorizations(), runs.uninterrupted->stokes().n_factorizations())
+      << name;
 }
 
 }  // namespace
