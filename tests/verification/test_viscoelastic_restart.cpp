@@ -8,7 +8,6 @@
 // Oldroyd-B matrix.
 #include <cmath>
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "softflow/common/error.hpp"
