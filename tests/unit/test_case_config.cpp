@@ -86,6 +86,8 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.time.min_quality, b.time.min_quality);
   EXPECT_EQ(a.time.max_volume_drift, b.time.max_volume_drift);
   EXPECT_EQ(a.time.ale_rebuild_quality, b.time.ale_rebuild_quality);
+  EXPECT_EQ(a.time.steady_tolerance, b.time.steady_tolerance);
+  EXPECT_EQ(a.time.steady_window, b.time.steady_window);
   EXPECT_EQ(a.interface.redistribution_factor, b.interface.redistribution_factor);
   EXPECT_EQ(a.interface.supg_beta, b.interface.supg_beta);
   EXPECT_EQ(a.interface.semi_implicit_tension, b.interface.semi_implicit_tension);
@@ -241,6 +243,11 @@ petsc_options = "-ksp_monitor -pc_type lu"
 [output]
 directory = "/tmp/some where/out"
 fields = false
+[time]
+step = 0.01
+end = 30
+steady_tolerance = 2e-5
+steady_window = 6.5
 )";
   const CaseConfig first = parse_case(text, "c.toml");
   const CaseConfig second = parse_case(to_toml(first), "another_name.toml");
@@ -636,6 +643,27 @@ TEST(CaseConfigHardening, TimeRunsThatDoNothingAreRefused) {
   EXPECT_ERROR("[time]\nstep = 2.0\nend = 1.0\n", "time.end = 1.0");
   EXPECT_EQ(error_of("[time]\nstep = 2.0\nend = 0.0\n"), "");  // one Stokes solve: step unused
   EXPECT_EQ(error_of("[time]\nstep = 1.0\nend = 1.0\n"), "");
+}
+
+TEST(CaseConfig, StopAtSteadyStateNeedsObjectsALatestTimeAndAWindowInside) {
+  const std::string drop = "[[objects]]\ncapillary_number = 0.1\n";
+  EXPECT_EQ(error_of(drop + "[time]\nstep = 0.1\nend = 20\nsteady_tolerance = 1e-4\n"), "");
+  EXPECT_ERROR("[time]\nstep = 0.1\nend = 20\nsteady_tolerance = 1e-4\n",
+               "time.steady_tolerance = 0.0001: a steady state is detected from the objects'");
+  EXPECT_ERROR(drop + "[time]\nstep = 0.1\nend = 0\nsteady_tolerance = 1e-4\n",
+               "needs a run in time: time.end > 0");
+  EXPECT_ERROR(drop + "[time]\nstep = 0.1\nend = 20\nsteady_tolerance = 1e-4\nsteady_window = 30\n",
+               "time.steady_window = 30 must lie between time.step = 0.1 and time.end = 20");
+  EXPECT_ERROR(drop + "[time]\nstep = 0.1\nend = 20\nsteady_tolerance = 1e-4\nsteady_window = 0.05\n",
+               "time.steady_window = 0.05 must lie between");
+  EXPECT_ERROR(drop + "[time]\nstep = 0.1\nend = 20\nsteady_tolerance = -1\n",
+               "time.steady_tolerance = -1");
+  EXPECT_ERROR(drop +
+                   "[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\nfrequency = 1\n"
+                   "[time]\nstep = 0.1\nend = 20\nsteady_tolerance = 1e-4\n",
+               "an oscillatory flow has no steady state");
+  // Off (the default): the window is not checked against end.
+  EXPECT_EQ(error_of(drop + "[time]\nstep = 0.1\nend = 1\n"), "");
 }
 
 TEST(CaseConfigHardening, ControlCharactersInNamesAndPathsAreRefused) {

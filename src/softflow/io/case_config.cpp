@@ -286,6 +286,32 @@ void check_slip(const TableRead& t, const ObjectConfig& o, Diagnostics& diag) {
                          physics::viscoelastic::to_string(o.model)));
 }
 
+/// Stopping at steady state (time.steady_tolerance > 0) needs objects to
+/// watch, a latest time, a flow that can become steady, and a window the
+/// run can cover.
+void check_steady(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
+  if (time.status("steady_tolerance") != Read::ok || c.time.steady_tolerance == 0.0) return;
+  const Value* tolerance = time.value("steady_tolerance");
+  if (c.objects.empty())
+    diag.error(time.path("steady_tolerance"), *tolerance,
+               "a steady state is detected from the objects' shapes and velocities: it needs at "
+               "least one [[objects]] entry (or time.steady_tolerance = 0)");
+  if (c.flow.type == FlowType::oscillatory)
+    diag.error(time.path("steady_tolerance"), *tolerance,
+               "an oscillatory flow has no steady state: use time.steady_tolerance = 0 and a "
+               "time.end of whole periods");
+  if (!(c.time.end > 0.0)) {
+    diag.error(time.path("steady_tolerance"), *tolerance,
+               "stopping at steady state needs a run in time: time.end > 0, the latest time");
+    return;
+  }
+  if (time.status("steady_window") == Read::bad) return;
+  if (c.time.steady_window < c.time.step || c.time.steady_window > c.time.end)
+    diag.error(fmt::format("time.steady_window = {:g} must lie between time.step = {:g} and "
+                           "time.end = {:g} (the latest time of a run that stops at steady state)",
+                           c.time.steady_window, c.time.step, c.time.end));
+}
+
 /// A run in time (end > 0) takes n = round(end / step) steps: at least one,
 /// and as many as an int counts. A step beyond end would run past t_end (or,
 /// below end / 2, round to no step at all); a step so small that n overflows
@@ -293,6 +319,7 @@ void check_slip(const TableRead& t, const ObjectConfig& o, Diagnostics& diag) {
 void check_time(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
   if (time.status("step") == Read::bad || time.status("end") == Read::bad) return;
   const double step = c.time.step, end = c.time.end;
+  check_steady(time, c, diag);
   if (!(end > 0.0)) return;  // one Stokes solve: the step is not used
   const auto shown = [&time](std::string_view key, double x) {
     const Value* v = time.value(key);

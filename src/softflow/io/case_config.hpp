@@ -88,6 +88,13 @@ struct TimeConfig {
   /// on the current mesh (and again after each further 5 % drop), as the
   /// thesis's incremental ALE does every step; 0 = always the initial mesh.
   double ale_rebuild_quality = 0.2;
+  /// > 0: stop before `end` once every object's D, shape vector
+  /// D (cos 2 theta, sin 2 theta) and centre velocity relative to the shear
+  /// flow at the centre (in units gamma_dot R)
+  /// have changed by at most this over the last steady_window
+  /// (analysis::SteadyStateMonitor); `end` is then the latest time. 0 = off.
+  double steady_tolerance = 0.0;
+  double steady_window = 5.0;  ///< the time span steady_tolerance is measured over
 };
 
 /// [checkpoint]: when a run in time saves its state (checkpoint.h5 in the

@@ -279,7 +279,15 @@ Table<CaseConfig> time_table() {
        number("ale_rebuild_quality", time(&TimeConfig::ale_rebuild_quality), 0.2,
               Range::right_open(0, 1),
               "below this element quality the mesh-motion operator is rebuilt on the current "
-              "mesh (and after each further 5 % drop); 0 = never")}};
+              "mesh (and after each further 5 % drop); 0 = never"),
+       number("steady_tolerance", time(&TimeConfig::steady_tolerance), 0.0, Range::at_least(0),
+              "> 0: stop at steady state, once every object's D, shape vector D (cos 2 theta, "
+              "sin 2 theta) and centre velocity relative to the shear flow at the centre / "
+              "(gamma_dot R) have each changed by at most "
+              "this over the last steady_window (end is then the latest time); 0 = run to end"),
+       number("steady_window", time(&TimeConfig::steady_window), 5.0, Range::above(0),
+              "the time span steady_tolerance is measured over: longer than any oscillation "
+              "that should not count as steady")}};
 }
 
 Table<CaseConfig> checkpoint_table() {

@@ -12,6 +12,9 @@
 #include <exception>
 #include <fstream>
 #include <memory>
+#include <numbers>
+#include <optional>
+#include <deque>
 #include <sstream>
 #include <string>
 
@@ -21,6 +24,7 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
+#include "softflow/analysis/steady_state.hpp"
 #include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/mesh/quality.hpp"
 #include "softflow/common/error.hpp"
@@ -28,6 +32,7 @@
 #include "softflow/io/output_directory.hpp"
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
 
 namespace softflow::simulation {
@@ -144,7 +149,80 @@ struct RunLedger {
   double wall_seconds = 0.0;  ///< up to the last checkpoint of earlier sessions
   int sessions = 1;
   nlohmann::json mesh_report;
+  /// Watches for the steady state when time.steady_tolerance > 0; its window
+  /// is saved with the checkpoint, so a restarted run stops at the same step.
+  std::optional<analysis::SteadyStateMonitor> steady;
 };
+
+/// The monitor of time.steady_tolerance, or none. Centre velocities are
+/// compared in units of gamma_dot R, R the smallest object's radius
+/// (gamma_dot = 1 for a static case, e.g. a drop relaxing at rest).
+std::optional<analysis::SteadyStateMonitor> steady_monitor(const io::CaseConfig& config) {
+  if (!(config.time.steady_tolerance > 0.0)) return std::nullopt;
+  double radius = std::numeric_limits<double>::infinity();
+  for (const auto& o : config.objects) radius = std::min(radius, io::mean_radius(o.geometry));
+  const double rate = config.shear_rate > 0.0 ? config.shear_rate : 1.0;
+  return analysis::SteadyStateMonitor(
+      {config.time.steady_tolerance, config.time.steady_window, rate * radius});
+}
+
+/// The objects' state for the monitor. The centre velocity is taken
+/// relative to the undisturbed shear flow at the centre, gamma_dot(t) y_c e_x:
+/// an object that drifts across the streamlines at a steady rate (migration,
+/// or the slow spurious drift of an unsymmetric mesh) then has a steady
+/// velocity, where its absolute x-velocity would grow with its y.
+std::vector<analysis::ObjectSample> steady_sample(const StepReport& r,
+                                                  const physics::WallMotion& walls) {
+  std::vector<analysis::ObjectSample> out;
+  for (const auto& o : r.objects) {
+    Eigen::Vector3d relative = o.centre_velocity;
+    relative.x() -= walls.shear_rate(r.time) * o.centre.y();
+    out.push_back({o.deformation, o.theta_deg * std::numbers::pi / 180.0, relative});
+  }
+  return out;
+}
+
+nlohmann::json steady_samples_json(const analysis::SteadyStateMonitor& m) {
+  nlohmann::json samples = nlohmann::json::array();
+  for (const auto& s : m.samples()) {
+    nlohmann::json objects = nlohmann::json::array();
+    for (const auto& o : s.objects)
+      objects.push_back({o.deformation, o.theta_rad, o.centre_velocity(0), o.centre_velocity(1),
+                         o.centre_velocity(2)});
+    samples.push_back({s.time, objects});
+  }
+  return {{"samples", samples},
+          {"reached_at", m.reached_at() ? nlohmann::json(*m.reached_at()) : nlohmann::json()}};
+}
+
+void restore_steady_samples(analysis::SteadyStateMonitor& m, const nlohmann::json& j) {
+  std::deque<analysis::SteadyStateMonitor::Sample> samples;
+  for (const auto& s : j.at("samples")) {
+    analysis::SteadyStateMonitor::Sample sample{s.at(0).get<double>(), {}};
+    for (const auto& o : s.at(1))
+      sample.objects.push_back({o.at(0).get<double>(), o.at(1).get<double>(),
+                                {o.at(2).get<double>(), o.at(3).get<double>(),
+                                 o.at(4).get<double>()}});
+    samples.push_back(std::move(sample));
+  }
+  const auto& reached = j.at("reached_at");
+  m.restore(std::move(samples),
+            reached.is_null() ? std::nullopt : std::optional<double>(reached.get<double>()));
+}
+
+/// What summary.json says about the steady state (runs that watch for it).
+nlohmann::json steady_json(const analysis::SteadyStateMonitor& m) {
+  const auto c = m.changes();
+  return {{"tolerance", m.criterion().tolerance},
+          {"window", m.criterion().window},
+          {"reached", m.reached_at().has_value()},
+          {"time", m.reached_at() ? nlohmann::json(*m.reached_at()) : nlohmann::json()},
+          {"changes_over_window",
+           {{"D", c.deformation},
+            {"shape", c.shape},
+            {"theta_deg", c.theta_rad * 180.0 / std::numbers::pi},
+            {"centre_velocity", c.velocity}}}};
+}
 
 nlohmann::json to_json(const RunLedger& l) {
   return {{"stage_seconds",
@@ -154,11 +232,13 @@ nlohmann::json to_json(const RunLedger& l) {
           {"timed_steps", l.timed_steps},
           {"wall_seconds", l.wall_seconds},
           {"sessions", l.sessions},
-          {"mesh", l.mesh_report}};
+          {"mesh", l.mesh_report},
+          {"steady", l.steady ? steady_samples_json(*l.steady) : nlohmann::json()}};
 }
 
-RunLedger ledger_from_json(const std::string& text) {
+RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config) {
   RunLedger l;
+  l.steady = steady_monitor(config);
   try {
     const auto j = nlohmann::json::parse(text);
     const auto& s = j.at("stage_seconds");
@@ -174,6 +254,7 @@ RunLedger ledger_from_json(const std::string& text) {
     l.wall_seconds = j.at("wall_seconds");
     l.sessions = j.at("sessions");
     l.mesh_report = j.at("mesh");
+    if (l.steady) restore_steady_samples(*l.steady, j.at("steady"));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("the checkpoint's run record is damaged: {}", e.what()));
   }
@@ -270,6 +351,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
                        {"volume_drift", v0 > 0 ? o.volume / v0 - 1.0 : 0.0}});
   }
   summary["final"] = objects;
+  if (ledger.steady) summary["steady"] = steady_json(*ledger.steady);
   if (!last.stresses.empty()) {
     nlohmann::json stresses = nlohmann::json::array();
     for (const auto& r : last.stresses)
@@ -329,6 +411,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
   const int first_step = sim.steps();
   StopRequests stop_requests;
+  const physics::WallMotion walls = wall_motion(config);
   auto last_checkpoint_clock = Clock::now();
   double longest_step = 0.0, checkpoint_seconds = 0.0, checkpoint_bytes = 0.0;
   const double earlier_wall_seconds = ledger.wall_seconds;
@@ -401,6 +484,22 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         std::fflush(stdout);
       }
       sim.check_volumes();
+      if (ledger.steady) {
+        ledger.steady->add(last.time, steady_sample(last, walls));
+        if (ledger.steady->steady()) {
+          if (!options.quiet && root) {
+            const auto c = ledger.steady->changes();
+            fmt::print("steady state at t = {:.4f}: over the last {:g} time units D changed by "
+                       "{:.2g}, theta by {:.2g} deg, the centre velocity by {:.2g} gamma_dot R "
+                       "(time.steady_tolerance = {:g})\n",
+                       last.time, config.time.steady_window, c.deformation,
+                       c.theta_rad * 180.0 / std::numbers::pi, c.velocity,
+                       config.time.steady_tolerance);
+            std::fflush(stdout);
+          }
+          break;  // the final checkpoint follows the loop
+        }
+      }
       if (sim.steps() >= n_steps) break;  // the final checkpoint follows the loop
 
       // Stop before the wall-time limit with room for the longest step seen
@@ -632,8 +731,10 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });
   RunLedger ledger;
   ledger.mesh_report = meshed.report;
+  ledger.steady = steady_monitor(config);
   DropSimulation sim(config, std::move(meshed.mesh));
   const StepReport first = sim.initial_report();
+  if (ledger.steady) ledger.steady->add(first.time, steady_sample(first, wall_motion(config)));
   RunFiles files;
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));
@@ -658,10 +759,13 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
   const io::Checkpoint checkpoint = io::read_checkpoint(directory / kCheckpointFile);
   check_same_case(config, checkpoint, directory);
   const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
-  if (checkpoint.step >= n_steps) {
+  RunLedger ledger = ledger_from_json(checkpoint.run_json, config);
+  const bool steady = ledger.steady && ledger.steady->reached_at();
+  if (checkpoint.step >= n_steps || steady) {
     if (!options.quiet && root)
-      fmt::print("{}: the run is complete (step {}, t = {:.4f}); nothing to do\n",
-                 directory.string(), checkpoint.step, checkpoint.time);
+      fmt::print("{}: the run is complete ({}step {}, t = {:.4f}); nothing to do\n",
+                 directory.string(), steady ? "steady state at " : "", checkpoint.step,
+                 checkpoint.time);
     std::ifstream in(directory / "summary.json");
     try {
       return in ? nlohmann::json::parse(in) : nlohmann::json::object();
@@ -669,7 +773,6 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
       return nlohmann::json::object();
     }
   }
-  RunLedger ledger = ledger_from_json(checkpoint.run_json);
   ++ledger.sessions;
   DropSimulation sim(config, checkpoint.reference_mesh);
   sim.restore(checkpoint);

@@ -126,6 +126,7 @@ struct Row {
   std::string label;
   std::vector<std::string> values;  // one per parameter
   std::string status;
+  std::string steady;  ///< "yes" / "no" for runs that stop at steady state, else ""
   int object = 0;
   nlohmann::json numbers;  // column -> number
 };
@@ -136,7 +137,7 @@ const std::vector<std::string>& numeric_columns() {
                                                    "L",           "B",
                                                    "W",           "volume_drift",
                                                    "taylor_D",    "chaffey_brenner_theta_deg",
-                                                   "wall_seconds"};
+                                                   "steady_t",    "wall_seconds"};
   return columns;
 }
 
@@ -150,11 +151,17 @@ std::vector<Row> collect(const io::Sweep& sweep, const fs::path& directory) {
     if (!summary.is_object() || !summary.contains("final")) {
       std::string status = run_status(directory / c.label);
       if (status.empty()) status = fs::exists(directory / c.label) ? "running" : "not run";
-      rows.push_back({c.label, values, status, 0, {}});
+      rows.push_back({c.label, values, status, "", 0, {}});
       continue;
     }
     for (const auto& o : summary["final"]) {
-      Row row{c.label, values, summary.value("status", ""), o.value("object", 0), {}};
+      Row row{c.label, values, summary.value("status", ""), "", o.value("object", 0), {}};
+      if (summary.contains("steady") && summary["steady"].is_object()) {
+        const auto& steady = summary["steady"];
+        const bool reached = steady.value("reached", false);
+        row.steady = reached ? "yes" : "no";
+        if (reached && steady["time"].is_number()) row.numbers["steady_t"] = steady["time"];
+      }
       row.numbers["steps"] = summary.value("steps", 0);
       row.numbers["t"] = summary.value("time", 0.0);
       row.numbers["wall_seconds"] = summary.value("wall_seconds", 0.0);
@@ -178,15 +185,15 @@ void write_tables(const io::Sweep& sweep, const std::vector<Row>& rows, const fs
     csv += "," + p.name;
     md += " | " + p.name;
   }
-  csv += ",status,object";
-  md += " | status | object";
+  csv += ",status,steady,object";
+  md += " | status | steady | object";
   for (const auto& c : numeric_columns()) {
     csv += "," + c;
     md += " | " + c;
   }
   csv += "\n";
   md += " |\n|---|";
-  for (std::size_t i = 0; i < sweep.parameters.size() + 2 + numeric_columns().size(); ++i)
+  for (std::size_t i = 0; i < sweep.parameters.size() + 3 + numeric_columns().size(); ++i)
     md += "---|";
   md += "\n";
   for (const auto& r : rows) {
@@ -196,8 +203,8 @@ void write_tables(const io::Sweep& sweep, const std::vector<Row>& rows, const fs
       csv += "," + v;
       md += " | " + v;
     }
-    csv += fmt::format(",{},{}", r.status, r.object);
-    md += fmt::format(" | {} | {}", r.status, r.object);
+    csv += fmt::format(",{},{},{}", r.status, r.steady, r.object);
+    md += fmt::format(" | {} | {} | {}", r.status, r.steady, r.object);
     for (const auto& c : numeric_columns()) {
       const std::string v = r.numbers.contains(c)
                                 ? (c == "steps" ? std::to_string(r.numbers[c].get<int>())
@@ -211,8 +218,10 @@ void write_tables(const io::Sweep& sweep, const std::vector<Row>& rows, const fs
   }
   const std::string intro = fmt::format(
       "# Sweep {}\n\nFinal values of each case (the last step: run long enough for them to be "
-      "steady) beside small-deformation theory: Taylor D and Chaffey-Brenner theta. Written by "
-      "`softflow sweep`; the plot is sweep.png.\n\n",
+      "steady) beside small-deformation theory: Taylor D and Chaffey-Brenner theta. With "
+      "time.steady_tolerance > 0 a run stops at steady state: `steady` says whether it got there "
+      "before time.end and `steady_t` when. Written by `softflow sweep`; the plot is "
+      "sweep.png.\n\n",
       sweep.name);
   io::write_text_file_atomically(directory / "sweep.csv", csv);
   io::write_text_file_atomically(directory / "sweep.md", intro + md);
