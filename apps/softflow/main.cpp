@@ -3,6 +3,7 @@
 //   softflow run examples/drop_shear.toml          solve, write output/<case>/
 //   softflow restart output/drop_shear             continue a run from its checkpoint
 //   softflow sweep examples/sweep_ca.toml -j 2     every combination of listed parameters
+//   softflow converge CASE.toml --levels 4         one case on refined meshes, extrapolated
 //   softflow mesh examples/drop_shear.toml         mesh only, report sizes and quality
 //   softflow check examples/drop_shear.toml        validate the case file
 //   softflow keys                                  every case-file key (docs/case_file_keys.md)
@@ -48,6 +49,7 @@
 #include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/stokes_run.hpp"
+#include "softflow/simulation/convergence.hpp"
 #include "softflow/simulation/sweep.hpp"
 
 namespace {
@@ -302,6 +304,26 @@ int main(int argc, char** argv) {
                     "stop before this much wall time has passed: running cases checkpoint (exit "
                     "code 5), no new one starts; run the sweep again to resume");
 
+  softflow::simulation::ConvergeOptions converge_options;
+  auto* converge = app.add_subcommand(
+      "converge",
+      "run one case on a sequence of meshes refined as a whole (equator nodes, far size and "
+      "growth by one ratio), then the observed order and the Richardson-extrapolated D and theta "
+      "with the error of the finest mesh (converge.md, .csv, .png). Best with time.steady_tolerance "
+      "> 0; resumable like a sweep");
+  converge->add_option("case", case_file, "case file (TOML): the coarsest level")
+      ->required()
+      ->check(CLI::ExistingFile);
+  converge->add_option("--levels", converge_options.levels, "meshes (3 to 8)")->capture_default_str();
+  converge->add_option("--factor", converge_options.factor,
+                       "refinement ratio of the element sizes from one level to the next, in (1, 2]")
+      ->capture_default_str();
+  converge->add_option("-j,--jobs", jobs, "levels run at the same time (each on one core)")
+      ->capture_default_str();
+  converge->add_flag("-q,--quiet", quiet, "print nothing but errors");
+  converge->add_option("--wall-time-limit", wall_time_limit,
+                       "stop before this much wall time has passed; run again to resume");
+
   double lambda = 1.0, ca = 0.1;
   auto* theory = app.add_subcommand(
       "theory", "small-deformation theory: Taylor D (eq. 1.1), Chaffey-Brenner theta (eq. 2.59), ...");
@@ -380,7 +402,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  if (*sweep) {  // no PETSc here: each case is its own softflow process
+  if (*sweep || *converge) {  // no PETSc here: each case is its own softflow process
     try {
       softflow::simulation::SweepOptions sweep_options;
       sweep_options.jobs = jobs;
@@ -389,6 +411,8 @@ int main(int argc, char** argv) {
       sweep_options.started = started;
       sweep_options.softflow = std::filesystem::read_symlink("/proc/self/exe");
       for (std::size_t i = 1; i < petsc.size(); ++i) sweep_options.petsc_args.emplace_back(petsc[i]);
+      if (*converge)
+        return softflow::simulation::run_convergence(case_file, converge_options, sweep_options);
       return softflow::simulation::run_sweep(case_file, sweep_options);
     } catch (const softflow::InputError& e) {
       error_stream() << "softflow: " << e.what() << "\n";

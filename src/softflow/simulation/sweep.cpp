@@ -308,6 +308,12 @@ int run_sweep(const fs::path& case_file, const SweepOptions& options) {
         "e.g. capillary_number = [0.05, 0.1, 0.2] under [[objects]]; one case runs with softflow "
         "run",
         case_file.string()));
+  return run_cases(sweep, text, case_file.string(), options);
+}
+
+int run_cases(const io::Sweep& sweep, const std::string& text, const std::string& source,
+              const SweepOptions& options) {
+  std::error_code ec;
   for (const auto& c : sweep.cases) {
     try {
       geometry::validate(c.config.shear_cell_spec());  // overlaps, walls: before any case runs
@@ -320,7 +326,7 @@ int run_sweep(const fs::path& case_file, const SweepOptions& options) {
       throw InputError(
           fmt::format("{} [sweep case {}]: time.end = {}: a sweep tabulates runs in "
                       "time, so time.end must be > 0",
-                      case_file.string(), c.label, c.config.time.end));
+                      source, c.label, c.config.time.end));
   if (options.jobs < 1)
     throw InputError(fmt::format("--jobs {}: must be at least 1", options.jobs));
 

@@ -50,6 +50,12 @@ inline constexpr double kMinimumCaseSeconds = 10.0;
 /// for one that failed in an earlier sweep).
 int run_sweep(const std::filesystem::path& case_file, const SweepOptions& options);
 
+/// run_sweep for cases already made (e.g. the mesh levels of `softflow
+/// converge`): `text` is the file they came from (saved as D/sweep.toml),
+/// `source` its name in messages.
+int run_cases(const io::Sweep& sweep, const std::string& text, const std::string& source,
+              const SweepOptions& options);
+
 /// sweep_theory.csv: Taylor D and Chaffey-Brenner theta along the first
 /// parameter when it is object 1's capillary number or viscosity ratio, one
 /// curve per combination of the other parameters (columns group, the

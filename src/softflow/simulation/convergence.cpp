@@ -1,0 +1,261 @@
+#include "softflow/simulation/convergence.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "softflow/analysis/richardson.hpp"
+#include "softflow/common/error.hpp"
+#include "softflow/io/output_directory.hpp"
+
+namespace softflow::simulation {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// One level's result for one object, from its summary.json.
+struct LevelResult {
+  int equator_nodes = 0;
+  double far_size = 0.0, growth = 0.0;
+  std::string status;  ///< "" when the level has no summary
+  long unknowns = 0;
+  int steps = 0;
+  double time = 0.0;
+  std::string steady;  ///< "yes", "no", or "" (not watched)
+  double wall_seconds = 0.0;
+  std::vector<double> deformation, theta_deg;  ///< per object
+};
+
+LevelResult read_level(const io::SweepCase& c, const fs::path& directory) {
+  LevelResult r;
+  r.equator_nodes = c.config.sizing.equator_nodes;
+  r.far_size = c.config.sizing.far_size;
+  r.growth = c.config.sizing.growth;
+  std::ifstream in(directory / c.label / "summary.json");
+  if (!in) {
+    // A level that failed before its run started (e.g. meshing) has only its log.
+    std::error_code ec;
+    const fs::path log = directory / "logs" / (c.label + ".log");
+    if (fs::exists(log, ec) && fs::file_size(log, ec) > 0)
+      r.status = fmt::format("failed (logs/{}.log)", c.label);
+    return r;
+  }
+  nlohmann::json s;
+  try {
+    s = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return r;
+  }
+  r.status = s.value("status", "");
+  r.unknowns = s.value("unknowns", 0L);
+  r.steps = s.value("steps", 0);
+  r.time = s.value("time", 0.0);
+  r.wall_seconds = s.value("wall_seconds", 0.0);
+  if (s.contains("steady") && s["steady"].is_object())
+    r.steady = s["steady"].value("reached", false) ? "yes" : "no";
+  for (const auto& o : s.value("final", nlohmann::json::array())) {
+    r.deformation.push_back(o.value("D", NAN));
+    r.theta_deg.push_back(o.value("theta_deg", NAN));
+  }
+  return r;
+}
+
+std::string number(double x, int digits = 6) {
+  return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : std::string();
+}
+
+std::string optional_number(const std::optional<double>& x, int digits = 6) {
+  return x ? number(*x, digits) : std::string("—");
+}
+
+/// "yes" when the two finest triples both have an order and these agree
+/// within 25 %; "unknown" with a single triple; else "no".
+std::string asymptotic_verdict(const std::vector<analysis::RichardsonEstimate>& triples) {
+  if (triples.size() < 2) return "unknown";
+  const auto& a = triples[triples.size() - 2];
+  const auto& b = triples.back();
+  if (!a.order || !b.order) return "no";
+  return std::abs(*a.order - *b.order) <= 0.25 * std::max(*a.order, *b.order) ? "yes" : "no";
+}
+
+}  // namespace
+
+io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_name,
+                      const ConvergeOptions& options) {
+  if (!io::sweep_parameters(toml_text, source_name).empty())
+    throw InputError(fmt::format("{}: a case file with lists is a sweep; softflow converge takes "
+                                 "one case and makes the meshes itself",
+                                 source_name));
+  if (options.levels < 3 || options.levels > 8)
+    throw InputError(fmt::format("--levels {}: between 3 and 8 (an order needs three meshes)",
+                                 options.levels));
+  if (!(options.factor > 1.0 && options.factor <= 2.0))
+    throw InputError(fmt::format("--factor {}: the refinement ratio must lie in (1, 2]",
+                                 options.factor));
+  const io::CaseConfig base = io::parse_case(toml_text, source_name);
+  if (!(base.time.end > 0.0))
+    throw InputError(fmt::format(
+        "{}: time.end = {:g}: softflow converge compares the final (ideally steady) D and theta "
+        "of runs in time; set time.end > 0, best with time.steady_tolerance > 0",
+        source_name, base.time.end));
+  io::Sweep sweep;
+  sweep.name = base.name;
+  sweep.directory = base.output_directory;
+  io::SweepParameter parameter{"mesh.equator_nodes", "equator_nodes", {}, {}};
+  const int n0 = base.sizing.equator_nodes;
+  int previous = 0;
+  for (int k = 0; k < options.levels; ++k) {
+    int n = static_cast<int>(std::lround(n0 * std::pow(options.factor, k)));
+    if (n <= previous) n = previous + 1;
+    previous = n;
+    io::SweepCase c;
+    c.label = fmt::format("N{}", n);
+    c.choice = {k};
+    c.config = base;
+    const double scale = static_cast<double>(n0) / n;
+    c.config.sizing.equator_nodes = n;
+    c.config.sizing.far_size = base.sizing.far_size * scale;
+    c.config.sizing.growth = base.sizing.growth * scale;
+    c.config.name = fmt::format("{}_{}", base.name, c.label);
+    c.config.output_directory = (fs::path(base.output_directory) / c.label).string();
+    c.toml_text = io::to_toml(c.config);
+    // The generated file must read back as the same case (its validation included).
+    c.config = io::parse_case(c.toml_text, fmt::format("{} [level {}]", source_name, c.label));
+    parameter.labels.push_back(std::to_string(n));
+    parameter.numbers.push_back(n);
+    sweep.cases.push_back(std::move(c));
+  }
+  sweep.parameters.push_back(std::move(parameter));
+  return sweep;
+}
+
+int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
+                    const SweepOptions& sweep_options) {
+  const std::string text = read_text(case_file);
+  if (text.empty() && !fs::exists(case_file))
+    throw InputError(
+        fmt::format("{}: cannot open the case file (does it exist?)", case_file.string()));
+  const io::Sweep sweep = mesh_levels(text, case_file.string(), options);
+  if (!sweep_options.quiet && !(sweep.cases.front().config.time.steady_tolerance > 0.0))
+    fmt::print("softflow converge: time.steady_tolerance = 0, so each level's values are those at "
+               "time.end = {:g}: make sure the runs are steady by then\n",
+               sweep.cases.front().config.time.end);
+  const int code = run_cases(sweep, text, case_file.string(), sweep_options);
+
+  const fs::path directory = sweep.directory;
+  std::vector<LevelResult> levels;
+  for (const auto& c : sweep.cases) levels.push_back(read_level(c, directory));
+  std::size_t n_objects = 0;
+  bool complete = true;
+  for (const auto& l : levels) {
+    complete = complete && l.status == "completed" && !l.deformation.empty();
+    n_objects = std::max(n_objects, l.deformation.size());
+  }
+
+  std::string csv = "level,equator_nodes,far_size,growth,status,unknowns,steps,t,steady,object,D,theta_deg,wall_seconds\n";
+  std::string md = fmt::format(
+      "# Mesh convergence of {}\n\n{} meshes, each element size refined by {:g} from one level "
+      "to the next (equator nodes; far size and growth scaled with them). Written by `softflow "
+      "converge`; the runs are in the subdirectories, sweep.md lists them.\n\n"
+      "| level | equator nodes | far size | growth | unknowns | steps | t | steady | object | D | "
+      "theta [deg] | wall [s] | status |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+      sweep.name, levels.size(), options.factor);
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    const auto& l = levels[k];
+    for (std::size_t o = 0; o < std::max<std::size_t>(1, l.deformation.size()); ++o) {
+      const bool has = o < l.deformation.size();
+      const std::string d = has ? number(l.deformation[o], 8) : "";
+      const std::string t = has ? number(l.theta_deg[o], 8) : "";
+      const std::string status = l.status.empty() ? "not run" : l.status;
+      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, l.equator_nodes,
+                         number(l.far_size), number(l.growth), status, l.unknowns, l.steps,
+                         number(l.time), l.steady, has ? std::to_string(o + 1) : "", d, t,
+                         number(l.wall_seconds, 4));
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                        k + 1, l.equator_nodes, number(l.far_size, 4), number(l.growth, 4),
+                        l.unknowns, l.steps, number(l.time, 4), l.steady,
+                        has ? std::to_string(o + 1) : "", d, t, number(l.wall_seconds, 3), status);
+    }
+  }
+
+  nlohmann::json extrapolation = nlohmann::json::array();
+  if (complete) {
+    std::vector<double> h;
+    for (const auto& l : levels) h.push_back(1.0 / l.equator_nodes);
+    md += "\n## Richardson extrapolation (h = 1 / equator nodes)\n\n"
+          "Observed order p of each consecutive triple of levels (coarsest first; \"—\": the "
+          "differences oscillate or grow, the levels are not in the asymptotic range), the "
+          "extrapolated value from the finest three, and the error estimate of the finest level "
+          "(|q_finest − q_extrapolated|; without an order, the larger of the two last "
+          "differences). `asymptotic`: whether the orders of the two finest triples agree within "
+          "25 % (\"yes\"), which is what makes the extrapolation trustworthy; \"unknown\" with "
+          "three levels (one order only).\n\n| object | quantity | orders | asymptotic | "
+          "extrapolated | finest | error of finest |\n|---|---|---|---|---|---|---|\n";
+    for (std::size_t o = 0; o < n_objects; ++o) {
+      for (const bool is_d : {true, false}) {
+        std::vector<double> q;
+        for (const auto& l : levels) q.push_back(is_d ? l.deformation.at(o) : l.theta_deg.at(o));
+        const auto triples = analysis::richardson_triples(h, q);
+        std::string orders;
+        nlohmann::json order_list = nlohmann::json::array();
+        for (const auto& t : triples) {
+          orders += (orders.empty() ? "" : ", ") + optional_number(t.order, 3);
+          order_list.push_back(t.order ? nlohmann::json(*t.order) : nlohmann::json());
+        }
+        const auto& finest = triples.back();
+        const char* name = is_d ? "D" : "theta_deg";
+        const std::string asymptotic = asymptotic_verdict(triples);
+        md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", o + 1,
+                          is_d ? "D" : "theta [deg]", orders, asymptotic,
+                          optional_number(finest.extrapolated, 7), number(q.back(), 7),
+                          number(finest.error_of_finest, 2));
+        extrapolation.push_back(
+            {{"object", o + 1},
+             {"quantity", name},
+             {"orders", order_list},
+             {"asymptotic", asymptotic},
+             {"extrapolated",
+              finest.extrapolated ? nlohmann::json(*finest.extrapolated) : nlohmann::json()},
+             {"finest", q.back()},
+             {"error_of_finest", finest.error_of_finest}});
+      }
+    }
+  } else {
+    md += "\nNo extrapolation: not every level has completed (run `softflow converge` again to "
+          "resume).\n";
+  }
+  io::write_text_file_atomically(directory / "converge.csv", csv);
+  io::write_text_file_atomically(directory / "converge.md", md);
+  io::write_text_file_atomically(directory / "converge.json",
+                                 nlohmann::json{{"factor", options.factor},
+                                                {"extrapolation", extrapolation}}
+                                         .dump(2) +
+                                     "\n");
+  const fs::path script = fs::path(SOFTFLOW_SOURCE_DIR) / "scripts" / "plot_converge.py";
+  if (fs::exists(script)) {
+    const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",
+                                            script.string(), directory.string());
+    if (std::system(command.c_str()) != 0 && !sweep_options.quiet)
+      fmt::print(stderr, "softflow: warning: could not draw converge.png (needs python3-matplotlib)\n");
+  }
+  if (!sweep_options.quiet) {
+    fmt::print("{}", md.substr(md.find("| level")));
+    fmt::print("wrote {}/converge.md, converge.csv, converge.png\n", directory.string());
+  }
+  return code;
+}
+
+}  // namespace softflow::simulation

@@ -1,0 +1,42 @@
+// `softflow converge`: one case on a sequence of meshes refined as a whole,
+// and the Richardson-extrapolated steady D and theta with their error.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "softflow/io/sweep_case.hpp"
+#include "softflow/simulation/sweep.hpp"
+
+namespace softflow::simulation {
+
+struct ConvergeOptions {
+  int levels = 4;        ///< meshes, at least 3 (an order needs three), at most 8
+  double factor = 1.25;  ///< refinement ratio between consecutive levels, in (1, 2]
+};
+
+/// The case of `toml_text` on `levels` meshes: level k has
+/// N_k = round(N_0 factor^k) equator nodes (N_0 the case's; one more if the
+/// rounding repeats a count) and far_size and growth scaled by N_0 / N_k, so
+/// that every element size of the mesh shrinks by the same ratio: a study
+/// that refines only the interface cannot show an order (the far field's
+/// error stays). One sweep parameter, mesh.equator_nodes; labels "N<N_k>";
+/// run directories <output.directory>/N<N_k>. Throws InputError for a case
+/// file with lists, a run without time (time.end = 0), or options out of range.
+io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_name,
+                      const ConvergeOptions& options);
+
+/// Runs the levels (as `softflow sweep` runs cases: resumable, N at a time,
+/// sweep.md/csv of the runs), then writes in the output directory
+///   converge.md, converge.csv   per level and object: N, far size, growth,
+///                               unknowns, steps, t, steady, D, theta; per
+///                               object and quantity the observed order of
+///                               each consecutive triple of levels, the
+///                               extrapolated value from the finest three and
+///                               the error estimate of the finest level
+///   converge.png                D and theta against N with the extrapolation
+/// Returns the sweep's exit code (0 when every level completed).
+int run_convergence(const std::filesystem::path& case_file, const ConvergeOptions& options,
+                    const SweepOptions& sweep_options);
+
+}  // namespace softflow::simulation
