@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""Fuzzing `softflow check` with generated case files (issue 11).
+
+Usage: fuzz_check.py SOFTFLOW WORK_DIR [COUNT] [SEED]
+
+From a valid case that sets a key of every table, COUNT files (default 300,
+seed 1: the same files every time) each get one to three random mutations:
+a key deleted, a value replaced by one of another type or an extreme one
+(0, -1, 2^63, 1e308, 1e-320, nan, inf, "", control characters, 10,000
+characters, arrays, inline tables, nesting), an unknown key or table, a
+duplicated key, the text cut short, random bytes inserted. `softflow check`
+must, for each: end within 20 s, by itself (no signal), with exit code 0 or
+1, and on 1 print a message naming the file and a key (table.key, or
+objects[k].key) or a line (file:N:). The first failures are listed with
+their files kept in WORK_DIR.
+"""
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+
+BASE = {
+    "case": {"name": '"fuzz"'},
+    "cell": {"length": "20.0", "height": "16.0", "width": "20.0", "periodic_x": "true"},
+    "matrix": {"viscosity": "1.0"},
+    "flow": {"type": '"steady"', "shear_rate": "1.0"},
+    "mesh": {"equator_nodes": "20", "far_size": "4.0", "growth": "0.4"},
+    "solver": {"type": '"direct"', "rtol": "1e-8"},
+    "time": {"step": "0.05", "end": "1.0", "min_quality": "0.02", "steady_tolerance": "0"},
+    "interface": {"redistribution_factor": "10.0", "semi_implicit_tension": "true"},
+    "checkpoint": {"interval_steps": "0"},
+    "output": {"fields": "false"},
+}
+OBJECTS = [
+    {"shape": '"sphere"', "centre": "[-3.0, 0.0, 0.0]", "radius": "1.0", "viscosity_ratio": "1.0",
+     "capillary_number": "0.1"},
+    {"shape": '"ellipsoid"', "centre": "[3.0, 0.5, 0.0]", "semi_axes": "[1.2, 0.9, 0.8]",
+     "model": '"oldroyd_b"', "solvent_viscosity": "0.5", "polymer_viscosity": "0.5",
+     "relaxation_time": "0.1", "capillary_number": "0.05"},
+]
+EXTREMES = ["0", "-1", "9223372036854775808", "-9223372036854775809", "1e308", "1e400", "1e-320",
+            "nan", "inf", "-inf", "0.0", "-0.0", '""', '"\\u0007"', '"\\n"', "true", "false",
+            "[]", "[1, 2, 3]", '["a", 1]', "[[1.0, 2.0, 3.0], [1.0]]", "{}", "{ a = 1 }",
+            "1979-05-27T07:32:00Z", "0x10", "1_000", '"sphere"', '"ucm"', '"neo_hookean"', "3.5",
+            "[1.0, 2.0, 3.0]", "[0.5, 0.5]"]
+
+
+def random_value(rng):
+    kind = rng.randrange(6)
+    if kind == 0:
+        return rng.choice(EXTREMES)
+    if kind == 1:
+        return repr(rng.uniform(-100, 100))
+    if kind == 2:
+        return str(rng.randrange(-5, 200))
+    if kind == 3:
+        depth = rng.randrange(1, 120)
+        return "[" * depth + "1" + "]" * depth
+    if kind == 4:
+        return '"' + "".join(rng.choice("abcxyz _-./") for _ in range(rng.choice([1, 10, 10000]))) + '"'
+    return "[" + ", ".join(repr(rng.uniform(0, 2)) for _ in range(rng.randrange(1, 6))) + "]"
+
+
+def render(tables, objects, extra_lines):
+    lines = []
+    for name, keys in tables.items():
+        lines.append(f"[{name}]")
+        lines += [f"{k} = {v}" for k, v in keys.items()]
+    for o in objects:
+        lines.append("[[objects]]")
+        lines += [f"{k} = {v}" for k, v in o.items()]
+    lines += extra_lines
+    return "\n".join(lines) + "\n"
+
+
+def mutate(rng):
+    tables = {k: dict(v) for k, v in BASE.items()}
+    objects = [dict(o) for o in OBJECTS[:rng.randrange(0, 3)]]
+    extra = []
+    text_mutations = []
+    for _ in range(rng.randrange(1, 4)):
+        op = rng.randrange(9)
+        pool = list(tables.values()) + objects
+        target = rng.choice(pool)
+        if op in (0, 1, 2) and target:  # a value of another type or an extreme one
+            target[rng.choice(list(target))] = random_value(rng)
+        elif op == 3 and target:  # a key deleted
+            del target[rng.choice(list(target))]
+        elif op == 4:  # an unknown key
+            target["".join(rng.choice("abcdefghij_") for _ in range(rng.randrange(1, 12)))] = random_value(rng)
+        elif op == 5:  # an unknown or repeated table
+            extra += [f"[{rng.choice(['mesh', 'cells', 'objects', 'x.y', 'time'])}]", "a = 1"]
+        elif op == 6 and target:  # a key given twice
+            key = rng.choice(list(target))
+            extra_key = (key, target[key])
+            target[key + " = 1\n" + key] = extra_key[1]
+        else:
+            text_mutations.append(rng.randrange(3))
+    text = render(tables, objects, extra).encode()
+    for m in text_mutations:
+        if m == 0 and len(text) > 2:  # cut short
+            text = text[:rng.randrange(1, len(text))]
+        elif m == 1:  # random bytes
+            at = rng.randrange(len(text) + 1)
+            text = text[:at] + bytes(rng.randrange(256) for _ in range(rng.randrange(1, 8))) + text[at:]
+        else:  # a line duplicated elsewhere
+            lines = text.split(b"\n")
+            lines.insert(rng.randrange(len(lines) + 1), rng.choice(lines))
+            text = b"\n".join(lines)
+    return text
+
+
+NAMED = re.compile(r"([a-z_]+(\[\d+\])?\.[a-z_0-9]+|:\d+:|unknown key|unknown table|objects\[\d+\]"
+                   r"|\.toml: [a-z_]+ = )")
+
+
+def main(softflow, work, count=300, seed=1):
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    rng = random.Random(seed)
+    failures, codes = [], {}
+    for i in range(count):
+        path = os.path.join(work, f"fuzz_{i}.toml")
+        with open(path, "wb") as f:
+            f.write(mutate(rng))
+        try:
+            r = subprocess.run([softflow, "check", path], capture_output=True, timeout=20)
+        except subprocess.TimeoutExpired:
+            failures.append(f"{path}: no answer within 20 s")
+            continue
+        codes[r.returncode] = codes.get(r.returncode, 0) + 1
+        err = r.stderr.decode(errors="replace")
+        if r.returncode < 0:
+            failures.append(f"{path}: killed by signal {-r.returncode}")
+        elif r.returncode not in (0, 1):
+            failures.append(f"{path}: exit code {r.returncode}: {err[:300]}")
+        elif r.returncode == 1 and (f"fuzz_{i}.toml" not in err or not NAMED.search(err)):
+            failures.append(f"{path}: the message names no key or line: {err[:300]}")
+        else:
+            os.remove(path)
+    print(f"{count} files (seed {seed}): exit codes {dict(sorted(codes.items()))}")
+    if failures:
+        print(f"FAIL: {len(failures)} files")
+        for line in failures[:15]:
+            print("  " + line)
+        sys.exit(1)
+    print("PASS")
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    main(args[0], args[1], *(int(a) for a in args[2:4]))
