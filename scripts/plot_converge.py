@@ -19,7 +19,7 @@ def main(directory):
         rows = [r for r in csv.DictReader(f) if r["object"] == "1" and r["D"]]
     with open(os.path.join(directory, "converge.json")) as f:
         extrapolated = {e["quantity"]: e for e in json.load(f)["extrapolation"] if e["object"] == 1}
-    n = [int(r["equator_nodes"]) for r in rows]
+    n = [int(r["meshed_equator_nodes"]) for r in rows]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for ax, key, label in zip(axes, ("D", "theta_deg"), ("D", "theta [deg]")):
         ax.plot(n, [float(r[key]) for r in rows], "o-", label="softflow")
@@ -28,7 +28,7 @@ def main(directory):
             orders = ", ".join("—" if p is None else f"{p:.2f}" for p in e["orders"])
             ax.axhline(e["extrapolated"], ls="--", color="grey",
                        label=f"extrapolated {e['extrapolated']:.6g} (orders {orders})")
-        ax.set_xlabel("equator nodes N (whole mesh refined)")
+        ax.set_xlabel("meshed equator nodes N (whole mesh refined)")
         ax.set_ylabel(label)
         ax.legend(fontsize=8)
     fig.tight_layout()

@@ -10,7 +10,8 @@ equator nodes:
    converge.csv holds each run's own final D and theta (summary.json).
 2. The order and extrapolated value in converge.json are recomputed here
    from those values (bisection for p in (D2 - D1)/(D3 - D2) =
-   (h1^p - h2^p)/(h2^p - h3^p), h = 1/N) and must agree.
+   (h1^p - h2^p)/(h2^p - h3^p), h = 1 / the equator nodes the mesh report of
+   each run gives) and must agree.
 3. Running it again skips the finished levels; bad options and cases are
    refused with exit code 1 and a message naming them.
 """
@@ -91,7 +92,11 @@ def main(softflow, case_source, work):
     # 2. The extrapolation, recomputed.
     with open(os.path.join(out, "converge.json")) as f:
         extrapolation = {e["quantity"]: e for e in json.load(f)["extrapolation"]}
-    h = [1.0 / int(r["equator_nodes"]) for r in rows]
+    h = [1.0 / int(r["meshed_equator_nodes"]) for r in rows]
+    for r in rows:
+        with open(os.path.join(out, f"N{r['equator_nodes']}", "summary.json")) as f:
+            if int(r["meshed_equator_nodes"]) != json.load(f)["mesh"]["equator_nodes"]:
+                fail(f"N{r['equator_nodes']}: meshed equator nodes differ from the run's mesh report")
     for key in ("D", "theta_deg"):
         q = [float(r[key]) for r in rows]
         p, limit = order(h, q)

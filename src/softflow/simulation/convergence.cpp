@@ -28,7 +28,11 @@ std::string read_text(const fs::path& path) {
 
 /// One level's result for one object, from its summary.json.
 struct LevelResult {
-  int equator_nodes = 0;
+  int equator_nodes = 0;  ///< asked for (mesh.equator_nodes)
+  /// What the mesher made (summary.json's mesh report), which is what sets
+  /// the element size: gmsh rounds the equator's division (21 for 20, 41
+  /// for 39), unevenly from level to level. 0 until the level has run.
+  int meshed_equator_nodes = 0;
   double far_size = 0.0, growth = 0.0;
   std::string status;  ///< "" when the level has no summary
   long unknowns = 0;
@@ -60,6 +64,8 @@ LevelResult read_level(const io::SweepCase& c, const fs::path& directory) {
     return r;
   }
   r.status = s.value("status", "");
+  if (s.contains("mesh") && s["mesh"].is_object())
+    r.meshed_equator_nodes = s["mesh"].value("equator_nodes", 0);
   r.unknowns = s.value("unknowns", 0L);
   r.steps = s.value("steps", 0);
   r.time = s.value("time", 0.0);
@@ -161,17 +167,19 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
   std::size_t n_objects = 0;
   bool complete = true;
   for (const auto& l : levels) {
-    complete = complete && l.status == "completed" && !l.deformation.empty();
+    complete = complete && l.status == "completed" && !l.deformation.empty() &&
+               l.meshed_equator_nodes > 0;
     n_objects = std::max(n_objects, l.deformation.size());
   }
 
-  std::string csv = "level,equator_nodes,far_size,growth,status,unknowns,steps,t,steady,object,D,theta_deg,wall_seconds\n";
+  std::string csv = "level,equator_nodes,meshed_equator_nodes,far_size,growth,status,unknowns,steps,t,steady,object,D,theta_deg,wall_seconds\n";
   std::string md = fmt::format(
       "# Mesh convergence of {}\n\n{} meshes, each element size refined by {:g} from one level "
       "to the next (equator nodes; far size and growth scaled with them). Written by `softflow "
       "converge`; the runs are in the subdirectories, sweep.md lists them.\n\n"
-      "| level | equator nodes | far size | growth | unknowns | steps | t | steady | object | D | "
-      "theta [deg] | wall [s] | status |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+      "| level | equator nodes (asked / meshed) | far size | growth | unknowns | steps | t | steady | "
+      "object | D | theta [deg] | wall [s] | status |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
       sweep.name, levels.size(), options.factor);
   for (std::size_t k = 0; k < levels.size(); ++k) {
     const auto& l = levels[k];
@@ -180,22 +188,28 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
       const std::string d = has ? number(l.deformation[o], 8) : "";
       const std::string t = has ? number(l.theta_deg[o], 8) : "";
       const std::string status = l.status.empty() ? "not run" : l.status;
-      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, l.equator_nodes,
-                         number(l.far_size), number(l.growth), status, l.unknowns, l.steps,
+      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, l.equator_nodes,
+                         l.meshed_equator_nodes, number(l.far_size), number(l.growth), status, l.unknowns, l.steps,
                          number(l.time), l.steady, has ? std::to_string(o + 1) : "", d, t,
                          number(l.wall_seconds, 4));
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-                        k + 1, l.equator_nodes, number(l.far_size, 4), number(l.growth, 4),
+      md += fmt::format("| {} | {} / {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                        k + 1, l.equator_nodes, l.meshed_equator_nodes, number(l.far_size, 4), number(l.growth, 4),
                         l.unknowns, l.steps, number(l.time, 4), l.steady,
                         has ? std::to_string(o + 1) : "", d, t, number(l.wall_seconds, 3), status);
     }
   }
 
   nlohmann::json extrapolation = nlohmann::json::array();
-  if (complete) {
+  bool distinct = true;
+  for (std::size_t k = 1; k < levels.size(); ++k)
+    distinct = distinct && levels[k].meshed_equator_nodes > levels[k - 1].meshed_equator_nodes;
+  if (complete && !distinct)
+    md += "\nNo extrapolation: two levels were meshed with the same number of equator nodes "
+          "(see the table); a larger --factor separates them.\n";
+  if (complete && distinct) {
     std::vector<double> h;
-    for (const auto& l : levels) h.push_back(1.0 / l.equator_nodes);
-    md += "\n## Richardson extrapolation (h = 1 / equator nodes)\n\n"
+    for (const auto& l : levels) h.push_back(1.0 / l.meshed_equator_nodes);
+    md += "\n## Richardson extrapolation (h = 1 / meshed equator nodes)\n\n"
           "Observed order p of each consecutive triple of levels (coarsest first; \"—\": the "
           "differences oscillate or grow, the levels are not in the asymptotic range), the "
           "extrapolated value from the finest three, and the error estimate of the finest level "
@@ -233,7 +247,7 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
              {"error_of_finest", finest.error_of_finest}});
       }
     }
-  } else {
+  } else if (!complete) {
     md += "\nNo extrapolation: not every level has completed (run `softflow converge` again to "
           "resume).\n";
   }
