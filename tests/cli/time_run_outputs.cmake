@@ -32,6 +32,14 @@ foreach(column t D theta_deg L B W xc yc zc uc vc wc volume area ellipsoid_dev m
     message(FATAL_ERROR "timeseries.csv lacks column ${column}: ${header}")
   endif()
 endforeach()
+# The undeformed sphere at t = 0 has no orientation: theta_deg is nan there,
+# a number at every later step.
+list(GET lines 1 first_row)
+list(GET lines 2 second_row)
+if(NOT header MATCHES "^step,t,object,D,theta_deg," OR NOT first_row MATCHES "^0,0,1,[^,]*,nan,"
+   OR second_row MATCHES "^[^,]*,[^,]*,[^,]*,[^,]*,nan,")
+  message(FATAL_ERROR "theta_deg must be nan for the sphere at t = 0 only:\n${first_row}\n${second_row}")
+endif()
 list(LENGTH lines n_lines)
 if(NOT n_lines EQUAL 12)  # header, t = 0, 10 steps
   message(FATAL_ERROR "timeseries.csv has ${n_lines} lines, expected 12")

@@ -4,6 +4,7 @@ Usage: compare_timeseries.py RESULT.csv REFERENCE.csv
 Every physical column must match to a mixed tolerance |a - b| <= atol + rtol |b|;
 timing and iteration columns are not compared. Prints the worst difference per column."""
 import csv
+import math
 import sys
 
 TOLERANCES = {  # column: (atol, rtol)
@@ -30,6 +31,12 @@ def main(result_path, reference_path):
         worst = 0.0
         for r, ref in zip(result, reference):
             a, b = float(r[column]), float(ref[column])
+            if math.isnan(a) or math.isnan(b):  # undefined (theta of a sphere): both or neither
+                if math.isnan(a) != math.isnan(b):
+                    failed = True
+                    print(f"{column}: step {r['step']}: {a!r} vs reference {b!r}")
+                    break
+                continue
             excess = abs(a - b) - (atol + rtol * abs(b))
             worst = max(worst, abs(a - b))
             if excess > 0:

@@ -774,6 +774,8 @@ fields_interval = 0
 min_quality = 0.02
 max_volume_drift = 0.01
 ale_rebuild_quality = 0.2
+steady_tolerance = 0.0
+steady_window = 5.0
 
 [checkpoint]
 interval_steps = 0

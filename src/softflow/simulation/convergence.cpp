@@ -1,5 +1,6 @@
 #include "softflow/simulation/convergence.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -72,9 +73,12 @@ LevelResult read_level(const io::SweepCase& c, const fs::path& directory) {
   r.wall_seconds = s.value("wall_seconds", 0.0);
   if (s.contains("steady") && s["steady"].is_object())
     r.steady = s["steady"].value("reached", false) ? "yes" : "no";
+  const auto number_or_nan = [](const nlohmann::json& o, const char* key) {
+    return o.contains(key) && o[key].is_number() ? o[key].get<double>() : NAN;  // null: undefined
+  };
   for (const auto& o : s.value("final", nlohmann::json::array())) {
-    r.deformation.push_back(o.value("D", NAN));
-    r.theta_deg.push_back(o.value("theta_deg", NAN));
+    r.deformation.push_back(number_or_nan(o, "D"));
+    r.theta_deg.push_back(number_or_nan(o, "theta_deg"));
   }
   return r;
 }
@@ -222,6 +226,11 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
       for (const bool is_d : {true, false}) {
         std::vector<double> q;
         for (const auto& l : levels) q.push_back(is_d ? l.deformation.at(o) : l.theta_deg.at(o));
+        if (!std::all_of(q.begin(), q.end(), [](double x) { return std::isfinite(x); })) {
+          md += fmt::format("| {} | {} | undefined on some level (a sphere has no angle) | | | | |\n",
+                            o + 1, is_d ? "D" : "theta [deg]");
+          continue;
+        }
         const auto triples = analysis::richardson_triples(h, q);
         std::string orders;
         nlohmann::json order_list = nlohmann::json::array();

@@ -177,7 +177,9 @@ std::vector<analysis::ObjectSample> steady_sample(const StepReport& r,
   for (const auto& o : r.objects) {
     Eigen::Vector3d relative = o.centre_velocity;
     relative.x() -= walls.shear_rate(r.time) * o.centre.y();
-    out.push_back({o.deformation, o.theta_deg * std::numbers::pi / 180.0, relative});
+    // An undefined orientation (a sphere) adds nothing to the shape vector.
+    const double theta = std::isnan(o.theta_deg) ? 0.0 : o.theta_deg * std::numbers::pi / 180.0;
+    out.push_back({o.deformation, theta, relative});
   }
   return out;
 }

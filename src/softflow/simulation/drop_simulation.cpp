@@ -1,6 +1,7 @@
 #include "softflow/simulation/drop_simulation.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -441,7 +442,11 @@ ObjectState DropSimulation::measure(int k, const Vec3& centre_velocity) const {
   s.centre_velocity = centre_velocity;
   const auto fit = analysis::fit_ellipsoid(x);
   s.deformation = fit.deformation;
-  s.theta_deg = fit.theta_deg;
+  // An undeformed sphere has no long axis: its fitted angle is whatever the
+  // round-off picks (0 or 90 deg at t = 0), which would distort averages
+  // and plots. NaN says "undefined" ("nan" in CSV, null in JSON).
+  s.theta_deg = fit.deformation < kOrientationUndefinedBelow ? std::numeric_limits<double>::quiet_NaN()
+                                                             : fit.theta_deg;
   s.L = fit.L;
   s.B = fit.B;
   s.W = fit.W;

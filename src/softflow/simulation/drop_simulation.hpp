@@ -29,6 +29,10 @@ class AleMeshMotion;
 
 namespace softflow::simulation {
 
+/// Below this D an object is a sphere to round-off and its orientation is
+/// undefined: ObjectState::theta_deg is NaN.
+inline constexpr double kOrientationUndefinedBelow = 1e-8;
+
 /// What is recorded for one object at one time.
 struct ObjectState {
   int object = 0;

@@ -166,7 +166,7 @@ std::vector<Row> collect(const io::Sweep& sweep, const fs::path& directory) {
       row.numbers["t"] = summary.value("time", 0.0);
       row.numbers["wall_seconds"] = summary.value("wall_seconds", 0.0);
       for (const char* k : {"D", "theta_deg", "L", "B", "W", "volume_drift"})
-        if (o.contains(k)) row.numbers[k] = o[k];
+        if (o.contains(k) && o[k].is_number()) row.numbers[k] = o[k];  // null: undefined
       for (const auto& t : summary.value("theory", nlohmann::json::array()))
         if (t.value("object", 0) == row.object) {
           row.numbers["taylor_D"] = t.value("taylor_D", 0.0);
