@@ -5,6 +5,11 @@
 #include <set>
 #include <array>
 #include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <iostream>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -813,6 +818,66 @@ int count_equator_nodes(const mesh::Mesh& m, const ObjectSpec& object) {
   return static_cast<int>(std::lround(2.0 * 2.0 * M_PI * object.semi_axes.minCoeff() / mean_edge));
 }
 
+/// What to change when gmsh fails to mesh the cell: its volume mesher fails
+/// for some surface meshes and not for their neighbours, and the curved-
+/// element optimiser for some geometries, so the keys that change either.
+std::string meshing_advice(const MeshSizing& sizing) {
+  return fmt::format(
+      "What usually helps: another mesh.equator_nodes (now {}; elongated or thin objects need "
+      "more), a smaller mesh.far_size "
+      "(now {:g}) or mesh.growth (now {:g}), or, when the curved-element optimiser is what "
+      "failed, mesh.optimize_high_order = false",
+      sizing.equator_nodes, sizing.far_size, sizing.growth);
+}
+
+/// gmsh gives no progress while it meshes, and its curved-element optimiser
+/// can take many minutes (50 objects: more than 10); after `seconds` a note
+/// on stderr says what is happening and which keys change it.
+/// SOFTFLOW_SLOW_MESHING_NOTE_SECONDS overrides the delay (tests).
+double slow_meshing_note_seconds() {
+  if (const char* text = std::getenv("SOFTFLOW_SLOW_MESHING_NOTE_SECONDS")) {
+    char* end = nullptr;
+    const double seconds = std::strtod(text, &end);
+    if (end != text && seconds > 0.0) return seconds;
+  }
+  return 60.0;
+}
+
+class SlowStageNote {
+ public:
+  SlowStageNote(std::string stage, double seconds, const MeshSizing& sizing)
+      : thread_([this, stage = std::move(stage), seconds, sizing] {
+          std::unique_lock lock(mutex_);
+          if (done_changed_.wait_for(lock, std::chrono::duration<double>(seconds),
+                                     [this] { return done_; }))
+            return;
+          std::cerr << fmt::format(
+                           "softflow: note: gmsh has been {} for {:.0f} s (for many objects, or "
+                           "objects near walls, its curved-element optimiser can take many "
+                           "minutes). It may still succeed; to make it faster, stop it and try "
+                           "mesh.optimize_high_order = false, a larger mesh.equator_nodes (now "
+                           "{}) or a smaller mesh.growth (now {:g})",
+                           stage, seconds, sizing.equator_nodes, sizing.growth)
+                    << std::endl;
+        }) {}
+  ~SlowStageNote() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    done_changed_.notify_all();
+    thread_.join();
+  }
+  SlowStageNote(const SlowStageNote&) = delete;
+  SlowStageNote& operator=(const SlowStageNote&) = delete;
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable done_changed_;
+  bool done_ = false;
+  std::thread thread_;  // last: starts once the members it uses exist
+};
+
 MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double min_quality, double seconds) {
   MeshReport r;
   r.n_nodes = m.n_nodes();
@@ -841,7 +906,12 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
       set_periodicity(spec.box, entities);
       set_size_and_order(spec);
     });
-    session.run("meshing", [] { gmsh::model::mesh::generate(3); });
+    try {
+      const SlowStageNote note("meshing", slow_meshing_note_seconds(), spec.sizing);
+      session.run("meshing", [] { gmsh::model::mesh::generate(3); });
+    } catch (const MeshError& e) {
+      throw MeshError(fmt::format("{}. {}", e.what(), meshing_advice(spec.sizing)));
+    }
     session.run("reading the mesh", [&] { m = read_mesh(spec, entities); });
   }
   mesh::renumber_nodes_spatially(m);  // compact per-rank node ranges, local element loops
