@@ -10,7 +10,8 @@ is proportional to Ca p = eta_p Wi: the same at every Ca on a line of fixed
 Wi, where the Ca -> 0 end is the theory's range. Every elastic run has a
 Newtonian twin (eta_m = 1) on the same mesh with the same step, and the shift
 of theta between them is what is compared. Three studies:
-  - Wi = 0.02, 0.04, 0.08 at Ca = 0.1 (the shift should be linear in Wi);
+  - Wi = 0.01, 0.02, 0.04, 0.08 at Ca = 0.1 (the shift should be linear in
+    Wi, through zero);
   - Ca = 0.025, 0.05, 0.1 at Wi = 0.04 (the shift should not depend on Ca);
   - 28 and 40 equator nodes (far size and growth refined with them) at
     Ca = 0.1, Wi = 0.04.
@@ -36,7 +37,7 @@ OUT = os.path.join(ROOT, "docs", "validation")
 LAMBDA, ETA_P, T_END = 1.0, 0.5, 6.0
 # (Ca, Wi, equator nodes, far size): the elastic runs.
 RUNS = [(0.1, 0.04, 28, 4.0), (0.1, 0.02, 28, 4.0), (0.1, 0.08, 28, 4.0),
-        (0.05, 0.04, 28, 4.0), (0.025, 0.04, 28, 4.0), (0.1, 0.04, 40, 2.8)]
+        (0.05, 0.04, 28, 4.0), (0.025, 0.04, 28, 4.0), (0.1, 0.04, 40, 2.8), (0.1, 0.01, 28, 4.0)]
 
 
 def dt_for(wi):
