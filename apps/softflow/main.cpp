@@ -211,6 +211,18 @@ softflow::io::CaseConfig read_case(const std::filesystem::path& path) {
   }
 }
 
+/// The case file, every key checked, then its geometry (overlaps, walls);
+/// geometry errors name the file as key errors do.
+softflow::io::CaseConfig read_valid_case(const std::filesystem::path& path) {
+  const auto config = read_case(path);
+  try {
+    softflow::geometry::validate(config.shear_cell_spec());
+  } catch (const softflow::InputError& e) {
+    throw softflow::InputError(fmt::format("{}: {}", path.string(), e.what()));
+  }
+  return config;
+}
+
 int report(const char* kind, const std::exception& e, int code) {
   if (is_root()) std::cerr << "softflow: " << kind << e.what() << "\n";
   return code;
@@ -444,12 +456,7 @@ int main(int argc, char** argv) {
   // would take most of its time (~1 s of 1.2 s).
   if (*check && petsc.size() == 1) {
     try {
-      const auto config = read_case(case_file);
-      try {
-        softflow::geometry::validate(config.shear_cell_spec());
-      } catch (const softflow::InputError& e) {
-        throw softflow::InputError(fmt::format("{}: {}", case_file, e.what()));
-      }
+      const auto config = read_valid_case(case_file);
       if (config.petsc_options.empty()) {
         if (launcher_rank_zero()) std::cout << softflow::io::to_toml(config);
         return kOk;
@@ -475,12 +482,7 @@ int main(int argc, char** argv) {
       // against the checkpoint's own copy before anything else happens).
       const auto case_path =
           *restart ? std::filesystem::path(run_dir) / "case.toml" : std::filesystem::path(case_file);
-      const auto config = read_case(case_path);
-      try {  // geometry errors name the file as key errors do
-        softflow::geometry::validate(config.shear_cell_spec());
-      } catch (const softflow::InputError& e) {
-        throw softflow::InputError(fmt::format("{}: {}", case_path.string(), e.what()));
-      }
+      const auto config = read_valid_case(case_path);
       insert_case_petsc_options(config);
       check_petsc_options(config);
       if (*restart) {

@@ -17,24 +17,14 @@ equator nodes:
 """
 import csv
 import json
-import math
 import os
 import shutil
 import subprocess
 import sys
 
-
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
+from cli_support import fail, run
 
 
-def run(args, expect=0):
-    result = subprocess.run(args, capture_output=True, text=True)
-    if result.returncode != expect:
-        fail(f"{' '.join(args)}: exit code {result.returncode}, expected {expect}\n"
-             f"{result.stdout}\n{result.stderr}")
-    return result
 
 
 def order(h, q):

@@ -18,10 +18,8 @@ import subprocess
 import sys
 import time
 
+from cli_support import fail
 
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
 
 
 def main(softflow, work):

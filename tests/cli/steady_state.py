@@ -29,31 +29,16 @@ import subprocess
 import sys
 import time
 
+from cli_support import fail, run, rows, read_json
+
 TOL, WINDOW = 2e-3, 1.0
 INTERRUPTED = 5
 
 
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
-
-
-def run(args, expect=0):
-    result = subprocess.run(args, capture_output=True, text=True)
-    if result.returncode != expect:
-        fail(f"{' '.join(args)}: exit code {result.returncode}, expected {expect}\n"
-             f"{result.stdout}\n{result.stderr}")
-    return result
-
-
-def rows(directory):
-    with open(os.path.join(directory, "timeseries.csv")) as f:
-        return list(csv.DictReader(f))
 
 
 def summary(directory):
-    with open(os.path.join(directory, "summary.json")) as f:
-        return json.load(f)
+    return read_json(directory)
 
 
 def quantities(row):
