@@ -29,6 +29,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -223,6 +225,22 @@ softflow::io::CaseConfig read_valid_case(const std::filesystem::path& path) {
   return config;
 }
 
+/// gmsh's geometry kernel, OpenCASCADE, picks its memory manager from
+/// MMGT_OPT when its library loads, before main. Debian's default (the TBB
+/// allocator) makes the same case mesh differently from run to run: the
+/// same elements, but some node coordinates differing in the last bit
+/// (issue 11 item 4: about 40 of 2,800 nodes, different ones every run;
+/// such a bit can tip a later decision of the mesher and change the mesh's
+/// quality). OpenCASCADE's own manager (MMGT_OPT=1) gives the same mesh in
+/// every process, so softflow restarts itself once with it unless the user
+/// chose a manager. (A second mesh in the same process can still differ in
+/// the last bit; softflow meshes once per process.)
+void use_reproducible_occ_memory_manager(char** argv) {
+  if (std::getenv("MMGT_OPT") != nullptr) return;  // set: the user's choice, or done
+  if (::setenv("MMGT_OPT", "1", 1) != 0) return;
+  ::execv("/proc/self/exe", argv);  // returns only on failure: go on as before
+}
+
 int report(const char* kind, const std::exception& e, int code) {
   if (is_root()) std::cerr << "softflow: " << kind << e.what() << "\n";
   return code;
@@ -231,6 +249,7 @@ int report(const char* kind, const std::exception& e, int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  use_reproducible_occ_memory_manager(argv);
   // Split the command line at "--": ours before, PETSc's after.
   std::vector<char*> ours{argv[0]}, petsc{argv[0]};
   bool after = false;
@@ -467,6 +486,15 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       error_stream() << "softflow: error: " << e.what() << "\n";
       return kOtherError;
+    }
+  }
+
+  // The mesh, before MPI starts: only then is it the same in every run
+  // (simulation::mesh_before_mpi). Problems surface below, after MPI.
+  if ((*run || *mesh) && launcher_rank_zero()) {
+    try {
+      softflow::simulation::mesh_before_mpi(read_valid_case(case_file));
+    } catch (const std::exception&) {
     }
   }
 

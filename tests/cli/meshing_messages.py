@@ -10,6 +10,9 @@ Usage: meshing_messages.py SOFTFLOW WORK_DIR
 2. A prolate ellipsoid (3, 1, 1) in a 60 x 30 x 30 cell, which gmsh fails to
    mesh, ends fast (exit 2) with gmsh's error followed by the keys to
    change, not gmsh's error alone.
+3. Meshing is reproducible from one process to the next: an ellipsoid and
+   a sphere meshed three times, with OMP_NUM_THREADS 1, 4 and unset, give the
+   same mesh fingerprint (a hash of every coordinate's bits and every element).
 """
 import os
 import random
@@ -72,6 +75,28 @@ def main(softflow, work):
             if words not in r.stderr:
                 fail(f"the message does not say '{words}': {r.stderr}")
         print(f"failure in {time.time() - start:.1f} s: {r.stderr.strip()[:120]}...")
+
+    # 3. The same mesh in every process.
+    case = os.path.join(work, "two.toml")
+    with open(case, "w") as f:
+        f.write('[[objects]]\nshape = "ellipsoid"\ncentre = [-1.5, 0.2, 0.0]\nsemi_axes = [1.2, 0.9, 0.8]\n'
+                'rotation_deg = [10.0, 20.0, 30.0]\ncapillary_number = 0.1\n[[objects]]\n'
+                'centre = [2.0, -0.5, 0.3]\nradius = 0.7\ncapillary_number = 0.1\n'
+                '[cell]\nlength = 10.0\nheight = 8.0\nwidth = 8.0\n[mesh]\nequator_nodes = 16\n'
+                'far_size = 2.0\n')
+    prints = []
+    for threads in ("1", "4", None):
+        env = dict(os.environ)
+        env.pop("OMP_NUM_THREADS", None)
+        if threads:
+            env["OMP_NUM_THREADS"] = threads
+        r = subprocess.run([softflow, "mesh", case], capture_output=True, text=True, env=env, timeout=120)
+        if r.returncode != 0 or "fingerprint " not in r.stdout:
+            fail(f"softflow mesh: exit {r.returncode}, no fingerprint: {r.stdout}{r.stderr}")
+        prints.append(r.stdout.split("fingerprint ")[1].split()[0])
+    if len(set(prints)) != 1:
+        fail(f"the same case meshed to different meshes: fingerprints {prints}")
+    print(f"three processes, one mesh: fingerprint {prints[0]}")
     print("PASS")
 
 

@@ -1,4 +1,5 @@
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/mesh/fingerprint.hpp"
 #include "softflow/mesh/renumber.hpp"
 
 #include <algorithm>
@@ -889,6 +890,7 @@ MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double mi
   r.n_equator_nodes = spec.objects.empty() ? 0 : count_equator_nodes(m, spec.objects[0]);
   r.min_quality = min_quality;
   r.seconds = seconds;
+  r.fingerprint = mesh::fingerprint(m);
   return r;
 }
 

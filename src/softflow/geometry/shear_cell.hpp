@@ -1,6 +1,7 @@
 // Builds the shear cell with suspended objects as a curved P2 mesh (gmsh).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct MeshReport {
   int n_equator_nodes = 0;    ///< effective P2 nodes on the first object's equator: 2 x 2 pi r / mean edge
   double min_quality = 0.0;   ///< mesh::min_quality of the result
   double seconds = 0.0;
+  /// mesh::fingerprint of the result: equal fingerprints, the same mesh to
+  /// the bit (how a user checks that a case meshes reproducibly).
+  std::uint64_t fingerprint = 0;
 };
 
 /// Body orientation of an object: R = Rz * Ry * Rx (rotation_deg, degrees);

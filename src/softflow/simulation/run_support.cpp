@@ -1,5 +1,10 @@
 #include "softflow/simulation/run_support.hpp"
 
+#include <fmt/format.h>
+
+#include <optional>
+#include <string>
+
 #include <mpi.h>
 
 #include "softflow/common/error.hpp"
@@ -44,21 +49,57 @@ void on_root_sharing_failure(const std::function<void()>& work) {
   throw Error(error);
 }
 
+namespace {
+
+/// Meshes `config` in this process (gmsh), with the report.
+MeshedCase mesh_here(const io::CaseConfig& config) {
+  MeshedCase out;
+  geometry::MeshReport r;
+  out.mesh = geometry::build_shear_cell(config.shear_cell_spec(), &r);
+  out.report = {{"nodes", r.n_nodes},
+                {"tetrahedra", r.n_tets},
+                {"interface_nodes", r.n_interface_nodes},
+                // What the case asked for and what the mesher made of it
+                // (2 x 2 pi r / mean edge on the first object's equator).
+                {"equator_nodes", r.n_equator_nodes},
+                {"equator_nodes_requested", config.sizing.equator_nodes},
+                {"min_quality", r.min_quality},
+                {"seconds", r.seconds},
+                {"fingerprint", fmt::format("{:016x}", r.fingerprint)}};
+  return out;
+}
+
+/// The mesh made by mesh_before_mpi, with the case it was made for.
+struct EarlyMesh {
+  std::string case_toml;
+  MeshedCase meshed;
+};
+std::optional<EarlyMesh>& early_mesh() {
+  static std::optional<EarlyMesh> mesh;
+  return mesh;
+}
+
+}  // namespace
+
+void mesh_before_mpi(const io::CaseConfig& config) {
+  try {
+    early_mesh() = EarlyMesh{io::to_toml(config), mesh_here(config)};
+  } catch (const std::exception&) {
+    early_mesh().reset();  // build_mesh meshes again and reports the failure on every rank
+  }
+}
+
 // Step 1: rank 0 meshes (gmsh is serial), every rank receives the mesh.
 MeshedCase build_mesh(const io::CaseConfig& config) {
   MeshedCase out;
   on_root_sharing_failure([&] {
-    geometry::MeshReport r;
-    out.mesh = geometry::build_shear_cell(config.shear_cell_spec(), &r);
-    out.report = {{"nodes", r.n_nodes},
-                  {"tetrahedra", r.n_tets},
-                  {"interface_nodes", r.n_interface_nodes},
-                  // What the case asked for and what the mesher made of it
-                  // (2 x 2 pi r / mean edge on the first object's equator).
-                  {"equator_nodes", r.n_equator_nodes},
-                  {"equator_nodes_requested", config.sizing.equator_nodes},
-                  {"min_quality", r.min_quality},
-                  {"seconds", r.seconds}};
+    auto& early = early_mesh();
+    if (early && early->case_toml == io::to_toml(config)) {
+      out = std::move(early->meshed);
+      early.reset();
+    } else {
+      out = mesh_here(config);
+    }
   });
   parallel::broadcast_mesh(out.mesh, MPI_COMM_WORLD);
   return out;
