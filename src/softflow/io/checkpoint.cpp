@@ -531,9 +531,41 @@ void remove_stale_temporaries(const fs::path& path) {
   }
 }
 
+namespace {
+
+/// The bytes the checkpoint's arrays take, without HDF5's overhead.
+double payload_bytes(const Checkpoint& c) {
+  const auto& m = c.reference_mesh;
+  double bytes = 24.0 * m.nodes.size() + 1.0 * m.is_vertex.size() + 44.0 * m.tets.size() +
+                 28.0 * (m.boundary_faces.size() + m.interface_faces.size()) +
+                 4.0 * m.periodic_master.size() + c.case_toml.size() + c.run_json.size();
+  for (const auto& [key, entry] : c.state.entries()) bytes += 8.0 * entry.values.size() + key.size();
+  return bytes;
+}
+
+/// A full disk makes HDF5 fail at the close, and then crash in its clean-up
+/// at exit (measured: a segmentation fault in H5F__close_cb from
+/// MPI_Finalize). So the free space is checked first, against the arrays'
+/// size and a margin for HDF5's chunks, checksums and metadata.
+void check_free_space(const fs::path& path, const Checkpoint& checkpoint) {
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  const auto space = fs::space(directory, ec);
+  if (ec) return;  // unknown: let the write tell
+  const double needed = 1.2 * payload_bytes(checkpoint) + 256.0 * 1024.0;
+  if (static_cast<double>(space.available) < needed)
+    throw Error(fmt::format(
+        "cannot write the checkpoint {}: the disk is full ({:.3g} MB free in {}, the checkpoint "
+        "needs about {:.3g} MB); free space or choose another output directory",
+        path.string(), space.available / 1e6, directory.string(), needed / 1e6));
+}
+
+}  // namespace
+
 void write_checkpoint(const fs::path& path, const Checkpoint& checkpoint) {
   QuietHdf5Errors quiet;
   remove_stale_temporaries(path);
+  check_free_space(path, checkpoint);
   fs::path tmp = path;
   tmp += fmt::format(".tmp-{}", ::getpid());
   try {

@@ -543,9 +543,11 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                              "so far are in {}",
                              checkpoint.step, checkpoint.time, directory.string())
                        : fmt::format(
-                             ". The output so far is in {} (no checkpoint was written: "
-                             "[checkpoint] interval_steps sets how often)",
-                             directory.string());
+                             ". The output so far is in {} (no checkpoint was written{})",
+                             directory.string(),
+                             stop_reason.find("cannot write the checkpoint") != std::string::npos
+                                 ? ""
+                                 : ": [checkpoint] interval_steps sets how often");
   }
 
   ledger.wall_seconds = earlier_wall_seconds + seconds_since(session_start);
