@@ -28,7 +28,7 @@ def main(softflow, case, work):
         print("cannot mount a tmpfs here: skipped")
         sys.exit(SKIP)
     try:
-        r = subprocess.run([softflow, "run", case, "-o", os.path.join(mount_point, "out"), "-q"],
+        r = subprocess.run([softflow, "run", case, "-o", os.path.join(mount_point, "out")],
                            capture_output=True, text=True, timeout=300)
     finally:
         subprocess.run(["umount", mount_point], capture_output=True)
@@ -39,6 +39,8 @@ def main(softflow, case, work):
             fail(f"the message does not say '{words}':\n{r.stderr}")
     if "interval_steps" in r.stderr:
         fail(f"the message blames [checkpoint] interval_steps:\n{r.stderr}")
+    if "\nwrote " in "\n" + r.stdout:
+        fail(f"the failed run says 'wrote ...' before its error:\n{r.stdout[-300:]}")
     print(r.stderr.strip())
     print("PASS")
 

@@ -568,7 +568,8 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
     files.series.close();
     plot(directory);
   });
-  if (!options.quiet && root) fmt::print("wrote {}\n", directory.string());
+  // A failure says where the output is in its own message, after which "wrote" would mislead.
+  if (!options.quiet && root && !failure) fmt::print("wrote {}\n", directory.string());
   if (failure) rethrow_with_message(failure, stop_reason);
   if (status == "interrupted")
     throw RunInterrupted(fmt::format("{}; checkpoint written: continue with `softflow restart {}`",
