@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/common/fnv1a.hpp"
 
 namespace softflow::io {
 
@@ -404,35 +405,13 @@ StateRecord read_state(hid_t file) {
   return state;
 }
 
-/// FNV-1a, 64 bits: a checksum of what the file keeps in attributes (the
-/// datasets have Fletcher32; HDF5's own metadata checksums catch most, not
-/// all, damage to object headers, and say nothing of it clearly).
-class Hash {
- public:
-  void bytes(const void* data, std::size_t n) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < n; ++i) {
-      value_ ^= p[i];
-      value_ *= 1099511628211ULL;
-    }
-  }
-  template <class T>
-  void scalar(T x) {
-    bytes(&x, sizeof x);
-  }
-  void text(const std::string& s) {
-    scalar(s.size());
-    bytes(s.data(), s.size());
-  }
-  [[nodiscard]] std::uint64_t value() const { return value_; }
-
- private:
-  std::uint64_t value_ = 14695981039346656037ULL;
-};
+// The attributes get a checksum of their own (FNV-1a): the datasets have
+// Fletcher32, and HDF5's own metadata checksums catch most, not all, damage
+// to object headers, and say nothing of it clearly.
 
 /// The attributes: the header, the mesh's box, each state entry's key, kind and shape.
 std::uint64_t attributes_checksum(const Checkpoint& c) {
-  Hash h;
+  Fnv1a h;
   h.scalar(c.format_version);
   h.text(c.softflow_version);
   h.text(c.case_toml);
