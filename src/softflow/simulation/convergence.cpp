@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <vector>
 
 #include <fmt/format.h>
@@ -13,19 +11,13 @@
 #include "softflow/analysis/richardson.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/io/output_directory.hpp"
+#include "softflow/simulation/run_support.hpp"
 
 namespace softflow::simulation {
 
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 /// One level's result for one object, from its summary.json.
 struct LevelResult {
@@ -154,10 +146,7 @@ io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_na
 
 int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
                     const SweepOptions& sweep_options) {
-  const std::string text = read_text(case_file);
-  if (text.empty() && !fs::exists(case_file))
-    throw InputError(
-        fmt::format("{}: cannot open the case file (does it exist?)", case_file.string()));
+  const std::string text = read_case_text(case_file);
   const io::Sweep sweep = mesh_levels(text, case_file.string(), options);
   if (!sweep_options.quiet && !(sweep.cases.front().config.time.steady_tolerance > 0.0))
     fmt::print("softflow converge: time.steady_tolerance = 0, so each level's values are those at "
@@ -267,13 +256,7 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
                                                 {"extrapolation", extrapolation}}
                                          .dump(2) +
                                      "\n");
-  const fs::path script = fs::path(SOFTFLOW_SOURCE_DIR) / "scripts" / "plot_converge.py";
-  if (fs::exists(script)) {
-    const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",
-                                            script.string(), directory.string());
-    if (std::system(command.c_str()) != 0 && !sweep_options.quiet)
-      fmt::print(stderr, "softflow: warning: could not draw converge.png (needs python3-matplotlib)\n");
-  }
+  draw_plot("plot_converge.py", directory, "converge.png", sweep_options.quiet);
   if (!sweep_options.quiet) {
     fmt::print("{}", md.substr(md.find("| level")));
     fmt::print("wrote {}/converge.md, converge.csv, converge.png\n", directory.string());

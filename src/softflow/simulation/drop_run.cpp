@@ -72,18 +72,6 @@ nlohmann::json theory_json(const io::CaseConfig& config) {
   return out;
 }
 
-// deformation.png through the repository's plotting script (matplotlib); a
-// missing Python or matplotlib costs the plot, not the run.
-void plot(const fs::path& directory) {
-  const fs::path script = fs::path(SOFTFLOW_SOURCE_DIR) / "scripts" / "plot_timeseries.py";
-  if (!fs::exists(script)) return;
-  const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",
-                                          script.string(), directory.string());
-  if (std::system(command.c_str()) != 0)
-    fmt::print(stderr,
-               "softflow: warning: could not draw deformation.png (needs python3-matplotlib)\n");
-}
-
 // ---------------------------------------------------------------------------
 // Stop requests. The handler only records the signal; the run checks it at
 // the end of each step, where the state is consistent and can be saved.
@@ -488,7 +476,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       sim.check_volumes();
       if (ledger.steady) {
         ledger.steady->add(last.time, steady_sample(last, walls));
-        if (ledger.steady->steady()) {
+        if (ledger.steady->reached_at()) {  // set by add() at the first steady sample
           if (!options.quiet && root) {
             const auto c = ledger.steady->changes();
             fmt::print("steady state at t = {:.4f}: over the last {:g} time units D changed by "
@@ -566,7 +554,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         progress_json(last, n_steps, config, status, ledger.wall_seconds, 0.0, checkpoint).dump(2) +
             "\n");
     files.series.close();
-    plot(directory);
+    draw_plot("plot_timeseries.py", directory, "deformation.png", false);
   });
   // A failure says where the output is in its own message, after which "wrote" would mislead.
   if (!options.quiet && root && !failure) fmt::print("wrote {}\n", directory.string());

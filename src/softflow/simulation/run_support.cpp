@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -112,6 +113,16 @@ la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
   return s;
+}
+
+void draw_plot(const std::string& script, const std::filesystem::path& directory,
+               const std::string& picture, bool quiet) {
+  const std::filesystem::path path = std::filesystem::path(SOFTFLOW_SOURCE_DIR) / "scripts" / script;
+  if (!std::filesystem::exists(path)) return;
+  const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",
+                                          path.string(), directory.string());
+  if (std::system(command.c_str()) != 0 && !quiet)
+    fmt::print(stderr, "softflow: warning: could not draw {} (needs python3-matplotlib)\n", picture);
 }
 
 }  // namespace softflow::simulation

@@ -1,6 +1,7 @@
 // Pieces every kind of run shares: rank-0 work with shared failure, meshing, solver settings.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -42,5 +43,11 @@ MeshedCase build_mesh(const io::CaseConfig& config);
 void mesh_before_mpi(const io::CaseConfig& config);
 
 la::SaddlePointSettings solver_settings(const io::CaseConfig& config);
+
+/// Draws `picture` (e.g. "deformation.png") in `directory` with the
+/// repository's scripts/<script> (matplotlib): a missing Python or
+/// matplotlib costs the picture, with a warning unless `quiet`, not the run.
+void draw_plot(const std::string& script, const std::filesystem::path& directory,
+               const std::string& picture, bool quiet);
 
 }  // namespace softflow::simulation

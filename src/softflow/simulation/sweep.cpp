@@ -24,6 +24,7 @@
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/simulation/drop_run.hpp"
+#include "softflow/simulation/run_support.hpp"
 
 extern char** environ;
 
@@ -235,15 +236,6 @@ bool write_theory_curve(const io::Sweep& sweep, const fs::path& directory) {
   return true;
 }
 
-void plot(const fs::path& directory, bool quiet) {
-  const fs::path script = fs::path(SOFTFLOW_SOURCE_DIR) / "scripts" / "plot_sweep.py";
-  if (!fs::exists(script)) return;
-  const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",
-                                          script.string(), directory.string());
-  if (std::system(command.c_str()) != 0 && !quiet)
-    fmt::print(stderr, "softflow: warning: could not draw sweep.png (needs python3-matplotlib)\n");
-}
-
 struct Job {
   std::size_t index;
   Clock::time_point start;
@@ -293,14 +285,19 @@ std::string theory_curve_csv(const io::Sweep& sweep) {
   return csv;
 }
 
-int run_sweep(const fs::path& case_file, const SweepOptions& options) {
+std::string read_case_text(const fs::path& case_file) {
   std::error_code ec;
   if (fs::is_directory(case_file, ec))
     throw InputError(fmt::format("{}: is a directory, not a case file", case_file.string()));
-  const std::string text = read_text(case_file);
+  std::string text = read_text(case_file);
   if (text.empty() && !fs::exists(case_file, ec))
     throw InputError(
         fmt::format("{}: cannot open the case file (does it exist?)", case_file.string()));
+  return text;
+}
+
+int run_sweep(const fs::path& case_file, const SweepOptions& options) {
+  const std::string text = read_case_text(case_file);
   const io::Sweep sweep = io::expand_sweep(text, case_file.string());
   if (sweep.parameters.empty())
     throw InputError(fmt::format(
@@ -449,7 +446,7 @@ int run_cases(const io::Sweep& sweep, const std::string& text, const std::string
   const auto rows = collect(sweep, directory);
   write_tables(sweep, rows, directory);
   write_theory_curve(sweep, directory);
-  plot(directory, options.quiet);
+  draw_plot("plot_sweep.py", directory, "sweep.png", options.quiet);
   if (!options.quiet) fmt::print("wrote {}/sweep.md, sweep.csv, sweep.png\n", directory.string());
 
   int result = 0;

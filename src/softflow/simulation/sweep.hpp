@@ -50,6 +50,10 @@ inline constexpr double kMinimumCaseSeconds = 10.0;
 /// for one that failed in an earlier sweep).
 int run_sweep(const std::filesystem::path& case_file, const SweepOptions& options);
 
+/// The text of the case file a sweep or convergence study starts from;
+/// InputError for a directory or a file that cannot be opened.
+std::string read_case_text(const std::filesystem::path& case_file);
+
 /// run_sweep for cases already made (e.g. the mesh levels of `softflow
 /// converge`): `text` is the file they came from (saved as D/sweep.toml),
 /// `source` its name in messages.
