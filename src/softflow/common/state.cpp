@@ -1,5 +1,6 @@
 #include "softflow/common/state.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -71,12 +72,24 @@ void StateRegistry::add(StatePart part) {
   parts_.push_back(std::move(part));
 }
 
-void StateRegistry::save(StateRecord& record) const {
-  for (const auto& p : parts_) p.save(record, p.name + "/");
+void StateRegistry::save(StateRecord& record) const { save(record, {}); }
+
+void StateRegistry::restore(const StateRecord& record) const { restore(record, {}); }
+
+namespace {
+bool skipped(const StatePart& p, const std::vector<std::string>& skip) {
+  return std::find(skip.begin(), skip.end(), p.name) != skip.end();
+}
+}  // namespace
+
+void StateRegistry::save(StateRecord& record, const std::vector<std::string>& skip) const {
+  for (const auto& p : parts_)
+    if (!skipped(p, skip)) p.save(record, p.name + "/");
 }
 
-void StateRegistry::restore(const StateRecord& record) const {
-  for (const auto& p : parts_) p.restore(record, p.name + "/");
+void StateRegistry::restore(const StateRecord& record, const std::vector<std::string>& skip) const {
+  for (const auto& p : parts_)
+    if (!skipped(p, skip)) p.restore(record, p.name + "/");
 }
 
 std::vector<std::string> StateRegistry::names() const {

@@ -65,6 +65,9 @@ class StateRegistry {
   void add(StatePart part);
   void save(StateRecord& record) const;
   void restore(const StateRecord& record) const;
+  /// The same for every part but those named in `skip`.
+  void save(StateRecord& record, const std::vector<std::string>& skip) const;
+  void restore(const StateRecord& record, const std::vector<std::string>& skip) const;
   [[nodiscard]] std::vector<std::string> names() const;
 
  private:

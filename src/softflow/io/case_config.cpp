@@ -312,6 +312,38 @@ void check_steady(const TableRead& time, const CaseConfig& c, Diagnostics& diag)
                            c.time.steady_window, c.time.step, c.time.end));
 }
 
+/// Adaptive steps estimate their error from the interfaces: they need
+/// objects, and a flow whose period the steps would otherwise skip over is
+/// refused. max_step and max_growth mean something only with them.
+void check_adaptive(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
+  if (time.status("adaptive_tolerance") != Read::ok || c.time.adaptive_tolerance == 0.0) {
+    for (const char* key : {"max_step", "max_growth"})
+      if (time.status(key) == Read::ok)
+        diag.error(time.path(key), *time.value(key),
+                   "this bounds adaptive steps: it needs time.adaptive_tolerance > 0 (the steps "
+                   "are constant, time.step, without)");
+    return;
+  }
+  const Value* tolerance = time.value("adaptive_tolerance");
+  if (!(c.time.end > 0.0))
+    diag.error(time.path("adaptive_tolerance"), *tolerance,
+               "adaptive steps need a run in time: time.end > 0");
+  if (c.objects.empty())
+    diag.error(time.path("adaptive_tolerance"), *tolerance,
+               "adaptive steps estimate the error from the objects' interfaces: they need at "
+               "least one [[objects]] entry (or time.adaptive_tolerance = 0)");
+  if (c.flow.type == FlowType::oscillatory)
+    diag.error(time.path("adaptive_tolerance"), *tolerance,
+               "adaptive steps are not available for oscillatory flow, whose period the "
+               "interface estimate does not see: use time.adaptive_tolerance = 0 and a "
+               "time.step that resolves the period");
+  if (time.status("max_step") == Read::ok && c.time.max_step > 0.0 && c.time.max_step < c.time.step)
+    diag.error(time.path("max_step"), *time.value("max_step"),
+               fmt::format("the largest adaptive step must be at least the first one, time.step = "
+                           "{:g} (or 0: no bound)",
+                           c.time.step));
+}
+
 /// A run in time (end > 0) takes n = round(end / step) steps: at least one,
 /// and as many as an int counts. A step beyond end would run past t_end (or,
 /// below end / 2, round to no step at all); a step so small that n overflows
@@ -320,6 +352,7 @@ void check_time(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
   if (time.status("step") == Read::bad || time.status("end") == Read::bad) return;
   const double step = c.time.step, end = c.time.end;
   check_steady(time, c, diag);
+  check_adaptive(time, c, diag);
   if (!(end > 0.0)) return;  // one Stokes solve: the step is not used
   const auto shown = [&time](std::string_view key, double x) {
     const Value* v = time.value(key);

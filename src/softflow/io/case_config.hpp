@@ -95,6 +95,13 @@ struct TimeConfig {
   /// (analysis::SteadyStateMonitor); `end` is then the latest time. 0 = off.
   double steady_tolerance = 0.0;
   double steady_window = 5.0;  ///< the time span steady_tolerance is measured over
+  /// > 0: adaptive steps (time::StepController). `step` is then the first
+  /// step; each later one keeps the largest predictor-corrector distance of
+  /// the interface nodes (relative to the object's radius) near this,
+  /// rejecting and retrying steps above it. 0 = constant steps of `step`.
+  double adaptive_tolerance = 0.0;
+  double max_step = 0.0;    ///< adaptive steps: largest step (0: no bound but max_growth)
+  double max_growth = 2.0;  ///< adaptive steps: largest ratio of a step to the one before
 };
 
 /// [checkpoint]: when a run in time saves its state (checkpoint.h5 in the

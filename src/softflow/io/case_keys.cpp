@@ -262,6 +262,8 @@ Table<CaseConfig> output_table() {
 
 Table<CaseConfig> time_table() {
   const auto time = [](auto member) { return field(&CaseConfig::time, member); };
+  // The bounds of adaptive steps are written out only for runs that have them.
+  const auto adaptive = [](const CaseConfig& c) { return c.time.adaptive_tolerance > 0.0; };
   return {
       "time",
       "The time loop (thesis Steps 1-5).",
@@ -287,7 +289,20 @@ Table<CaseConfig> time_table() {
               "this over the last steady_window (end is then the latest time); 0 = run to end"),
        number("steady_window", time(&TimeConfig::steady_window), 5.0, Range::above(0),
               "the time span steady_tolerance is measured over: longer than any oscillation "
-              "that should not count as steady")}};
+              "that should not count as steady"),
+       number("adaptive_tolerance", time(&TimeConfig::adaptive_tolerance), 0.0,
+              Range::at_least(0),
+              "> 0: adaptive steps, step is the first one; each step's largest distance between "
+              "an interface node's predicted and corrected position, over the object's radius, "
+              "is kept below this: a step above it is taken again, smaller, as is a step that "
+              "fails (solver, mesh quality), down to step / 1000. 0 = constant steps"),
+       number("max_step", time(&TimeConfig::max_step), 0.0, Range::at_least(0),
+              "adaptive steps: the largest step (0: bounded only by max_growth and end)")
+           .printed_if(adaptive),
+       number("max_growth", time(&TimeConfig::max_growth), 2.0, Range::open(1, 2.4),
+              "adaptive steps: the largest ratio of a step to the one before (variable-step BDF2 "
+              "is stable below 1 + sqrt(2))")
+           .printed_if(adaptive)}};
 }
 
 Table<CaseConfig> checkpoint_table() {

@@ -34,6 +34,7 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/time/step_controller.hpp"
 
 namespace softflow::simulation {
 
@@ -130,6 +131,50 @@ std::string signal_name(int signal) {
 // ---------------------------------------------------------------------------
 // What a run accumulates across restarts (saved in the checkpoint's run_json).
 
+/// The state of adaptive stepping between steps.
+struct AdaptiveSteps {
+  double next_step = 0.0;  ///< the size the next step tries first
+  int rejected = 0;        ///< steps taken again smaller: estimate above the tolerance
+  int failed = 0;          ///< steps taken again smaller: solver or mesh failure
+  double smallest = std::numeric_limits<double>::infinity();  ///< accepted steps' extremes
+  double largest = 0.0;
+};
+
+std::optional<AdaptiveSteps> adaptive_steps(const io::CaseConfig& config) {
+  if (!(config.time.adaptive_tolerance > 0.0)) return std::nullopt;
+  AdaptiveSteps a;
+  a.next_step = config.time.step;
+  return a;
+}
+
+time::StepController step_controller(const io::CaseConfig& config) {
+  time::StepControllerSettings s;
+  s.tolerance = config.time.adaptive_tolerance;
+  s.max_growth = config.time.max_growth;
+  s.max_step = config.time.max_step;
+  s.min_step = config.time.step / 1000.0;
+  return time::StepController(s);
+}
+
+nlohmann::json adaptive_json(const AdaptiveSteps& a) {
+  return {{"next_step", a.next_step},
+          {"rejected", a.rejected},
+          {"failed", a.failed},
+          {"smallest", std::isfinite(a.smallest) ? nlohmann::json(a.smallest) : nlohmann::json()},
+          {"largest", a.largest}};
+}
+
+AdaptiveSteps adaptive_from_json(const nlohmann::json& j) {
+  AdaptiveSteps a;
+  a.next_step = j.at("next_step");
+  a.rejected = j.at("rejected");
+  a.failed = j.at("failed");
+  a.smallest = j.at("smallest").is_null() ? std::numeric_limits<double>::infinity()
+                                          : j.at("smallest").get<double>();
+  a.largest = j.at("largest");
+  return a;
+}
+
 struct RunLedger {
   StageSeconds total;
   long stokes_iterations = 0;
@@ -140,6 +185,9 @@ struct RunLedger {
   /// Watches for the steady state when time.steady_tolerance > 0; its window
   /// is saved with the checkpoint, so a restarted run stops at the same step.
   std::optional<analysis::SteadyStateMonitor> steady;
+  /// Adaptive steps (time.adaptive_tolerance > 0): saved with the
+  /// checkpoint, so a restarted run takes the same steps.
+  std::optional<AdaptiveSteps> adaptive;
 };
 
 /// The monitor of time.steady_tolerance, or none. Centre velocities are
@@ -223,12 +271,14 @@ nlohmann::json to_json(const RunLedger& l) {
           {"wall_seconds", l.wall_seconds},
           {"sessions", l.sessions},
           {"mesh", l.mesh_report},
-          {"steady", l.steady ? steady_samples_json(*l.steady) : nlohmann::json()}};
+          {"steady", l.steady ? steady_samples_json(*l.steady) : nlohmann::json()},
+          {"adaptive", l.adaptive ? adaptive_json(*l.adaptive) : nlohmann::json()}};
 }
 
 RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config) {
   RunLedger l;
   l.steady = steady_monitor(config);
+  l.adaptive = adaptive_steps(config);
   try {
     const auto j = nlohmann::json::parse(text);
     const auto& s = j.at("stage_seconds");
@@ -245,6 +295,7 @@ RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config
     l.sessions = j.at("sessions");
     l.mesh_report = j.at("mesh");
     if (l.steady) restore_steady_samples(*l.steady, j.at("steady"));
+    if (l.adaptive) l.adaptive = adaptive_from_json(j.at("adaptive"));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("the checkpoint's run record is damaged: {}", e.what()));
   }
@@ -342,6 +393,17 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
   }
   summary["final"] = objects;
   if (ledger.steady) summary["steady"] = steady_json(*ledger.steady);
+  if (ledger.adaptive) {
+    const auto& a = *ledger.adaptive;
+    summary["adaptive"] = {{"tolerance", config.time.adaptive_tolerance},
+                           {"accepted", sim.steps()},
+                           {"rejected", a.rejected},
+                           {"failed", a.failed},
+                           {"smallest_step", std::isfinite(a.smallest) ? nlohmann::json(a.smallest)
+                                                                       : nlohmann::json()},
+                           {"largest_step", a.largest},
+                           {"next_step", a.next_step}};
+  }
   if (!last.stresses.empty()) {
     nlohmann::json stresses = nlohmann::json::array();
     for (const auto& r : last.stresses)
@@ -365,7 +427,34 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
   return summary;
 }
 
-nlohmann::json progress_json(const StepReport& r, int n_steps, const io::CaseConfig& config,
+/// Whether a run in time has reached its end: n = round(end / step) steps,
+/// or with adaptive steps t = end (to round-off: the last step lands on it).
+bool at_end(const io::CaseConfig& config, int steps, double time) {
+  if (config.time.adaptive_tolerance > 0.0) return time >= config.time.end * (1.0 - 1e-12);
+  return steps >= static_cast<int>(std::lround(config.time.end / config.time.step));
+}
+
+/// The step count for messages: known in advance for constant steps only.
+nlohmann::json planned_steps(const io::CaseConfig& config) {
+  if (config.time.adaptive_tolerance > 0.0) return nullptr;
+  return std::lround(config.time.end / config.time.step);
+}
+
+/// The size of the next adaptive step from t: the controller's, shortened
+/// to land on the end of the run and on a jump of the wall speed (where
+/// the BDF histories restart); a last step within 1 % of the end is
+/// stretched to it rather than leaving a sliver.
+double adaptive_step_size(double proposed, double t, double end, const physics::WallMotion& walls) {
+  double dt = proposed;
+  if (t + 1.01 * dt >= end) dt = end - t;
+  if (const auto jump = walls.jump_time(); jump && *jump > t + 1e-12 * std::max(1.0, std::abs(t)) &&
+                                           t + dt > *jump)
+    dt = *jump - t;
+  return dt;
+}
+
+nlohmann::json progress_json(const StepReport& r, const nlohmann::json& n_steps,
+                             const io::CaseConfig& config,
                              const std::string& status, double wall_seconds, double eta_seconds,
                              const CheckpointMark& checkpoint) {
   nlohmann::json objects = nlohmann::json::array();
@@ -373,7 +462,7 @@ nlohmann::json progress_json(const StepReport& r, int n_steps, const io::CaseCon
     objects.push_back({{"object", o.object}, {"D", o.deformation}, {"theta_deg", o.theta_deg}});
   nlohmann::json j = {{"status", status},          {"step", r.step},
                       {"steps", n_steps},          {"t", r.time},
-                      {"t_end", config.time.end},  {"dt", config.time.step},
+                      {"t_end", config.time.end},  {"dt", r.dt > 0.0 ? r.dt : config.time.step},
                       {"objects", objects},        {"wall_seconds", wall_seconds},
                       {"eta_seconds", std::isfinite(eta_seconds) ? nlohmann::json(eta_seconds)
                                                                  : nlohmann::json(nullptr)},
@@ -398,7 +487,9 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                             StepReport last, RunFiles& files, CheckpointMark checkpoint) {
   const bool root = is_root();
   const auto session_start = Clock::now();
-  const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
+  const nlohmann::json n_steps = planned_steps(config);
+  const bool adaptive = ledger.adaptive.has_value();
+  const auto controller = adaptive ? std::optional(step_controller(config)) : std::nullopt;
   const int first_step = sim.steps();
   StopRequests stop_requests;
   const physics::WallMotion walls = wall_motion(config);
@@ -426,10 +517,62 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
-  double first_step_seconds = 0.0;
+  double first_step_seconds = 0.0, first_step_time = 0.0;
   try {
-    while (sim.steps() < n_steps) {
-      last = sim.step();
+    // One accepted step. Adaptive: a step whose estimate exceeds the
+    // tolerance, or that fails (solver, mesh quality, an interface that no
+    // longer fits), is taken back and tried again smaller.
+    auto take_step = [&]() -> StepReport {
+      if (!adaptive) return sim.step();
+      auto& a = *ledger.adaptive;
+      while (true) {
+        const double dt = adaptive_step_size(a.next_step, sim.time(), config.time.end, walls);
+        const StateRecord before = sim.save_step_state();
+        StepReport r;
+        time::StepDecision decision;
+        std::string why;
+        bool failed = false;
+        try {
+          r = sim.step(dt);
+          // The first step's predictor is x_n: no estimate; keep its size.
+          decision = std::isnan(r.interface_change) ? time::StepDecision{true, dt}
+                                                    : controller->judge(dt, r.interface_change);
+          if (!decision.accepted)
+            why = fmt::format("estimate {:.3g} > time.adaptive_tolerance = {:g}",
+                              r.interface_change, config.time.adaptive_tolerance);
+        } catch (const Error& e) {
+          if (dynamic_cast<const InputError*>(&e)) throw;
+          decision = controller->after_failure(dt);
+          if (decision.next_step == 0.0) throw;  // the smallest step failed too
+          why = e.what();
+          failed = true;
+        }
+        if (decision.accepted) {
+          // A step cut short to land on the end or a jump does not shrink the next.
+          a.next_step = std::max(decision.next_step, std::min(a.next_step, dt));
+          a.smallest = std::min(a.smallest, dt);
+          a.largest = std::max(a.largest, dt);
+          return r;
+        }
+        if (decision.next_step == 0.0)
+          throw AccuracyError(fmt::format(
+              "step {} (t = {:.4f}): no step down to time.step / 1000 = {:g} meets "
+              "time.adaptive_tolerance = {:g} ({}): raise the tolerance or refine the mesh",
+              sim.steps() + 1, sim.time(), config.time.step / 1000.0,
+              config.time.adaptive_tolerance, why));
+        ++(failed ? a.failed : a.rejected);
+        sim.restore_step_state(before);
+        a.next_step = decision.next_step;
+        if (!options.quiet && root) {
+          fmt::print("step {} (t = {:.4f}) taken again with dt = {:.4g} instead of {:.4g}: {}\n",
+                     sim.steps() + 1, sim.time(), decision.next_step, dt, why);
+          std::fflush(stdout);
+        }
+      }
+    };
+
+    while (!at_end(config, sim.steps(), sim.time())) {
+      last = take_step();
       add(ledger.total, last.stages);
       ledger.stokes_iterations += last.stokes_iterations;
       ++ledger.timed_steps;
@@ -438,11 +581,19 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       // The session's first step carries one-off costs (the first LU
       // factorisation, a restart's refactorisation): the estimate comes from
       // the steps after it, and is unknown ("--", null) until there is one.
-      if (last.step == first_step + 1) first_step_seconds = elapsed;
+      if (last.step == first_step + 1) {
+        first_step_seconds = elapsed;
+        first_step_time = last.time;
+      }
       const int later_steps = last.step - first_step - 1;
-      const double eta = later_steps > 0
-                             ? (elapsed - first_step_seconds) / later_steps * (n_steps - last.step)
-                             : std::numeric_limits<double>::quiet_NaN();
+      // Constant steps: the steps still to go at the pace of the later ones;
+      // adaptive steps: the time still to go at the pace simulated time advanced.
+      const double eta =
+          later_steps == 0 ? std::numeric_limits<double>::quiet_NaN()
+          : adaptive ? (elapsed - first_step_seconds) / (last.time - first_step_time) *
+                           (config.time.end - last.time)
+                     : (elapsed - first_step_seconds) / later_steps *
+                           static_cast<double>(n_steps.get<long>() - last.step);
       // Gathering a field is collective: every rank takes part, rank 0 writes.
       const bool fields_due = config.write_fields && config.time.fields_interval > 0 &&
                               last.step % config.time.fields_interval == 0;
@@ -468,9 +619,9 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         else if (!last.stresses.empty())
           state = fmt::format("tau_xy = {:.5g}  N1 = {:.5g}", last.stresses.front().mean(0, 1),
                               last.stresses.front().first_normal_stress_difference());
-        fmt::print("step {:>6}/{}  t = {:8.4f}  {}  dt = {:g}  quality {:.3f}  ETA {}\n",
-                   last.step, n_steps, last.time, state, config.time.step, last.min_quality,
-                   format_duration(eta));
+        fmt::print("step {:>6}{}  t = {:8.4f}  {}  dt = {:g}  quality {:.3f}  ETA {}\n",
+                   last.step, adaptive ? std::string() : fmt::format("/{}", n_steps.get<long>()),
+                   last.time, state, last.dt, last.min_quality, format_duration(eta));
         std::fflush(stdout);
       }
       sim.check_volumes();
@@ -490,7 +641,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
           break;  // the final checkpoint follows the loop
         }
       }
-      if (sim.steps() >= n_steps) break;  // the final checkpoint follows the loop
+      if (at_end(config, sim.steps(), sim.time())) break;  // the final checkpoint follows the loop
 
       // Stop before the wall-time limit with room for the longest step seen
       // and two checkpoint writes (the next may be slower than the last).
@@ -725,6 +876,7 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   RunLedger ledger;
   ledger.mesh_report = meshed.report;
   ledger.steady = steady_monitor(config);
+  ledger.adaptive = adaptive_steps(config);
   DropSimulation sim(config, std::move(meshed.mesh));
   const StepReport first = sim.initial_report();
   if (ledger.steady) ledger.steady->add(first.time, steady_sample(first, wall_motion(config)));
@@ -751,10 +903,9 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
   // Every rank reads the checkpoint: each holds the full replicated state.
   const io::Checkpoint checkpoint = io::read_checkpoint(directory / kCheckpointFile);
   check_same_case(config, checkpoint, directory);
-  const int n_steps = static_cast<int>(std::lround(config.time.end / config.time.step));
   RunLedger ledger = ledger_from_json(checkpoint.run_json, config);
   const bool steady = ledger.steady && ledger.steady->reached_at();
-  if (checkpoint.step >= n_steps || steady) {
+  if (at_end(config, checkpoint.step, checkpoint.time) || steady) {
     if (!options.quiet && root)
       fmt::print("{}: the run is complete ({}step {}, t = {:.4f}); nothing to do\n",
                  directory.string(), steady ? "steady state at " : "", checkpoint.step,
@@ -784,11 +935,14 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
     }
   });
   if (!options.quiet && root)
-    fmt::print("restarting {} ({}) from its checkpoint: step {}/{}, t = {:.4f}\n",
+    fmt::print("restarting {} ({}) from its checkpoint: step {}{}, t = {:.4f}\n",
                directory.string(),
                previous == "killed" ? "killed: stopped without a final checkpoint"
                                     : fmt::format("status \"{}\"", previous),
-               checkpoint.step, n_steps, checkpoint.time);
+               checkpoint.step,
+               ledger.adaptive ? std::string()
+                               : fmt::format("/{}", planned_steps(config).get<long>()),
+               checkpoint.time);
   return continue_run(config, options, directory, sim, std::move(ledger), sim.current_report(),
                       files, {checkpoint.step, checkpoint.time});
 }

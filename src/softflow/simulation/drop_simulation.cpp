@@ -4,6 +4,7 @@
 #include <limits>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include <fmt/format.h>
@@ -69,7 +70,7 @@ StepReport DropSimulation::initial_report() const {
   return r;
 }
 
-StepReport DropSimulation::step() {
+StepReport DropSimulation::step(double dt) {
   const auto start = Clock::now();
   auto lap = [last = start]() mutable {
     const auto now = Clock::now();
@@ -78,10 +79,10 @@ StepReport DropSimulation::step() {
     return s;
   };
   StepReport r;
-  const double dt = config_.time.step;
+  r.dt = dt;
   if (viscoelastic_ && steps_ > 0 && wall_motion(config_).jumps_at(time_))
     viscoelastic_->restart_time_history();
-  const auto x_hat = predict_interfaces();                   // Step 1
+  const auto x_hat = predict_interfaces(dt);                 // Step 1
   const auto centre_velocity = translate_mesh(x_hat, dt);    // Step 2
   r.stages.predict_and_translate = lap();
   const double quality = move_mesh_ale(x_hat, dt);           // Step 3
@@ -99,8 +100,10 @@ StepReport DropSimulation::step() {
     viscoelastic_->advance(stokes_->dofs(), solution_, dt, time_, steps_ + 1);
     r.stages.conformation = lap();
   }
+  const bool extrapolated = steps_ > 0;  // BDF1's predictor x_hat = x_n estimates nothing
   correct_interfaces(x_hat, centre_velocity, dt);            // Step 5
   r.stages.correct = lap();
+  if (extrapolated) r.interface_change = interface_change(x_hat);
 
   for (int k = 0; k < static_cast<int>(trackers_.size()); ++k) {
     try {
@@ -126,6 +129,29 @@ StepReport DropSimulation::step() {
   r.stages.analysis = lap();
   r.step_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
+}
+
+double DropSimulation::interface_change(const std::vector<std::vector<Vec3>>& x_hat) const {
+  // The predictor's error, dt^2 x'' (1 + w) / 2 to leading order: the
+  // scheme's geometric error, since Stokes was solved on x_hat.
+  double change = 0.0;
+  for (std::size_t k = 0; k < trackers_.size(); ++k) {
+    const double radius = std::cbrt(3.0 * initial_volumes_[k] / (4.0 * std::numbers::pi));
+    const auto& x = trackers_[k].positions();
+    for (std::size_t i = 0; i < x.size(); ++i)
+      change = std::max(change, (x[i] - x_hat[k][i]).norm() / radius);
+  }
+  return change;
+}
+
+StateRecord DropSimulation::save_step_state() const {
+  StateRecord state;
+  registry_.save(state, {"stokes"});
+  return state;
+}
+
+void DropSimulation::restore_step_state(const StateRecord& state) {
+  registry_.restore(state, {"stokes"});
 }
 
 StepReport DropSimulation::current_report() const {
@@ -197,6 +223,7 @@ void DropSimulation::register_state() {
                      r.set(p + "centre", std::vector<Vec3>{h.centre, h.centre_previous});
                      r.set(p + "steps", h.steps);
                      r.set(p + "centre_steps", h.centre_steps);
+                     r.set(p + "last_step", h.last_step);
                      r.set(p + "last_centre_velocity", std::vector<Vec3>{last_centre_velocity_[k]});
                    },
                    [this, k](const StateRecord& r, const std::string& p) {
@@ -209,9 +236,14 @@ void DropSimulation::register_state() {
                          x_previous.size() != x.size())
                        throw InputError(fmt::format("the saved state of object {} does not fit "
                                                     "its interface mesh", k + 1));
+                     const int steps = r.get_int(p + "steps");
+                     // Checkpoints from before variable steps: every step was time.step.
+                     const double last_step =
+                         r.contains(p + "last_step") ? r.get_double(p + "last_step")
+                                                     : (steps > 0 ? config_.time.step : 0.0);
                      trackers_[k].restore({std::move(x), std::move(x_previous), centre[0],
-                                           centre[1], r.get_int(p + "steps"),
-                                           r.get_int(p + "centre_steps")});
+                                           centre[1], steps, r.get_int(p + "centre_steps"),
+                                           last_step});
                      last_centre_velocity_[k] = velocity[0];
                    }});
   if (viscoelastic_) {
@@ -237,6 +269,7 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   r.set(p + "step", steps_);
   r.set(p + "time", time_);
   r.set(p + "dt", config_.time.step);
+  r.set(p + "last_step", last_dt_);
   r.set(p + "translation_x", translation_x_);
   r.set(p + "nodes", mesh_.nodes);
   r.set(p + "previous_nodes", previous_nodes_);
@@ -260,6 +293,9 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
     throw InputError("the checkpoint does not fit the mesh it carries");
   steps_ = r.get_int(p + "step");
   time_ = r.get_double(p + "time");
+  // Checkpoints from before variable steps: every step was time.step.
+  last_dt_ = r.contains(p + "last_step") ? r.get_double(p + "last_step")
+                                         : (steps_ > 0 ? config_.time.step : 0.0);
   translation_x_ = r.get_double(p + "translation_x");
   mesh_.nodes = std::move(nodes);
   previous_nodes_ = std::move(previous);
@@ -269,8 +305,9 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
   last_quality_ = mesh::min_quality(mesh_);
   ale_rebuilt_at_quality_ = r.get_double(p + "ale_rebuilt_at_quality");
   ale_rebuilds_ = r.get_int(p + "ale_rebuilds");
-  if (reference != initial_nodes_) {
-    // The mesh-motion operator was rebuilt on a later mesh: build it there again.
+  if (reference != initial_nodes_ && reference != reference_nodes_) {
+    // The mesh-motion operator was rebuilt on a later mesh: build it there
+    // again (not when it is the current one: a step taken back).
     reference_nodes_ = std::move(reference);
     mesh::Mesh rebuilt = mesh_;
     rebuilt.nodes = reference_nodes_;
@@ -289,9 +326,9 @@ void DropSimulation::save(io::Checkpoint& c) const {
 
 void DropSimulation::restore(const io::Checkpoint& c) { registry_.restore(c.state); }
 
-std::vector<std::vector<Vec3>> DropSimulation::predict_interfaces() const {
+std::vector<std::vector<Vec3>> DropSimulation::predict_interfaces(double dt) const {
   std::vector<std::vector<Vec3>> x_hat;
-  for (const auto& tracker : trackers_) x_hat.push_back(tracker.predict());
+  for (const auto& tracker : trackers_) x_hat.push_back(tracker.predict(dt));
   return x_hat;
 }
 
@@ -346,7 +383,8 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
     const auto& nodes = trackers_[k].surface().volume_node;
     for (std::size_t i = 0; i < nodes.size(); ++i) moved[nodes[i]] = x_hat[k][i];
   }
-  mesh_velocity_ = physics::bdf_mesh_velocity(moved, mesh_.nodes, previous_nodes_, dt);
+  mesh_velocity_ = physics::bdf_mesh_velocity(moved, mesh_.nodes, previous_nodes_, dt, last_dt_);
+  last_dt_ = dt;
   previous_nodes_ = std::exchange(mesh_.nodes, std::move(moved));
   const double quality = mesh::min_quality(mesh_);
   last_quality_ = quality;
@@ -356,7 +394,7 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
         "time.min_quality = {:.3g}. The deformation is too large for a mesh that is never "
         "remeshed; try a smaller time.step, a larger interface.redistribution_factor, or a finer "
         "mesh{}",
-        steps_ + 1, time_ + config_.time.step, mesh::describe_element(mesh_, mesh::worst_tet(mesh_)),
+        steps_ + 1, time_ + dt, mesh::describe_element(mesh_, mesh::worst_tet(mesh_)),
         quality, config_.time.min_quality,
         // Explicit tension collapses the interface mesh above the capillary step limit.
         config_.interface.semi_implicit_tension
@@ -389,7 +427,7 @@ physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
   // since the BDF1 predictor does not move the interface.
   const int order = time::bdf_order(trackers_.front().steps());
   const bool first_step = order == 1;
-  tension.theta_dt = time::bdf(order).theta_dt(dt);
+  tension.theta_dt = time::bdf(order, dt, trackers_.front().last_step()).theta_dt(dt);
   tension.node_normal.assign(mesh_.n_nodes(), Vec3::Zero());
   tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
   for (std::size_t k = 0; k < trackers_.size(); ++k) {
@@ -470,7 +508,7 @@ std::vector<RegionStress> DropSimulation::measure_stresses() const {
 
 std::string timeseries_header() {
   return "step,t,object,D,theta_deg,L,B,W,xc,yc,zc,uc,vc,wc,volume,area,ellipsoid_dev,"
-         "min_quality,stokes_iterations,step_seconds\n";
+         "min_quality,stokes_iterations,step_seconds,dt,interface_change\n";
 }
 
 std::string timeseries_rows(const StepReport& r) {
@@ -478,11 +516,11 @@ std::string timeseries_rows(const StepReport& r) {
   for (const auto& o : r.objects)
     out += fmt::format(
         "{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
-        "{:.10g},{:.10g},{:.10g},{:.10g},{:.6g},{:.6g},{},{:.4g}\n",
+        "{:.10g},{:.10g},{:.10g},{:.10g},{:.6g},{:.6g},{},{:.4g},{:.10g},{:.6g}\n",
         r.step, r.time, o.object, o.deformation, o.theta_deg, o.L, o.B, o.W, o.centre.x(),
         o.centre.y(), o.centre.z(), o.centre_velocity.x(), o.centre_velocity.y(),
         o.centre_velocity.z(), o.volume, o.area, o.ellipsoid_deviation, r.min_quality,
-        r.stokes_iterations, r.step_seconds);
+        r.stokes_iterations, r.step_seconds, r.dt, r.interface_change);
   return out;
 }
 

@@ -60,6 +60,13 @@ struct StepReport {
   double min_quality = 0.0;
   int stokes_iterations = 0;
   double step_seconds = 0.0;
+  /// The step's size t_{n+1} - t_n.
+  double dt = 0.0;
+  /// The step's error estimate: over every object and interface node, the
+  /// largest distance between the predicted (eq. 2.49) and the corrected
+  /// (eq. 2.50) position, relative to the object's radius. NaN at a BDF1
+  /// step, whose predictor does not extrapolate (eq. 2.47).
+  double interface_change = std::numeric_limits<double>::quiet_NaN();
   std::vector<ObjectState> objects;
   /// The mean polymer/elastic stress of every region with a conformation
   /// tensor (none for Newtonian runs).
@@ -89,10 +96,19 @@ class DropSimulation {
   /// The current state (no stage timings, no solver iterations): after a
   /// restart, what the last step reported.
   [[nodiscard]] StepReport current_report() const;
-  /// Advances one step and reports the new state. Stops the run with a
-  /// diagnosis (step, time, where, what to try) on a degraded mesh
-  /// (MeshError) or a failed or non-finite Stokes solution (SolverError).
-  StepReport step();
+  /// Advances one step of size dt (time.step if not given; it may change
+  /// from step to step, every BDF2 then takes its variable-step form) and
+  /// reports the new state. Stops the run with a diagnosis (step, time,
+  /// where, what to try) on a degraded mesh (MeshError) or a failed or
+  /// non-finite Stokes solution (SolverError); the state is then partly
+  /// advanced: restore_step_state() takes it back.
+  StepReport step(double dt);
+  StepReport step() { return step(config_.time.step); }
+  /// The state the next step starts from, in memory: every registered part
+  /// but the Stokes solver's factorisation (any factors precondition the
+  /// next solve). For retrying a step at another size.
+  [[nodiscard]] StateRecord save_step_state() const;
+  void restore_step_state(const StateRecord& state);
   /// Throws AccuracyError (with step, object, drift and what to try) if an
   /// object's volume has drifted past time.max_volume_drift. Separate from
   /// step(), so that the offending step is recorded before the run stops.
@@ -136,7 +152,7 @@ class DropSimulation {
   [[nodiscard]] bool interface_slip() const;
 
  private:
-  std::vector<std::vector<physics::Vec3>> predict_interfaces() const;
+  std::vector<std::vector<physics::Vec3>> predict_interfaces(double dt) const;
   std::vector<physics::Vec3> translate_mesh(const std::vector<std::vector<physics::Vec3>>& x_hat,
                                             double dt);
   void rebuild_ale_if_degraded();
@@ -151,6 +167,8 @@ class DropSimulation {
   void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,
                           const std::vector<physics::Vec3>& centre_velocity, double dt);
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;
+  /// StepReport::interface_change of the corrected interfaces against x_hat.
+  [[nodiscard]] double interface_change(const std::vector<std::vector<physics::Vec3>>& x_hat) const;
   /// SlipMeasures of every object from the last solution (empty without slip).
   [[nodiscard]] std::vector<physics::SlipMeasures> measure_slips() const;
   [[nodiscard]] std::vector<RegionStress> measure_stresses() const;
@@ -177,6 +195,7 @@ class DropSimulation {
   int ale_rebuilds_ = 0;
   double translation_x_ = 0.0;
   double time_ = 0.0;
+  double last_dt_ = 0.0;  // t_n - t_{n-1}: the mesh velocity's BDF2 (0 before the first step)
   int steps_ = 0;
   StateRegistry registry_;
   std::vector<fem::Field*> added_fields_;

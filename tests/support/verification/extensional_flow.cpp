@@ -7,7 +7,8 @@
 
 namespace softflow::verification {
 
-TrackingErrors track_sphere_in_extension(int equator_nodes, double dt, double k) {
+TrackingErrors track_sphere_in_extension(int equator_nodes, double dt, double k,
+                                         double step_variation) {
   geometry::ShearCellSpec spec;
   spec.box.length = spec.box.height = spec.box.width = 6.0;
   spec.objects.push_back(geometry::ObjectSpec{});
@@ -23,15 +24,19 @@ TrackingErrors track_sphere_in_extension(int equator_nodes, double dt, double k)
   const double t_end = 0.5;
   const int n_steps = static_cast<int>(std::lround(t_end / dt));
   auto velocity = [](const physics::Vec3& x) { return physics::Vec3(x.x(), -x.y() / 2, -x.z() / 2); };
+  double t = 0.0;
   for (int step = 0; step < n_steps; ++step) {
-    const auto x_hat = tracker.predict();
+    // With an odd count the last step is dt: the run still ends at t_end.
+    const bool last_unpaired = n_steps % 2 == 1 && step == n_steps - 1;
+    const double h = last_unpaired ? dt : dt * (1.0 + (step % 2 == 0 ? step_variation : -step_variation));
+    const auto x_hat = tracker.predict(h);
     std::vector<physics::Vec3> u(x_hat.size());
     for (std::size_t i = 0; i < x_hat.size(); ++i) u[i] = velocity(x_hat[i]);  // the flow at t_{n+1}
-    const auto u_centre = tracker.centre_velocity(x_hat, dt);
-    tracker.correct(x_hat, u, u_centre, dt);
+    const auto u_centre = tracker.centre_velocity(x_hat, h);
+    tracker.correct(x_hat, u, u_centre, h);
+    t += h;
   }
 
-  const double t = n_steps * dt;
   const physics::Vec3 semi_axes(std::exp(t), std::exp(-t / 2), std::exp(-t / 2));
   TrackingErrors e;
   e.equator_nodes = equator_nodes;

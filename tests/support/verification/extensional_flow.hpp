@@ -16,6 +16,10 @@ struct TrackingErrors {
 /// t = 0.5. Fluid points of the sphere form the spheroid with semi-axes
 /// e^t, e^{-t/2}, e^{-t/2}; x_i,an is where the ray from the origin through
 /// node i meets it (thesis §2.4.1). k is the redistribution factor.
-TrackingErrors track_sphere_in_extension(int equator_nodes, double dt, double k);
+/// `step_variation` v > 0 alternates the steps between (1 + v) dt and
+/// (1 - v) dt (pairs of steps average dt), which exercises the
+/// variable-step BDF2 and predictor at ratios (1 -+ v) / (1 +- v).
+TrackingErrors track_sphere_in_extension(int equator_nodes, double dt, double k,
+                                         double step_variation = 0.0);
 
 }  // namespace softflow::verification

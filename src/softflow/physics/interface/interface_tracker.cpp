@@ -42,11 +42,11 @@ InterfaceTracker::InterfaceTracker(InterfaceMesh surface, std::vector<Vec3> init
   centre_ = centre_previous_ = surface_integrals(surface_, x_).centre_of_volume();
 }
 
-std::vector<Vec3> InterfaceTracker::predict() const {
+std::vector<Vec3> InterfaceTracker::predict(double dt) const {
   // x_n at the first step (eq. 2.47): there is no x_{n-1} to extrapolate from.
   const int order = time::bdf_order(steps_);
   if (order == 1) return x_;
-  const auto e = time::extrapolation(order);
+  const auto e = time::extrapolation(order, dt, last_dt_);
   std::vector<Vec3> x_hat(x_.size());
   for (std::size_t i = 0; i < x_.size(); ++i)
     x_hat[i] = e.current * x_[i] + e.previous * x_previous_[i];  // eq. 2.49
@@ -62,7 +62,7 @@ Vec3 InterfaceTracker::centre_velocity(const std::vector<Vec3>& predicted, doubl
   // so a history of predicted centres makes the second step's BDF2 see
   // X_0, X_0, 2 X_1 - X_0 and report three times the true velocity, which
   // slides the interface nodes of a translating object sideways.
-  const auto c = time::bdf(time::bdf_order(steps_));
+  const auto c = time::bdf(time::bdf_order(steps_), dt, last_dt_);
   const Vec3 x_n = surface_integrals(surface_, x_).centre_of_volume();
   Vec3 u = (c.a0 * x_next + c.a1 * x_n) / dt;  // eqs. 2.51-2.52
   if (c.a2 != 0.0) u += c.a2 * surface_integrals(surface_, x_previous_).centre_of_volume() / dt;
@@ -126,7 +126,7 @@ void InterfaceTracker::correct(const std::vector<Vec3>& predicted,
   // with a = u - U, grad_s on the predicted surface (eq. 2.48 / 2.50). The
   // operator is the same for the three components of x.
   const int n = surface_.n_nodes();
-  const auto c = time::bdf(time::bdf_order(steps_));
+  const auto c = time::bdf(time::bdf_order(steps_), dt, last_dt_);
   const bool redistribute = settings_.redistribution_factor != 0.0;
   const std::vector<double> potential =
       redistribute ? redistribution_potential(predicted) : std::vector<double>(n, 0.0);
@@ -184,6 +184,7 @@ void InterfaceTracker::correct(const std::vector<Vec3>& predicted,
   x_previous_ = x_;
   for (int i = 0; i < n; ++i) x_[i] = x_next.row(i).transpose();
   ++steps_;
+  last_dt_ = dt;
 }
 
 void InterfaceTracker::restore(History history) {
@@ -196,6 +197,7 @@ void InterfaceTracker::restore(History history) {
   centre_previous_ = history.centre_previous;
   steps_ = history.steps;
   centre_steps_ = history.centre_steps;
+  last_dt_ = history.last_step;
 }
 
 }  // namespace softflow::physics

@@ -26,16 +26,19 @@ struct InterfaceTrackerSettings {
 /// int_S 1/g ds = area of S (eq. 2.32): the redistribution keeps the initial
 /// element size distribution (the thesis's f = 1 for a uniform start).
 ///
-/// Use per time step: x_hat = predict(); [move the mesh, solve Stokes with
+/// Use per time step: x_hat = predict(dt); [move the mesh, solve Stokes with
 /// the interface at x_hat]; U = centre_velocity(x_hat, dt); correct(x_hat,
-/// u_at_nodes, U, dt).
+/// u_at_nodes, U, dt). The step dt may change from step to step: the BDF2
+/// coefficients and the predictor then take the variable-step form
+/// (time::bdf) with the previous step's size, which the tracker records.
 class InterfaceTracker {
  public:
   InterfaceTracker(InterfaceMesh surface, std::vector<Vec3> initial_positions,
                    const InterfaceTrackerSettings& settings);
 
-  /// Step 1: x_hat_{n+1} = x_n (first step, eq. 2.47) or 2 x_n - x_{n-1} (eq. 2.49).
-  [[nodiscard]] std::vector<Vec3> predict() const;
+  /// Step 1: x_hat_{n+1} = x_n (first step, eq. 2.47) or the line through
+  /// x_{n-1}, x_n at t_n + dt: 2 x_n - x_{n-1} at a constant step (eq. 2.49).
+  [[nodiscard]] std::vector<Vec3> predict(double dt) const;
 
   /// Velocity U of the centre of volume X at t_{n+1}, X from the predicted
   /// surface (eqs. 2.51-2.54). Records X_{n+1}; call once per step.
@@ -50,19 +53,22 @@ class InterfaceTracker {
   [[nodiscard]] const std::vector<Vec3>& positions() const { return x_; }
   [[nodiscard]] const std::vector<Vec3>& previous_positions() const { return x_previous_; }
   [[nodiscard]] int steps() const { return steps_; }
+  /// The size of the last corrected step (0 before the first).
+  [[nodiscard]] double last_step() const { return last_dt_; }
   /// X of the latest recorded centre (from the predicted surface; initially x_0's).
   [[nodiscard]] const Vec3& centre() const { return centre_; }
 
   /// What the next steps depend on besides the surface and the settings:
   /// saved in checkpoints, so that a restarted run continues with BDF2 from
-  /// exactly the same x_n, x_{n-1}, X_n, X_{n-1}.
+  /// exactly the same x_n, x_{n-1}, X_n, X_{n-1} and t_n - t_{n-1}.
   struct History {
     std::vector<Vec3> x, x_previous;
     Vec3 centre = Vec3::Zero(), centre_previous = Vec3::Zero();
     int steps = 0, centre_steps = 0;
+    double last_step = 0.0;
   };
   [[nodiscard]] History history() const {
-    return {x_, x_previous_, centre_, centre_previous_, steps_, centre_steps_};
+    return {x_, x_previous_, centre_, centre_previous_, steps_, centre_steps_, last_dt_};
   }
   /// Continues from a saved history of the same surface (the node count must match).
   void restore(History history);
@@ -81,6 +87,7 @@ class InterfaceTracker {
   Vec3 centre_previous_ = Vec3::Zero();  // X_{n-1}
   int steps_ = 0;
   int centre_steps_ = 0;
+  double last_dt_ = 0.0;  // t_n - t_{n-1}
 };
 
 }  // namespace softflow::physics

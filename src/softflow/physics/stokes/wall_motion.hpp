@@ -41,6 +41,8 @@ class WallMotion {
   /// their three-level stencil across a jump in the forcing is O(1) wrong
   /// in the derivative and would leave an O(dt) error.
   [[nodiscard]] bool jumps_at(double t) const;
+  /// Where the wall speed jumps, if it does: adaptive steps end there exactly.
+  [[nodiscard]] std::optional<double> jump_time() const { return jump_time_; }
 
  private:
   double height_;

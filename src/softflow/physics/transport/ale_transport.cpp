@@ -46,7 +46,12 @@ void AleTransport::set_dirichlet(
 
 void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
                         const Source& source, double dt, double t_new) {
-  const auto c = time::bdf(time::bdf_order(steps_));
+  const int order = time::bdf_order(steps_);
+  // An unknown previous step (a checkpoint from before variable steps,
+  // whose runs all had constant steps) is taken equal to this one.
+  const double dt_previous = last_dt_ > 0.0 ? last_dt_ : dt;
+  const auto c = time::bdf(order, dt, dt_previous);
+  extrapolation_ = time::extrapolation(order, dt, dt_previous);
   const int n_c = s_.components();
   const int n_k = s_.space().n_element_nodes();
   const bool p2 = s_.space().degree() == 2;
@@ -139,12 +144,14 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
   s_.update_ghosts();
   previous_.update_ghosts();
   ++steps_;
+  last_dt_ = dt;
 }
 
 StatePart AleTransport::state_part() {
   return {"transport/" + s_.name(),
           [this](StateRecord& r, const std::string& p) {
             r.set(p + "steps", steps_);
+            r.set(p + "last_step", last_dt_);
             r.set(p + "previous", previous_.gather());
           },
           [this](const StateRecord& r, const std::string& p) {
@@ -154,6 +161,9 @@ StatePart AleTransport::state_part() {
                                            s_.name()));
             previous_.scatter(values);
             steps_ = r.get_int(p + "steps");
+            // Checkpoints from before variable steps: unknown (0), taken as
+            // the next step's size (step()).
+            last_dt_ = r.contains(p + "last_step") ? r.get_double(p + "last_step") : 0.0;
           }};
 }
 

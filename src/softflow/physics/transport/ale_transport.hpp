@@ -11,6 +11,7 @@
 
 #include "softflow/common/state.hpp"
 #include "softflow/fem/field.hpp"
+#include "softflow/time/bdf.hpp"
 
 namespace softflow::physics {
 
@@ -56,7 +57,9 @@ class AleTransport {
 
   /// One step of length dt to time t_new: s (at t_n on entry) becomes
   /// s_{n+1}. `u` and `mesh_velocity` are vector fields (3 components) on
-  /// the current (moved) mesh; `source` may be empty. Collective.
+  /// the current (moved) mesh; `source` may be empty. dt may differ from
+  /// the previous step's: BDF2 then takes its variable-step coefficients
+  /// (time::bdf). Collective.
   void step(const fem::Field& u, const fem::Field* mesh_velocity, const Source& source, double dt,
             double t_new);
 
@@ -67,8 +70,11 @@ class AleTransport {
   /// jump and leave an O(dt) error.
   void restart_history() { steps_ = 0; }
   /// s_{n-1} (meaningful once steps() > 0): for sources extrapolated to
-  /// t_{n+1}, 2 s_n - s_{n-1}, which keeps an explicit source second order.
+  /// t_{n+1}, which keeps an explicit source second order.
   [[nodiscard]] const fem::Field& previous() const { return previous_; }
+  /// During step(): the weights of s_n and s_{n-1} that extrapolate s to
+  /// t_{n+1} (s_n alone at a first step; 2 s_n - s_{n-1} at a constant step).
+  [[nodiscard]] const time::Extrapolation& step_extrapolation() const { return extrapolation_; }
   /// The history as a part of the run's state: "transport/<field name>".
   [[nodiscard]] StatePart state_part();
 
@@ -80,6 +86,8 @@ class AleTransport {
   std::vector<int> constrained_scalar_dofs_;  // owned, scalar numbering
   std::function<Eigen::VectorXd(const Eigen::Vector3d&, int, double)> boundary_values_;
   int steps_ = 0;
+  double last_dt_ = 0.0;  // t_n - t_{n-1}
+  time::Extrapolation extrapolation_;
 };
 
 }  // namespace softflow::physics

@@ -33,7 +33,8 @@ AleTransport::Source log_conformation_source(const std::vector<Constitutive>& mo
     const Constitutive& model = models.at(p.region);
     if (!model.has_conformation()) return Eigen::VectorXd(Eigen::VectorXd::Zero(6));
     Eigen::VectorXd s = log_conformation.value(p);
-    if (transport.steps() > 0) s = 2.0 * s - transport.previous().value(p);
+    const auto& e = transport.step_extrapolation();
+    if (e.previous != 0.0) s = e.current * s + e.previous * transport.previous().value(p);
     const Mat3 l = velocity.gradient(p);  // row i = grad u_i: L_ij = du_i/dx_j
     return pack_symmetric(log_conformation_rate(model, l, unpack_symmetric(s)));
   };

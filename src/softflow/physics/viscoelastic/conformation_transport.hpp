@@ -25,9 +25,9 @@ inline constexpr int kSymmetricComponents = 6;
 ///
 /// at a quadrature point (log_conformation_rate): L = grad u of `velocity`
 /// (the velocity of the step just solved, u_{n+1}), and s extrapolated to
-/// t_{n+1} as 2 s_n - s_{n-1} once `transport` has a history (s_n at its
-/// first, BDF1, step), so that the explicit source keeps BDF2's second
-/// order. `models[region]` is each region's constitutive model; regions
+/// t_{n+1} (AleTransport::step_extrapolation: 2 s_n - s_{n-1} at a constant
+/// step, s_n at the first, BDF1, step), so that the explicit source keeps
+/// BDF2's second order. `models[region]` is each region's constitutive model; regions
 /// without a conformation (Newtonian) get r = 0. The fields and models are
 /// referenced, not copied.
 [[nodiscard]] AleTransport::Source log_conformation_source(
