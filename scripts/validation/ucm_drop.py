@@ -61,6 +61,119 @@ def pair_name(ca, p_d, ucm):
     return f"{'ucm' if ucm else 'newtonian'}_Ca{ca:g}{tag}"
 
 
+# Small drop Deborah numbers at Ca = 0.025: the slope of the shift in De_d,
+# which Greco's theory gives exactly. (name, drop model lines, dt, end, twin).
+# The twin is the Newtonian drop at the same dt.
+SMALL_CA = 0.025
+
+
+def ucm_lines(relaxation):
+    return f'model = "ucm"\npolymer_viscosity = {LAMBDA}\nrelaxation_time = {relaxation:g}\n'
+
+
+def small_deborah_runs():
+    """(De_d, UCM run, twin run) at Ca = 0.025; runs as (name, drop lines, dt, end)."""
+    twin = {dt: (f"newtonian_Ca0.025_dt{dt:g}", f"viscosity_ratio = {LAMBDA}\n", dt, 6.0 if dt > 0.005 else 3.0)
+            for dt in (0.005, 0.01)}
+    twin[0.02] = (pair_name(SMALL_CA, 2.0, False), f"viscosity_ratio = {LAMBDA}\n", 0.02, 6.0)
+    out = [(0.005, (f"ucm_Ca0.025_l0.005_dt0.005", ucm_lines(0.005), 0.005, 3.0), twin[0.005])]
+    out += [(de, (f"ucm_Ca0.025_l{de:g}_dt0.01", ucm_lines(de), 0.01, 6.0), twin[0.01]) for de in (0.01, 0.02, 0.03)]
+    # The fixed-Deborah runs above at Ca = 0.025 (dt = lambda_d / 5), one at dt = lambda_d / 10.
+    out.append((0.05, (pair_name(SMALL_CA, 1.0, True), ucm_lines(0.05), 0.01, 6.0),
+                (pair_name(SMALL_CA, 1.0, False), f"viscosity_ratio = {LAMBDA}\n", 0.01, 6.0)))
+    out.append((0.1, ("ucm_Ca0.025_pd2_dt0.01", ucm_lines(0.1), 0.01, 6.0), twin[0.01]))
+    out.append((0.2, ("ucm_Ca0.025_l0.2_dt0.02", ucm_lines(0.2), 0.02, 6.0), twin[0.02]))
+    return out
+
+
+def small_deborah_checks():
+    """(label, De_d, run, twin, equator nodes, far size): resolution and an Oldroyd-B drop at Ca = 0.025."""
+    twin28 = (pair_name(SMALL_CA, 2.0, False), f"viscosity_ratio = {LAMBDA}\n", 0.02, 6.0)
+    ob = 'model = "oldroyd_b"\nsolvent_viscosity = 1.0\npolymer_viscosity = 1.0\nrelaxation_time = {:g}\n'
+    return [
+        ("UCM, 28 nodes, dt = 0.02", 0.1, (pair_name(SMALL_CA, 2.0, True), ucm_lines(0.1), 0.02, 6.0), twin28, 28, 4.0),
+        ("UCM, 28 nodes, dt = 0.01", 0.1, ("ucm_Ca0.025_pd2_dt0.01", ucm_lines(0.1), 0.01, 6.0),
+         ("newtonian_Ca0.025_dt0.01", f"viscosity_ratio = {LAMBDA}\n", 0.01, 6.0), 28, 4.0),
+        ("UCM, 40 nodes, dt = 0.02", 0.1, ("ucm_Ca0.025_pd2_N40", ucm_lines(0.1), 0.02, 6.0),
+         ("newtonian_Ca0.025_pd2_N40", f"viscosity_ratio = {LAMBDA}\n", 0.02, 6.0), 40, 2.8),
+        # Oldroyd-B drop, eta_s = eta_p = 1 (eta_d = 2): Psi_1 = 2 eta_p lambda_d, Greco's shift
+        # is that of the UCM drop with the same Psi_1, i.e. De_d(UCM) = lambda_d / 2.
+        ("Oldroyd-B (eta_s = eta_p = 1), lambda_d = 0.1", 0.05, ("ob_Ca0.025_es1_ep1_l0.1", ob.format(0.1), 0.02, 6.0),
+         twin28, 28, 4.0),
+        ("Oldroyd-B (eta_s = eta_p = 1), lambda_d = 0.2", 0.1, ("ob_Ca0.025_es1_ep1_l0.2", ob.format(0.2), 0.02, 6.0),
+         twin28, 28, 4.0),
+    ]
+
+
+def general_case_text(name, drop, dt, end, equator=28, far=4.0):
+    return f"""[case]
+name = "{name}"
+[[objects]]
+{drop}capillary_number = {SMALL_CA}
+[mesh]
+equator_nodes = {equator}
+far_size = {far}
+[time]
+step = {dt}
+end = {end}
+[checkpoint]
+interval_minutes = 0
+[output]
+fields = false
+"""
+
+
+def small_deborah_report(work, md):
+    """Appends the small-De_d tables to md; returns the points for the plot."""
+    def pair(run, twin):
+        u = read_run(os.path.join(work, run[0]), 0.1 * run[3])
+        w = read_run(os.path.join(work, twin[0]), 0.1 * twin[3])
+        return (u, w) if u and w and u["status"] == "completed" and w["status"] == "completed" else (None, None)
+
+    md += ["", "## Small drop Deborah numbers at Ca = 0.025: the slope of the shift", "",
+           "UCM drops at Ca = 0.025 (28 equator nodes), De_d = lambda_d gamma_dot from 0.005 to 0.2, "
+           "each beside a Newtonian twin at the same dt. Greco's shift (eq. 2.60 as printed) is "
+           f"{greco_shift(LAMBDA, SMALL_CA, 0, 1.0 / (SMALL_CA * LAMBDA)):.3f} deg per unit De_d at lambda = 2.", "",
+           "| De_d | dt | t_end | D (UCM) | D (Newt.) | shift [deg] | Greco shift [deg] | shift / Greco |",
+           "|---|---|---|---|---|---|---|---|"]
+    points = []
+    for de, run, twin in small_deborah_runs():
+        u, w = pair(run, twin)
+        g = greco_shift(LAMBDA, SMALL_CA, 0, de / (SMALL_CA * LAMBDA))
+        if u is None:
+            md.append(f"| {de:g} | {run[2]:g} | {run[3]:g} | | | | {g:+.4f} | not run |")
+            continue
+        shift = u["theta_steady"] - w["theta_steady"]
+        points.append((de, shift, u["D_steady"] / w["D_steady"] - 1.0))
+        md.append(f"| {de:g} | {run[2]:g} | {run[3]:g} | {u['D_steady']:.5f} | {w['D_steady']:.5f} | "
+                  f"{shift:+.4f} | {g:+.4f} | {shift / g:.2f} |")
+    fit = None
+    small = [(de, sh) for de, sh, _ in points if de <= 0.05]
+    if len(small) >= 3:
+        n = len(small)
+        mx, my = sum(d for d, _ in small) / n, sum(sh for _, sh in small) / n
+        slope = sum((d - mx) * (sh - my) for d, sh in small) / sum((d - mx) ** 2 for d, _ in small)
+        fit = (my - slope * mx, slope)
+        greco_slope = greco_shift(LAMBDA, SMALL_CA, 0, 1.0 / (SMALL_CA * LAMBDA))
+        md += ["", f"Least-squares line through De_d <= 0.05: shift = {fit[0]:+.4f} {fit[1]:+.3f} De_d [deg]: "
+               f"the slope is {fit[1] / greco_slope:.2f} of Greco's ({greco_slope:.3f}); the intercept is the "
+               "shift the discretisation leaves at De_d -> 0, where the UCM drop is a Newtonian drop "
+               "whose viscous stress comes through the P1 conformation."]
+    md += ["", "Resolution at De_d = 0.1 and an Oldroyd-B drop (Ca = 0.025, twin at the same dt and mesh):", "",
+           "| run | De_d (Greco) | D (run) | D (Newt.) | shift [deg] | Greco shift [deg] | shift / Greco |",
+           "|---|---|---|---|---|---|---|"]
+    for label, de, run, twin, _, _ in small_deborah_checks():
+        u, w = pair(run, twin)
+        g = greco_shift(LAMBDA, SMALL_CA, 0, de / (SMALL_CA * LAMBDA))
+        if u is None:
+            md.append(f"| {label} | {de:g} | | | | {g:+.4f} | not run |")
+            continue
+        shift = u["theta_steady"] - w["theta_steady"]
+        md.append(f"| {label} | {de:g} | {u['D_steady']:.5f} | {w['D_steady']:.5f} | {shift:+.4f} | "
+                  f"{g:+.4f} | {shift / g:.2f} |")
+    return points, fit
+
+
 # Resolution study at Ca = 0.1: (equator nodes, far size, steps per relaxation time).
 RESOLUTION = [(28, 4.0, 10), (40, 2.8, 5)]
 
@@ -187,12 +300,13 @@ def report(work):
                 extrapolated = f"{s0 - c0 * (s1 - s0) / (c1 - c0):+.3f}"
             md.append(f"| {de:g} | {ca:g} | {pairs[[c for c, _ in pairs].index(ca)][1]:g} | {u['D_steady']:.5f} | "
                       f"{w['D_steady']:.5f} | {shift:+.3f} | {g:+.3f} | {extrapolated} |")
+    small_points, small_fit = small_deborah_report(work, md)
     with open(os.path.join(OUT, "ucm_drop.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["Ca", "dt", "D_ucm", "D_newtonian", "D_taylor", "theta_ucm_deg", "theta_newtonian_deg",
                     "shift_deg", "greco_shift_deg", "wall_ucm_s", "wall_newtonian_s"])
         w.writerows(rows)
-    fig, axes = plt.subplots(1, 5, figsize=(23, 4.2))
+    fig, axes = plt.subplots(1, 6, figsize=(27, 4.2))
     for ca, shift, g, u, n in shifts:
         axes[0].plot(u["t"], u["D"], label=f"UCM Ca = {ca:g}")
         axes[0].plot(n["t"], n["D"], ":", color=axes[0].lines[-1].get_color())
@@ -219,6 +333,17 @@ def report(work):
     axes[4].axhline(0.0, color="gray", lw=0.5)
     axes[4].set(xlabel="Ca", ylabel="theta shift UCM - Newtonian [deg]", xlim=(0, None),
                 title="shift at fixed drop Deborah number")
+    if small_points:
+        de = [p[0] for p in small_points]
+        axes[5].plot(de, [p[1] for p in small_points], "o", label="softflow, Ca = 0.025")
+        top = max(de) * 1.05
+        slope = greco_shift(LAMBDA, SMALL_CA, 0, 1.0 / (SMALL_CA * LAMBDA))
+        axes[5].plot([0, top], [0, slope * top], "--", color="k", label="Greco (eq. 2.60)")
+        if small_fit:
+            axes[5].plot([0, top], [small_fit[0], small_fit[0] + small_fit[1] * top], ":",
+                         label=f"line through De_d <= 0.05 (slope {small_fit[1]:.2f})")
+        axes[5].set(xlabel="De_d = lambda_d gamma_dot", ylabel="theta shift [deg]",
+                    title="shift vs drop Deborah number, Ca = 0.025")
     for a in axes:
         a.legend(fontsize=7)
     fig.tight_layout()
@@ -243,6 +368,12 @@ def main():
                  for p_d in P_D_STUDY for ucm in (True, False)]
         jobs += [(pair_name(ca, p_d, ucm), case_text(pair_name(ca, p_d, ucm), ca, ucm, p_d=p_d))
                  for pairs in FIXED_DEBORAH.values() for ca, p_d in pairs for ucm in (True, False)]
+        small = {r[0]: general_case_text(r[0], r[1], r[2], r[3])
+                 for _, run, twin in small_deborah_runs() for r in (run, twin)}
+        for _, _, run, twin, equator, far in small_deborah_checks():
+            for r in (run, twin):
+                small.setdefault(r[0], general_case_text(r[0], r[1], r[2], r[3], equator, far))
+        jobs += list(small.items())
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
     report(args.work)

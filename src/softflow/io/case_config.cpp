@@ -1,5 +1,6 @@
 #include "softflow/io/case_config.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -337,6 +338,21 @@ void check_adaptive(const TableRead& time, const CaseConfig& c, Diagnostics& dia
                "adaptive steps are not available for oscillatory flow, whose period the "
                "interface estimate does not see: use time.adaptive_tolerance = 0 and a "
                "time.step that resolves the period");
+  // The estimate sees the interfaces only. A conformation's time error it
+  // does not see, and an elastic particle's steady state moves with dt at
+  // first order (the decoupled elastic stress, G dt): measured, a particle
+  // at Ca_e = 0.1 (20 equator nodes) settled 0.8 % higher in D with steps
+  // growing to 0.22 than at a constant 0.02. A bound must be chosen.
+  const bool conformation =
+      c.matrix_model != ConstitutiveModel::newtonian ||
+      std::any_of(c.objects.begin(), c.objects.end(),
+                  [](const ObjectConfig& o) { return o.model != ConstitutiveModel::newtonian; });
+  if (conformation && !(c.time.max_step > 0.0))
+    diag.error(time.path("adaptive_tolerance"), *tolerance,
+               "with a viscoelastic phase or an elastic particle, adaptive steps need a "
+               "time.max_step > 0: the estimate watches the interfaces, not the conformation's "
+               "time error, and an elastic particle's steady state depends on the step size "
+               "(docs/time_stepping.md)");
   if (time.status("max_step") == Read::ok && c.time.max_step > 0.0 && c.time.max_step < c.time.step)
     diag.error(time.path("max_step"), *time.value("max_step"),
                fmt::format("the largest adaptive step must be at least the first one, time.step = "

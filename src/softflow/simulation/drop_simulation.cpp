@@ -310,9 +310,12 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
   last_quality_ = mesh::min_quality(mesh_);
   ale_rebuilt_at_quality_ = r.get_double(p + "ale_rebuilt_at_quality");
   ale_rebuilds_ = r.get_int(p + "ale_rebuilds");
-  if (reference != initial_nodes_ && reference != reference_nodes_) {
-    // The mesh-motion operator was rebuilt on a later mesh: build it there
-    // again (not when it is the current one: a step taken back).
+  // The mesh-motion operator must be the one of the saved reference: the
+  // current one if they agree (always after a fresh start; usually after a
+  // step taken back), else built there again: a checkpoint of a run that
+  // rebuilt it, or a step taken back that had rebuilt it (the translation
+  // restored above counts from the saved reference).
+  if (reference != reference_nodes_) {
     reference_nodes_ = std::move(reference);
     mesh::Mesh rebuilt = mesh_;
     rebuilt.nodes = reference_nodes_;
