@@ -776,6 +776,7 @@ max_volume_drift = 0.01
 ale_rebuild_quality = 0.2
 steady_tolerance = 0.0
 steady_window = 5.0
+adaptive_tolerance = 0.0
 
 [checkpoint]
 interval_steps = 0

@@ -297,7 +297,9 @@ Table<CaseConfig> time_table() {
               "is kept below this: a step above it is taken again, smaller, as is a step that "
               "fails (solver, mesh quality), down to step / 1000. 0 = constant steps"),
        number("max_step", time(&TimeConfig::max_step), 0.0, Range::at_least(0),
-              "adaptive steps: the largest step (0: bounded only by max_growth and end)")
+              "adaptive steps: the largest step (0: none); adaptive steps also stay below "
+              "1 / (interface.redistribution_factor gamma_dot), the stability bound of the "
+              "tangential redistribution")
            .printed_if(adaptive),
        number("max_growth", time(&TimeConfig::max_growth), 2.0, Range::open(1, 2.4),
               "adaptive steps: the largest ratio of a step to the one before (variable-step BDF2 "
