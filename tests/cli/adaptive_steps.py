@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Adaptive time steps (time.adaptive_tolerance), through the program.
 
-Usage: adaptive_steps.py SOFTFLOW CASE.toml WORK_DIR
+Usage: adaptive_steps.py SOFTFLOW CASE.toml WORK_DIR [MPI launcher words...]
 
 The coarse drop of the regression case (drop_short.toml, to t = 1):
 1. Adaptive from a first step of 0.01 with tolerance 1e-3 against the same
@@ -10,14 +10,17 @@ The coarse drop of the regression case (drop_short.toml, to t = 1):
    interpolation between adaptive steps), in fewer steps; the stored
    dt = 0.05 series is further away (its first, BDF1, step costs ~4e-3 in D).
    The run ends exactly at t = 1, every accepted step's estimate is within
-   the tolerance, the dt column is the difference of successive times, and
-   summary.json's adaptive block counts the steps.
+   the tolerance, the dt column is the difference of successive times, no
+   step exceeds 1 / (k gamma_dot) = 0.1 (the redistribution's stability
+   bound), and summary.json's adaptive block counts the steps.
 2. From a first step of 0.05, too large for the start: steps are rejected
    and taken again (the run says so), the time series has no rows of
    rejected steps (consecutive step numbers, increasing times).
 3. A run stopped by SIGTERM and restarted takes the same steps: every column
    equal to round-off.
-4. Bad input: max_step below step, adaptive steps without objects or with
+4. With an MPI launcher (e.g. mpiexec -n 2): the accuracy run of 1 on two
+   ranks takes the same steps as the serial one (every column to round-off).
+5. Bad input: max_step below step, adaptive steps without objects or with
    oscillatory flow, max_growth without adaptive steps: exit 1, one message
    naming the key.
 """
@@ -56,7 +59,7 @@ def write(work, name, text):
     return path
 
 
-def main(softflow, case_source, work):
+def main(softflow, case_source, work, *launcher):
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     with open(case_source) as f:
@@ -88,6 +91,9 @@ def main(softflow, case_source, work):
     a = s["adaptive"]
     if a["accepted"] != len(t_a) - 1 or a["tolerance"] != TOL:
         fail(f"summary.json adaptive block {a} for {len(t_a) - 1} steps")
+    # The redistribution's stability bound 1 / (k gamma_dot), k = 10 (the default), gamma_dot = 1.
+    if abs(a["step_bound"] - 0.1) > 1e-12 or max(float(r["dt"]) for r in r_a[1:]) > 0.1 + 1e-12:
+        fail(f"steps above the bound 0.1: step_bound {a['step_bound']}, largest {a['largest_step']}")
     for prev, row in zip(r_a, r_a[1:]):
         dt = float(row["dt"])
         if abs(float(row["t"]) - float(prev["t"]) - dt) > 1e-9:
@@ -140,7 +146,23 @@ def main(softflow, case_source, work):
                 fail(f"restarted run, step {x['step']}, {column}: {v} vs {u}")
     print(f"interrupted past step 8, restarted: the same {len(again)} rows")
 
-    # 4. Bad input.
+    # 4. Two ranks.
+    if launcher:
+        par_dir = os.path.join(work, "adaptive_mpi")
+        run([softflow, "run", os.path.join(work, "adaptive.toml"), "-o", par_dir, "-q"], launcher=launcher)
+        par = rows(par_dir)
+        if len(par) != len(r_a):
+            fail(f"{len(par)} rows on two ranks, {len(r_a)} serially")
+        for x, y in zip(r_a, par):
+            for column in x:
+                if column in ("step_seconds", "stokes_iterations"):
+                    continue
+                u, v = float(x[column]), float(y[column])
+                if u == u and abs(u - v) > 1e-9 * max(1.0, abs(u)):
+                    fail(f"two ranks, step {x['step']}, {column}: {v} vs serial {u}")
+        print(f"two ranks: the same {len(par)} rows as serially")
+
+    # 5. Bad input.
     no_objects = base[:base.index("[[objects]]")] + base[base.index("[mesh]"):]
     for name, text, key in [
             ("max_step", adaptive(0.05).replace("adaptive_tolerance", "max_step = 0.01\nadaptive_tolerance"), "time.max_step"),
@@ -157,4 +179,4 @@ def main(softflow, case_source, work):
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:4])
+    main(*sys.argv[1:])
