@@ -25,15 +25,12 @@ The coarse drop of the regression case (drop_short.toml, to t = 1):
    naming the key.
 """
 import bisect
-import json
 import os
 import shutil
 import signal
-import subprocess
 import sys
-import time
 
-from cli_support import fail, run, rows, read_json
+from cli_support import fail, run, rows, read_json, same_rows, stop_when_past
 
 TOL = 1e-3
 INTERRUPTED = 5
@@ -118,32 +115,13 @@ def main(softflow, case_source, work, *launcher):
 
     # 3. SIGTERM and restart.
     stopped = os.path.join(work, "interrupted")
-    process = subprocess.Popen([softflow, "run", os.path.join(work, "rejecting.toml"), "-o", stopped, "-q"],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    deadline = time.time() + 120
-    while process.poll() is None and time.time() < deadline:
-        try:
-            with open(os.path.join(stopped, "progress.json")) as f:
-                if json.load(f)["step"] >= 8:
-                    process.send_signal(signal.SIGTERM)
-                    break
-        except (OSError, ValueError, KeyError):
-            pass
-        time.sleep(0.01)
-    process.communicate(timeout=120)
-    if process.returncode != INTERRUPTED:
-        fail(f"SIGTERM: exit code {process.returncode}, expected {INTERRUPTED}")
+    code, _ = stop_when_past([softflow, "run", os.path.join(work, "rejecting.toml"), "-o", stopped, "-q"],
+                             stopped, 8, signal.SIGTERM)
+    if code != INTERRUPTED:
+        fail(f"SIGTERM: exit code {code}, expected {INTERRUPTED}")
     run([softflow, "restart", stopped, "-q"])
     again = rows(stopped)
-    if len(again) != len(r_r):
-        fail(f"the restarted run has {len(again)} rows, the uninterrupted one {len(r_r)}")
-    for x, y in zip(r_r, again):
-        for column in x:
-            if column == "step_seconds":
-                continue
-            u, v = float(x[column]), float(y[column])
-            if u == u and abs(u - v) > 1e-12 * max(1.0, abs(u)):
-                fail(f"restarted run, step {x['step']}, {column}: {v} vs {u}")
+    same_rows(r_r, again, "restarted run")
     print(f"interrupted past step 8, restarted: the same {len(again)} rows")
 
     # 4. Two ranks.
@@ -151,15 +129,7 @@ def main(softflow, case_source, work, *launcher):
         par_dir = os.path.join(work, "adaptive_mpi")
         run([softflow, "run", os.path.join(work, "adaptive.toml"), "-o", par_dir, "-q"], launcher=launcher)
         par = rows(par_dir)
-        if len(par) != len(r_a):
-            fail(f"{len(par)} rows on two ranks, {len(r_a)} serially")
-        for x, y in zip(r_a, par):
-            for column in x:
-                if column in ("step_seconds", "stokes_iterations"):
-                    continue
-                u, v = float(x[column]), float(y[column])
-                if u == u and abs(u - v) > 1e-9 * max(1.0, abs(u)):
-                    fail(f"two ranks, step {x['step']}, {column}: {v} vs serial {u}")
+        same_rows(r_a, par, "two ranks", skip=("step_seconds", "stokes_iterations"), tolerance=1e-9)
         print(f"two ranks: the same {len(par)} rows as serially")
 
     # 5. Bad input.

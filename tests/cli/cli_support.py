@@ -5,6 +5,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 
 
 def fail(message):
@@ -29,3 +30,47 @@ def rows(directory, name="timeseries.csv"):
 def read_json(directory, name="summary.json"):
     with open(os.path.join(directory, name)) as f:
         return json.load(f)
+
+
+def stop_when_past(args, out, step, sig, launcher=()):
+    """Starts `args` (a run writing into `out`) and sends `sig` once its
+    progress.json reports `step`; returns the exit code and the output."""
+    process = subprocess.Popen(list(launcher) + list(args), stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    progress = os.path.join(out, "progress.json")
+    deadline = time.time() + 120
+    while process.poll() is None and time.time() < deadline:
+        try:
+            with open(progress) as f:
+                if json.load(f)["step"] >= step:
+                    process.send_signal(sig)
+                    break
+        except (OSError, ValueError, KeyError):
+            pass
+        time.sleep(0.01)
+    stdout, stderr = process.communicate(timeout=120)
+    return process.returncode, stdout + stderr
+
+
+def same_rows(reference, result, what, skip=("step_seconds",), tolerance=1e-12):
+    """Every column but `skip` equal to `tolerance` (relative, at least
+    absolute); nan equals nan. Fails naming the first difference; returns
+    the largest difference."""
+    if len(reference) != len(result):
+        fail(f"{what}: {len(result)} rows, the reference run has {len(reference)}")
+    worst = 0.0
+    for a, b in zip(reference, result):
+        for column in a:
+            if column in skip:
+                continue
+            x, y = float(a[column]), float(b[column])
+            if x != x or y != y:
+                if (x != x) != (y != y):
+                    fail(f"{what}: step {a['step']}, {column}: {y!r} vs {x!r} in the reference run")
+                continue
+            difference = abs(x - y)
+            worst = max(worst, difference)
+            if difference > tolerance * max(1.0, abs(x)):
+                fail(f"{what}: step {a['step']}, {column}: {y!r} vs {x!r} in the reference run")
+    return worst
+

@@ -28,13 +28,13 @@ forwards it to every rank; SIGTERM it does not), and "round-off" allows
 """
 import csv
 import json
-import math
 import os
 import shutil
 import signal
 import subprocess
 import sys
-import time
+
+import cli_support as support
 
 PETSC = ["--", "-stokes_lu_reuse_max_its", "5"]
 INTERRUPTED = 5
@@ -67,37 +67,13 @@ def read_json(directory, name):
 
 def stop_when_past(softflow, case, out, step, sig):
     """Starts a run and sends `sig` once progress.json reports `step`."""
-    process = subprocess.Popen(LAUNCHER + [softflow, "run", case, "-o", out, "-q"] + PETSC,
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    progress = os.path.join(out, "progress.json")
-    deadline = time.time() + 120
-    while process.poll() is None and time.time() < deadline:
-        try:
-            with open(progress) as f:
-                if json.load(f)["step"] >= step:
-                    process.send_signal(sig)
-                    break
-        except (OSError, ValueError, KeyError):
-            pass
-        time.sleep(0.01)
-    stdout, stderr = process.communicate(timeout=120)
-    return process.returncode, stdout + stderr
+    return support.stop_when_past([softflow, "run", case, "-o", out, "-q"] + PETSC, out, step, sig,
+                                  LAUNCHER)
 
 
 def compare(reference, result, what):
     """Every column but the wall time, to round-off; returns the largest difference."""
-    if len(reference) != len(result):
-        fail(f"{what}: {len(result)} rows, the uninterrupted run has {len(reference)}")
-    worst = 0.0
-    for a, b in zip(reference, result):
-        for column in a:
-            if column == "step_seconds":
-                continue
-            x, y = float(a[column]), float(b[column])
-            difference = abs(x - y)
-            worst = max(worst, difference)
-            if difference > TOLERANCE * max(1.0, abs(x)):
-                fail(f"{what}: step {a['step']}, {column}: {y!r} vs {x!r} uninterrupted")
+    worst = support.same_rows(reference, result, what, tolerance=TOLERANCE)
     print(f"{what}: {len(result)} rows, every column but step_seconds within "
           f"{worst:.1e} of the uninterrupted run")
     return worst

@@ -20,16 +20,13 @@ latest time, tolerance 2e-3 over a window of 1:
 4. A sweep's table reports it (steady = yes, steady_t).
 """
 import csv
-import json
 import math
 import os
 import shutil
 import signal
-import subprocess
 import sys
-import time
 
-from cli_support import fail, run, rows, read_json
+from cli_support import fail, run, rows, read_json, same_rows, stop_when_past
 
 TOL, WINDOW = 2e-3, 1.0
 INTERRUPTED = 5
@@ -100,32 +97,14 @@ def main(softflow, case_source, work):
 
     # 3. Interrupted before steady state, restarted: the same stop.
     stopped = os.path.join(work, "interrupted")
-    process = subprocess.Popen([softflow, "run", case, "-o", stopped, "-q"], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True)
-    deadline = time.time() + 120
-    while process.poll() is None and time.time() < deadline:
-        try:
-            with open(os.path.join(stopped, "progress.json")) as f:
-                if json.load(f)["step"] >= 8:
-                    process.send_signal(signal.SIGTERM)
-                    break
-        except (OSError, ValueError, KeyError):
-            pass
-        time.sleep(0.01)
-    process.communicate(timeout=120)
-    if process.returncode != INTERRUPTED:
-        fail(f"SIGTERM: exit code {process.returncode}, expected {INTERRUPTED}")
+    code, _ = stop_when_past([softflow, "run", case, "-o", stopped, "-q"], stopped, 8, signal.SIGTERM)
+    if code != INTERRUPTED:
+        fail(f"SIGTERM: exit code {code}, expected {INTERRUPTED}")
     if summary(stopped)["steps"] >= s["steps"]:
         fail("the run reached steady state before the stop: the test would not exercise a restart")
     run([softflow, "restart", stopped, "-q"])
     again = rows(stopped)
-    if len(again) != len(series):
-        fail(f"the restarted run has {len(again)} rows, the uninterrupted one {len(series)}")
-    for a, b in zip(series, again):
-        for column in a:
-            if column != "step_seconds" and abs(float(a[column]) - float(b[column])) > \
-                    1e-12 * max(1.0, abs(float(a[column]))):
-                fail(f"restarted run, step {a['step']}, {column}: {b[column]} vs {a[column]}")
+    same_rows(series, again, "restarted run")
     if summary(stopped)["steady"]["time"] != s["steady"]["time"]:
         fail("the restarted run reports another steady time")
     result = run([softflow, "restart", out])
