@@ -116,8 +116,36 @@ def main():
         md.append(f"| {r['equator_nodes']} | {r['stepping']} | {r['unknowns']} | {r['wall_seconds_median']:.1f} | "
                   f"{r['accepted_steps']} ({r['rejected_steps']}) | {largest} | {steady} | "
                   f"{r['D']:.6f} | {100 * r['D_error']:+.3f} % |")
+    md += ["", "![D and dt against t](time_to_answer.png)"]
     with open(os.path.join(OUT, "time_to_answer.md"), "w") as f:
         f.write("\n".join(md) + "\n")
+    plot(args.work, results, d_ref)
+
+
+def plot(work, results, d_ref):
+    """D(t) and the step size against t for each run of the coarsest mesh."""
+    import csv
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    coarsest = min(r["equator_nodes"] for r in results)
+    fig, (ax_d, ax_dt) = plt.subplots(1, 2, figsize=(11, 4))
+    for r in results:
+        if r["equator_nodes"] != coarsest:
+            continue
+        name = f"N{coarsest}_" + re.sub(r"[^a-z0-9]+", "_", r["stepping"].lower()).strip("_")
+        with open(os.path.join(work, name, "timeseries.csv")) as f:
+            rows = list(csv.DictReader(f))[1:]
+        t = [float(x["t"]) for x in rows]
+        ax_d.plot(t, [float(x["D"]) for x in rows], ".-", ms=3, label=r["stepping"])
+        ax_dt.plot(t, [float(x["dt"]) for x in rows], ".-", ms=3, label=r["stepping"])
+    ax_d.axhline(d_ref, color="gray", ls="--", label="converged D (extrapolated)")
+    ax_d.set(xlabel="t", ylabel="D", title=f"D(t), {coarsest} equator nodes, to steady state")
+    ax_dt.set(xlabel="t", ylabel="dt", yscale="log", title="step size")
+    for a in (ax_d, ax_dt):
+        a.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "time_to_answer.png"), dpi=110)
 
 
 if __name__ == "__main__":
