@@ -157,6 +157,9 @@ class DropSimulation {
   std::vector<std::vector<physics::Vec3>> predict_interfaces(double dt) const;
   std::vector<physics::Vec3> translate_mesh(const std::vector<std::vector<physics::Vec3>>& x_hat,
                                             double dt);
+  /// BDF1 again for every history (interfaces, mesh velocity, conformation)
+  /// after a jump in the wall speed.
+  void restart_time_histories();
   void rebuild_ale_if_degraded();
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,

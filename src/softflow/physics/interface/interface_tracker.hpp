@@ -72,6 +72,13 @@ class InterfaceTracker {
   }
   /// Continues from a saved history of the same surface (the node count must match).
   void restore(History history);
+  /// The next step is BDF1 with the predictor x_n, as the first: after a
+  /// jump in the flow (walls that stop), where BDF2's three-level stencil
+  /// would span the jump and leave an O(dt) error.
+  void restart_history() {
+    steps_ = 0;
+    centre_steps_ = 0;
+  }
 
   /// The redistribution potential c on the surface x (eq. 2.31), mean zero.
   [[nodiscard]] std::vector<double> redistribution_potential(const std::vector<Vec3>& x) const;
