@@ -83,3 +83,16 @@ TEST(StepController, RefusesSettingsOutOfRange) {
   bad.max_step = 1e-5;  // below min_step
   EXPECT_THROW(StepController{bad}, softflow::Error);
 }
+
+TEST(StepController, TheNextPlannedStepShrinksAfterAnAcceptedStepAndIgnoresCutShortSteps) {
+  using softflow::time::next_planned_step;
+  // A full step: the proposal, smaller or larger.
+  EXPECT_DOUBLE_EQ(next_planned_step(0.1, 0.1, 0.08), 0.08);
+  EXPECT_DOUBLE_EQ(next_planned_step(0.1, 0.1, 0.15), 0.15);
+  // Cut short to 0.02 to land on the end: its estimate lets it grow, the plan stays.
+  EXPECT_DOUBLE_EQ(next_planned_step(0.1, 0.02, 0.04), 0.1);
+  EXPECT_DOUBLE_EQ(next_planned_step(0.1, 0.02, 0.2), 0.2);
+  // ... unless even the short step asks to shrink.
+  EXPECT_DOUBLE_EQ(next_planned_step(0.1, 0.02, 0.015), 0.015);
+}
+

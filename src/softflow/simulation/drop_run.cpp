@@ -565,8 +565,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
           failed = true;
         }
         if (decision.accepted) {
-          // A step cut short to land on the end or a jump does not shrink the next.
-          a.next_step = std::max(decision.next_step, std::min(a.next_step, dt));
+          a.next_step = time::next_planned_step(a.next_step, dt, decision.next_step);
           a.smallest = std::min(a.smallest, dt);
           a.largest = std::max(a.largest, dt);
           return r;

@@ -50,4 +50,9 @@ StepDecision StepController::after_failure(double dt) const {
   return {false, settings_.max_step > 0.0 ? std::min(retry, settings_.max_step) : retry};
 }
 
+double next_planned_step(double planned, double taken, double proposed) {
+  const bool cut_short = taken < planned;
+  return cut_short && proposed >= taken ? std::max(planned, proposed) : proposed;
+}
+
 }  // namespace softflow::time

@@ -55,4 +55,10 @@ class StepController {
   StepControllerSettings settings_;
 };
 
+/// The size planned for the step after an accepted one. `taken` may be
+/// shorter than `planned` (cut to land on the end or a jump of the flow):
+/// then a proposal that would let it grow keeps the planned size (a short
+/// step's small estimate says nothing against it); otherwise the proposal.
+[[nodiscard]] double next_planned_step(double planned, double taken, double proposed);
+
 }  // namespace softflow::time
