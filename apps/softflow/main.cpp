@@ -29,14 +29,14 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-
-#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

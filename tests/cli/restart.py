@@ -26,15 +26,13 @@ forwards it to every rank; SIGTERM it does not), and "round-off" allows
 5. A restart refuses a case.toml changed after the checkpoint, and does
    nothing for a run that is complete.
 """
-import csv
-import json
 import os
 import shutil
 import signal
-import subprocess
 import sys
 
 import cli_support as support
+from cli_support import fail, read_json, rows
 
 PETSC = ["--", "-stokes_lu_reuse_max_its", "5"]
 INTERRUPTED = 5
@@ -42,27 +40,8 @@ LAUNCHER = []       # set from the command line
 TOLERANCE = 1e-12   # relative, per value
 
 
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
-
-
 def run(args, expect):
-    result = subprocess.run(LAUNCHER + args, capture_output=True, text=True)
-    if result.returncode != expect:
-        fail(f"{' '.join(args)}: exit code {result.returncode}, expected {expect}\n"
-             f"{result.stdout}\n{result.stderr}")
-    return result
-
-
-def rows(directory):
-    with open(os.path.join(directory, "timeseries.csv")) as f:
-        return list(csv.DictReader(f))
-
-
-def read_json(directory, name):
-    with open(os.path.join(directory, name)) as f:
-        return json.load(f)
+    return support.run(args, expect, LAUNCHER)
 
 
 def stop_when_past(softflow, case, out, step, sig):

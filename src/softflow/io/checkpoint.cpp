@@ -405,11 +405,10 @@ StateRecord read_state(hid_t file) {
   return state;
 }
 
-// The attributes get a checksum of their own (FNV-1a): the datasets have
-// Fletcher32, and HDF5's own metadata checksums catch most, not all, damage
-// to object headers, and say nothing of it clearly.
-
-/// The attributes: the header, the mesh's box, each state entry's key, kind and shape.
+/// FNV-1a of the attributes: the header, the mesh's box, each state entry's
+/// key, kind and shape. The datasets have Fletcher32; HDF5's own metadata
+/// checksums catch most, not all, damage to object headers, and say nothing
+/// of it clearly.
 std::uint64_t attributes_checksum(const Checkpoint& c) {
   Fnv1a h;
   h.scalar(c.format_version);

@@ -4,6 +4,10 @@
 
 namespace softflow::simulation {
 
+double redistribution_rate(const io::CaseConfig& config) {
+  return config.interface.redistribution_factor * (config.shear_rate > 0 ? config.shear_rate : 1.0);
+}
+
 physics::WallMotion wall_motion(const io::CaseConfig& config) {
   const double h = config.box.height;
   const auto& flow = config.flow;

@@ -17,6 +17,11 @@ namespace softflow::simulation {
 /// place.
 physics::WallMotion wall_motion(const io::CaseConfig& config);
 
+/// k of the tangential redistribution u_t = k grad_s c (eq. 2.30), in 1/time:
+/// interface.redistribution_factor (k / gamma_dot) times the shear rate; at
+/// rest the factor itself.
+double redistribution_rate(const io::CaseConfig& config);
+
 /// The constitutive model of each region (0 = matrix, k = object k), from the case.
 std::vector<physics::viscoelastic::Constitutive> phase_models(const io::CaseConfig& config);
 

@@ -157,8 +157,7 @@ std::optional<AdaptiveSteps> adaptive_steps(const io::CaseConfig& config) {
 /// dt ~ 0.13 at k = 10. 1/k keeps a margin for changing steps.
 double adaptive_step_bound(const io::CaseConfig& config) {
   double bound = config.time.max_step;
-  const double k = config.interface.redistribution_factor *
-                   (config.shear_rate > 0.0 ? config.shear_rate : 1.0);  // as DropSimulation sets it
+  const double k = redistribution_rate(config);
   if (k > 0.0) bound = bound > 0.0 ? std::min(bound, 1.0 / k) : 1.0 / k;
   return std::max(bound, config.time.step);  // never below the first step
 }
@@ -551,7 +550,8 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         bool failed = false;
         try {
           r = sim.step(dt);
-          // The first step's predictor is x_n: no estimate; keep its size.
+          // A BDF1 step (the first, or the one after a jump) predicts x_n:
+          // no estimate (NaN); keep its size.
           decision = std::isnan(r.interface_change) ? time::StepDecision{true, dt}
                                                     : controller->judge(dt, r.interface_change);
           if (!decision.accepted)

@@ -39,9 +39,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
                                                     has_interface_slip(config_));
   ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
   physics::InterfaceTrackerSettings tracking;
-  // k = (k / gamma_dot) gamma_dot; at rest the factor is taken as k itself.
-  tracking.redistribution_factor =
-      config_.interface.redistribution_factor * (config_.shear_rate > 0 ? config_.shear_rate : 1.0);
+  tracking.redistribution_factor = redistribution_rate(config_);
   tracking.supg_beta = config_.interface.supg_beta;
   for (int k = 1; k <= mesh_.n_objects; ++k) {
     auto surface = physics::extract_interface(mesh_, k);

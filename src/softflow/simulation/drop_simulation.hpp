@@ -1,8 +1,6 @@
 // The ALE time loop for drops in shear: thesis §2.3.3, Steps 1-5, each a named stage.
 #pragma once
 
-#include <algorithm>
-#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>

@@ -47,7 +47,7 @@ StepDecision StepController::judge(double dt, double estimate) const {
 StepDecision StepController::after_failure(double dt) const {
   const double retry = 0.5 * dt;
   if (retry < settings_.min_step) return {false, 0.0};
-  return {false, settings_.max_step > 0.0 ? std::min(retry, settings_.max_step) : retry};
+  return {false, bounded(retry)};
 }
 
 double next_planned_step(double planned, double taken, double proposed) {
