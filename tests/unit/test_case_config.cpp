@@ -86,6 +86,7 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.time.min_quality, b.time.min_quality);
   EXPECT_EQ(a.time.max_volume_drift, b.time.max_volume_drift);
   EXPECT_EQ(a.time.ale_rebuild_quality, b.time.ale_rebuild_quality);
+  EXPECT_EQ(a.time.relocation_quality, b.time.relocation_quality);
   EXPECT_EQ(a.time.steady_tolerance, b.time.steady_tolerance);
   EXPECT_EQ(a.time.steady_window, b.time.steady_window);
   EXPECT_EQ(a.interface.redistribution_factor, b.interface.redistribution_factor);
@@ -774,6 +775,7 @@ fields_interval = 0
 min_quality = 0.02
 max_volume_drift = 0.01
 ale_rebuild_quality = 0.2
+relocation_quality = 0.2
 steady_tolerance = 0.0
 steady_window = 5.0
 adaptive_tolerance = 0.0

@@ -51,22 +51,23 @@ const std::array<RefGradients, 11>& sample_gradients() {
   return table;
 }
 
-double straight_shape(const Mesh& mesh, const Tet10& t) {
-  const Point& x0 = mesh.nodes[t[0]];
-  const Point e1 = mesh.nodes[t[1]] - x0, e2 = mesh.nodes[t[2]] - x0, e3 = mesh.nodes[t[3]] - x0;
+double straight_shape(std::span<const Point> nodes, const Tet10& t) {
+  const Point& x0 = nodes[t[0]];
+  const Point e1 = nodes[t[1]] - x0, e2 = nodes[t[2]] - x0, e3 = nodes[t[3]] - x0;
   const double volume = std::abs(e1.dot(e2.cross(e3))) / 6.0;
   double edges2 = 0.0;
-  for (const auto& [a, b] : kTetEdges) edges2 += (mesh.nodes[t[a]] - mesh.nodes[t[b]]).squaredNorm();
+  for (const auto& [a, b] : kTetEdges) edges2 += (nodes[t[a]] - nodes[t[b]]).squaredNorm();
   if (edges2 <= 0.0) return 0.0;
   return 12.0 * std::cbrt(3.0 * volume * 3.0 * volume) / edges2;
 }
 
 }  // namespace
 
-double tet_quality(const Mesh& mesh, int tet) {
-  const Tet10& t = mesh.tets[tet];
+double tet_quality(const Mesh& mesh, int tet) { return tet_quality(mesh.nodes, mesh.tets[tet]); }
+
+double tet_quality(std::span<const Point> nodes, const Tet10& t) {
   Eigen::Matrix<double, 3, 10> x;
-  for (int k = 0; k < 10; ++k) x.col(k) = mesh.nodes[t[k]];
+  for (int k = 0; k < 10; ++k) x.col(k) = nodes[t[k]];
   double det_min = INFINITY, det_max = -INFINITY, abs_max = 0.0;
   for (const auto& g : sample_gradients()) {
     const double det = (x * g).determinant();
@@ -75,7 +76,7 @@ double tet_quality(const Mesh& mesh, int tet) {
     abs_max = std::max(abs_max, std::abs(det));
   }
   if (det_min <= 0.0) return abs_max > 0.0 ? det_min / abs_max : 0.0;
-  return straight_shape(mesh, t) * det_min / det_max;
+  return straight_shape(nodes, t) * det_min / det_max;
 }
 
 int worst_tet(const Mesh& mesh) {

@@ -1,6 +1,7 @@
 // Shape quality of curved P2 tetrahedra: straight-shape measure times curving distortion.
 #pragma once
 
+#include <span>
 #include <string>
 
 #include "softflow/mesh/mesh.hpp"
@@ -14,6 +15,8 @@ namespace softflow::mesh {
 /// the 6 edge nodes and the centroid. A non-positive Jacobian at any sample
 /// gives a quality <= 0 (min det J / max |det J|), so "> 0" means "valid".
 double tet_quality(const Mesh& mesh, int tet);
+/// The same for the tetrahedron `tet` on the node positions `nodes`.
+double tet_quality(std::span<const Point> nodes, const Tet10& tet);
 
 /// Smallest tet_quality over the mesh; 1 for a mesh without tetrahedra.
 double min_quality(const Mesh& mesh);

@@ -34,7 +34,9 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
     : config_(config),
       mesh_(std::move(mesh)),
       initial_nodes_(mesh_.nodes),
-      reference_nodes_(mesh_.nodes) {
+      reference_nodes_(mesh_.nodes),
+      relocation_(mesh_.n_nodes(), mesh::Point::Zero()),
+      relocator_(std::make_unique<mesh::NodeRelocation>(mesh_)) {
   stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_),
                                                     has_interface_slip(config_));
   ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
@@ -291,6 +293,9 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   r.set(p + "ale_reference_nodes", reference_nodes_);
   r.set(p + "ale_rebuilt_at_quality", ale_rebuilt_at_quality_);
   r.set(p + "ale_rebuilds", ale_rebuilds_);
+  r.set(p + "ale_relocation", relocation_);
+  r.set(p + "relocation_steps", relocation_steps_);
+  r.set(p + "relocated_vertices", relocated_vertices_);
 }
 
 void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& p) {
@@ -318,6 +323,17 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
   last_quality_ = mesh::min_quality(mesh_);
   ale_rebuilt_at_quality_ = r.get_double(p + "ale_rebuilt_at_quality");
   ale_rebuilds_ = r.get_int(p + "ale_rebuilds");
+  // Checkpoints from before vertex relocation: none.
+  if (r.contains(p + "ale_relocation")) {
+    auto relocation = r.get_points(p + "ale_relocation");
+    if (relocation.size() != n) throw InputError("the checkpoint does not fit the mesh it carries");
+    relocation_ = std::move(relocation);
+    relocation_steps_ = r.get_int(p + "relocation_steps");
+    relocated_vertices_ = r.get_int(p + "relocated_vertices");
+  } else {
+    std::fill(relocation_.begin(), relocation_.end(), mesh::Point::Zero());
+    relocation_steps_ = relocated_vertices_ = 0;
+  }
   // The mesh-motion operator must be the one of the saved reference: the
   // current one if they agree (always after a fresh start; usually after a
   // step taken back), else built there again: a checkpoint of a run that
@@ -375,10 +391,26 @@ void DropSimulation::rebuild_ale_if_degraded() {
       last_quality_ >= 0.95 * ale_rebuilt_at_quality_)
     return;
   reference_nodes_ = mesh_.nodes;
+  std::fill(relocation_.begin(), relocation_.end(), mesh::Point::Zero());
   translation_x_ = 0.0;
   ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
   ale_rebuilt_at_quality_ = last_quality_;
   ++ale_rebuilds_;
+}
+
+void DropSimulation::relocate_vertices(std::vector<mesh::Point>& moved) {
+  // Part of this step's mesh motion, so the mesh velocity (and with it the
+  // ALE transport) sees the relocation; kept in relocation_ so that later
+  // steps, which extend the interface displacement from the reference
+  // again, keep it too.
+  const double target = config_.time.relocation_quality;
+  if (target <= 0.0) return;
+  const std::vector<mesh::Point> before = moved;
+  const auto report = relocator_->improve(moved, target);
+  if (report.nodes_moved == 0) return;
+  for (int i = 0; i < mesh_.n_nodes(); ++i) relocation_[i] += moved[i] - before[i];
+  ++relocation_steps_;
+  relocated_vertices_ += report.nodes_moved;
 }
 
 double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat, double dt) {
@@ -394,11 +426,12 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   }
   const auto d2 = ale_->solve(interface_displacement);
   std::vector<mesh::Point> moved(mesh_.n_nodes());
-  for (int i = 0; i < mesh_.n_nodes(); ++i) moved[i] = reference_nodes_[i] + d1 + d2[i];
+  for (int i = 0; i < mesh_.n_nodes(); ++i) moved[i] = reference_nodes_[i] + relocation_[i] + d1 + d2[i];
   for (std::size_t k = 0; k < trackers_.size(); ++k) {  // exactly on the predicted interface
     const auto& nodes = trackers_[k].surface().volume_node;
     for (std::size_t i = 0; i < nodes.size(); ++i) moved[nodes[i]] = x_hat[k][i];
   }
+  relocate_vertices(moved);
   mesh_velocity_ = physics::bdf_mesh_velocity(moved, mesh_.nodes, previous_nodes_, dt, last_dt_);
   last_dt_ = dt;
   previous_nodes_ = std::exchange(mesh_.nodes, std::move(moved));

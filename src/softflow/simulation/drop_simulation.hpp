@@ -13,6 +13,7 @@
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/mesh/mesh.hpp"
+#include "softflow/mesh/node_relocation.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
@@ -143,6 +144,10 @@ class DropSimulation {
   [[nodiscard]] double time() const { return time_; }
   /// How often the mesh-motion operator was rebuilt on the current mesh.
   [[nodiscard]] int ale_rebuilds() const { return ale_rebuilds_; }
+  /// Steps whose mesh motion relocated vertices (time.relocation_quality),
+  /// and the vertex moves over all of them.
+  [[nodiscard]] int relocation_steps() const { return relocation_steps_; }
+  [[nodiscard]] int relocated_vertices() const { return relocated_vertices_; }
   [[nodiscard]] int steps() const { return steps_; }
   /// Each object's volume at t = 0 (the reference for the volume drift).
   [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
@@ -159,6 +164,9 @@ class DropSimulation {
   /// after a jump in the wall speed.
   void restart_time_histories();
   void rebuild_ale_if_degraded();
+  /// Relocates free vertices of elements below time.relocation_quality in
+  /// `moved` (the step's new mesh) and records the shift in relocation_.
+  void relocate_vertices(std::vector<mesh::Point>& moved);
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
                    StageSeconds& stages);
@@ -184,6 +192,10 @@ class DropSimulation {
   mesh::Mesh mesh_;
   std::vector<mesh::Point> initial_nodes_;    // the mesh as meshed: what a restart starts from
   std::vector<mesh::Point> reference_nodes_;  // where the ALE operator was built
+  // Vertex relocations since then: the mesh sits at reference + relocation
+  // + the harmonic extension of the interface displacement.
+  std::vector<mesh::Point> relocation_;
+  std::unique_ptr<mesh::NodeRelocation> relocator_;
   std::vector<mesh::Point> previous_nodes_;  // x at t_{n-1}: empty before the first step
   std::vector<mesh::Point> mesh_velocity_;
   std::unique_ptr<physics::StokesSystem> stokes_;
@@ -196,6 +208,8 @@ class DropSimulation {
   double last_quality_ = 1.0;  // minimum element quality of the current mesh
   double ale_rebuilt_at_quality_ = std::numeric_limits<double>::infinity();
   int ale_rebuilds_ = 0;
+  int relocation_steps_ = 0;
+  int relocated_vertices_ = 0;
   double translation_x_ = 0.0;
   double time_ = 0.0;
   double last_dt_ = 0.0;  // t_n - t_{n-1}: the mesh velocity's BDF2 (0 before the first step)

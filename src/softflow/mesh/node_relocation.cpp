@@ -1,0 +1,111 @@
+#include "softflow/mesh/node_relocation.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "softflow/mesh/quality.hpp"
+
+namespace softflow::mesh {
+
+NodeRelocation::NodeRelocation(const Mesh& mesh)
+    : tets_(mesh.tets),
+      free_(mesh.nodes.size(), 1),
+      tets_of_node_(mesh.nodes.size()),
+      edge_nodes_of_vertex_(mesh.nodes.size()) {
+  for (const auto& faces : {std::cref(mesh.interface_faces), std::cref(mesh.boundary_faces)})
+    for (const auto& tri : faces.get())
+      for (int node : tri) free_[node] = 0;
+  for (int i = 0; i < mesh.n_nodes(); ++i)
+    if (mesh.master(i) != i) free_[i] = free_[mesh.master(i)] = 0;
+  for (int t = 0; t < mesh.n_tets(); ++t) {
+    const auto& tet = mesh.tets[t];
+    for (int k = 0; k < 10; ++k) tets_of_node_[tet[k]].push_back(t);
+    for (int e = 0; e < 6; ++e)
+      for (int end : kTetEdges[e]) edge_nodes_of_vertex_[tet[end]].push_back(tet[4 + e]);
+  }
+  for (auto& list : edge_nodes_of_vertex_) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+}
+
+double NodeRelocation::local_quality(const std::vector<Point>& nodes, int node) const {
+  double q = std::numeric_limits<double>::infinity();
+  for (int t : tets_of_node_[node]) q = std::min(q, tet_quality(nodes, tets_[t]));
+  return q;
+}
+
+void NodeRelocation::shift(std::vector<Point>& nodes, int node, const Point& shift) const {
+  nodes[node] += shift;
+  for (int edge_node : edge_nodes_of_vertex_[node]) nodes[edge_node] += 0.5 * shift;
+}
+
+bool NodeRelocation::relocate(std::vector<Point>& nodes, int node) const {
+  // Step scale: a fifth of the distance to the nearest vertex of the
+  // elements around, halved on every unsuccessful round down to 1/64 of it
+  // (a few dozen quality evaluations).
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int t : tets_of_node_[node])
+    for (int v = 0; v < 4; ++v)
+      if (tets_[t][v] != node) shortest = std::min(shortest, (nodes[tets_[t][v]] - nodes[node]).norm());
+  static const std::array<Point, 6> kDirections{Point(1, 0, 0), Point(-1, 0, 0), Point(0, 1, 0),
+                                                Point(0, -1, 0), Point(0, 0, 1), Point(0, 0, -1)};
+  double best = local_quality(nodes, node);
+  bool moved = false;
+  // At most 60 rounds: each accepted move raises the quality strictly, but
+  // a long walk at one step size is not worth its cost.
+  int rounds = 0;
+  for (double step = 0.2 * shortest; step > shortest / 64.0 && rounds < 60; ++rounds) {
+    bool improved = false;
+    for (const auto& d : kDirections) {
+      shift(nodes, node, step * d);
+      const double q = local_quality(nodes, node);
+      if (q > best) {
+        best = q;
+        improved = moved = true;
+        break;  // keep going from the better point with the same step
+      }
+      shift(nodes, node, -step * d);
+    }
+    if (!improved) step *= 0.5;
+  }
+  return moved;
+}
+
+NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double target,
+                                                   int sweeps) const {
+  Report report;
+  std::vector<int> bad;
+  for (int t = 0; t < static_cast<int>(tets_.size()); ++t)
+    if (tet_quality(nodes, tets_[t]) < target) bad.push_back(t);
+  if (bad.empty()) return report;
+  auto worst_of = [&](const std::vector<int>& tets) {
+    double q = 1.0;
+    for (int t : tets) q = std::min(q, tet_quality(nodes, tets_[t]));
+    return q;
+  };
+  report.quality_before = worst_of(bad);
+  std::vector<char> counted(nodes.size(), 0);
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    bool any = false;
+    // Vertices first (they move the element), then the edge nodes (they
+    // bend its edges: the tangent of edge (a, b) at a is 4 x_ab - 3 x_a - x_b,
+    // so an edge node turns the element's corner where it folds).
+    for (int first = 0; first < 10; first += 4)
+      for (int t : bad)
+        for (int k = first; k < (first == 0 ? 4 : 10); ++k) {
+          const int node = tets_[t][k];
+          if (!free_[node] || !relocate(nodes, node)) continue;
+          any = true;
+          if (!counted[node]) ++report.nodes_moved;
+          counted[node] = 1;
+        }
+    if (!any) break;
+  }
+  report.quality_after = worst_of(bad);
+  return report;
+}
+
+}  // namespace softflow::mesh
