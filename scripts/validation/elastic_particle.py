@@ -13,6 +13,9 @@ Study C: Ca_e = 0.025 ... 0.5 on 28 equator nodes, dt = 0.02, to t = 12:
 Study M: Ca_e = 0.1, the whole mesh refined by one factor (interface size,
          far size and growth together): 20/28/40 equator nodes.
 Study T: Ca_e = 0.1, 28 equator nodes, dt = 0.04/0.02/0.01.
+Study L: the largest deformation, Ca_e = 0.5, on 40 equator nodes: the
+         28-node mesh's particle interior (one hub vertex at the centre)
+         folds at D ~ 0.52 even with node relocation.
 
 Steady values are means over the last 2 pi time units (half a rotation of the
 particle's material at gamma_dot / 2, the period of the slow oscillation the
@@ -42,6 +45,7 @@ MESHES = {20: (20, 4.5, 0.56), 28: (28, 3.2, 0.4), 40: (40, 2.25, 0.28)}
 STUDY_C = [0.025, 0.05, 0.1, 0.2, 0.3, 0.5]
 STUDY_M = [20, 28, 40]
 STUDY_T = [0.04, 0.02, 0.01]
+STUDY_L = [0.5]
 
 
 def case_name(ca_e, n, dt):
@@ -77,6 +81,7 @@ fields = false
 
 def all_cases():
     cases = {case_name(c, 28, 0.02): (c, 28, 0.02) for c in STUDY_C}
+    cases.update({case_name(c, 40, 0.02): (c, 40, 0.02) for c in STUDY_L})
     cases.update({case_name(0.1, n, 0.02): (0.1, n, 0.02) for n in STUDY_M})
     cases.update({case_name(0.1, 28, dt): (0.1, 28, dt) for dt in STUDY_T})
     return cases

@@ -13,7 +13,8 @@ NodeRelocation::NodeRelocation(const Mesh& mesh)
     : tets_(mesh.tets),
       free_(mesh.nodes.size(), 1),
       tets_of_node_(mesh.nodes.size()),
-      edge_nodes_of_vertex_(mesh.nodes.size()) {
+      edge_nodes_of_vertex_(mesh.nodes.size()),
+      edge_ends_(mesh.nodes.size(), {-1, -1}) {
   for (const auto& faces : {std::cref(mesh.interface_faces), std::cref(mesh.boundary_faces)})
     for (const auto& tri : faces.get())
       for (int node : tri) free_[node] = 0;
@@ -22,8 +23,10 @@ NodeRelocation::NodeRelocation(const Mesh& mesh)
   for (int t = 0; t < mesh.n_tets(); ++t) {
     const auto& tet = mesh.tets[t];
     for (int k = 0; k < 10; ++k) tets_of_node_[tet[k]].push_back(t);
-    for (int e = 0; e < 6; ++e)
+    for (int e = 0; e < 6; ++e) {
       for (int end : kTetEdges[e]) edge_nodes_of_vertex_[tet[end]].push_back(tet[4 + e]);
+      edge_ends_[tet[4 + e]] = {tet[kTetEdges[e][0]], tet[kTetEdges[e][1]]};
+    }
   }
   for (auto& list : edge_nodes_of_vertex_) {
     std::sort(list.begin(), list.end());
@@ -50,10 +53,30 @@ bool NodeRelocation::relocate(std::vector<Point>& nodes, int node) const {
   for (int t : tets_of_node_[node])
     for (int v = 0; v < 4; ++v)
       if (tets_[t][v] != node) shortest = std::min(shortest, (nodes[tets_[t][v]] - nodes[node]).norm());
-  static const std::array<Point, 6> kDirections{Point(1, 0, 0), Point(-1, 0, 0), Point(0, 1, 0),
-                                                Point(0, -1, 0), Point(0, 0, 1), Point(0, 0, -1)};
+  // The 26 directions to the neighbours of a cube's centre: with the 6
+  // axes alone the search stalls where two elements' qualities cross (the
+  // smallest quality has a kink there that only a diagonal step climbs).
+  static const std::vector<Point> kDirections = [] {
+    std::vector<Point> d;
+    for (int i = -1; i <= 1; ++i)
+      for (int j = -1; j <= 1; ++j)
+        for (int k = -1; k <= 1; ++k)
+          if (i != 0 || j != 0 || k != 0) d.push_back(Point(i, j, k).normalized());
+    return d;
+  }();
   double best = local_quality(nodes, node);
   bool moved = false;
+  // An edge node first tries its chord's midpoint: a straight edge.
+  if (const auto& [a, b] = edge_ends_[node]; a >= 0) {
+    const Point to_midpoint = 0.5 * (nodes[a] + nodes[b]) - nodes[node];
+    shift(nodes, node, to_midpoint);
+    if (const double q = local_quality(nodes, node); q > best) {
+      best = q;
+      moved = true;
+    } else {
+      shift(nodes, node, -to_midpoint);
+    }
+  }
   // At most 60 rounds: each accepted move raises the quality strictly, but
   // a long walk at one step size is not worth its cost.
   int rounds = 0;

@@ -2,6 +2,7 @@
 // valid where a harmonic extension alone folds it.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "softflow/mesh/mesh.hpp"
@@ -58,6 +59,7 @@ class NodeRelocation {
   std::vector<char> free_;
   std::vector<std::vector<int>> tets_of_node_;
   std::vector<std::vector<int>> edge_nodes_of_vertex_;  ///< edge nodes of the vertex's edges
+  std::vector<std::array<int, 2>> edge_ends_;           ///< an edge node's vertices; -1 for a vertex
 };
 
 }  // namespace softflow::mesh

@@ -30,11 +30,17 @@ RefGradients p2_gradients(const std::array<double, 4>& l) {
   return g;
 }
 
-// The 11 sample points (vertices, edge midpoints, centroid), tabulated once:
-// where a P2 map folds first in practice, at a cost of 11 3x3 determinants.
-const std::array<RefGradients, 11>& sample_gradients() {
-  static const std::array<RefGradients, 11> table = [] {
-    std::array<RefGradients, 11> t;
+// The 25 sample points, tabulated once: the vertices, edge midpoints and
+// centroid (where a P2 map folds first in practice) and the 14 points of the
+// degree-5 rule every assembly integrates with (element/quadrature.cpp's
+// symmetric orbits; mesh/ sits below element/, so they are repeated here).
+// A positive quality then guarantees det J > 0 where the assemblies look:
+// with the first 11 alone, a relocated particle mesh at quality 0.04 had
+// det J < 0 at a quadrature point, and the mesh-motion operator refused it.
+constexpr int kSamples = 25;
+const std::array<RefGradients, kSamples>& sample_gradients() {
+  static const std::array<RefGradients, kSamples> table = [] {
+    std::array<RefGradients, kSamples> t;
     for (int v = 0; v < 4; ++v) {
       std::array<double, 4> l{};
       l[v] = 1.0;
@@ -46,6 +52,21 @@ const std::array<RefGradients, 11>& sample_gradients() {
       t[4 + e] = p2_gradients(l);
     }
     t[10] = p2_gradients({0.25, 0.25, 0.25, 0.25});
+    int k = 11;
+    for (const double a : {0.0927352503108912264, 0.3108859192633006097}) {
+      const double b = 1.0 - 3.0 * a;
+      for (int v = 0; v < 4; ++v) {
+        std::array<double, 4> l{a, a, a, a};
+        l[v] = b;
+        t[k++] = p2_gradients(l);
+      }
+    }
+    const double a = 0.0455037041256496494, b = 0.5 - a;
+    for (const auto& [i, j] : kTetEdges) {  // the 6 ways to put b on two coordinates
+      std::array<double, 4> l{a, a, a, a};
+      l[i] = l[j] = b;
+      t[k++] = p2_gradients(l);
+    }
     return t;
   }();
   return table;

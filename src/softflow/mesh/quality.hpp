@@ -12,8 +12,10 @@ namespace softflow::mesh {
 /// straight (vertex) tetrahedron, 12 (3|V|)^{2/3} / sum of squared edge
 /// lengths (1 for the regular tetrahedron, -> 0 when degenerate), times the
 /// distortion min det J / max det J of the P2 map sampled at the 4 vertices,
-/// the 6 edge nodes and the centroid. A non-positive Jacobian at any sample
-/// gives a quality <= 0 (min det J / max |det J|), so "> 0" means "valid".
+/// the 6 edge nodes, the centroid and the 14 points of the degree-5
+/// quadrature rule the assemblies use. A non-positive Jacobian at any sample
+/// gives a quality <= 0 (min det J / max |det J|), so "> 0" means "valid"
+/// wherever an assembly evaluates the map.
 double tet_quality(const Mesh& mesh, int tet);
 /// The same for the tetrahedron `tet` on the node positions `nodes`.
 double tet_quality(std::span<const Point> nodes, const Tet10& tet);
