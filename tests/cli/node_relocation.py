@@ -84,9 +84,9 @@ def main():
     if worst < 0.15:
         fail(f"relocated run: element quality fell to {worst}")
     summary = read_json(relocated)
-    if summary["relocation_steps"] <= 0 or summary["relocated_vertices"] <= 0:
+    if summary["relocation_steps"] <= 0 or summary["relocated_nodes"] <= 0:
         fail(f"summary.json counts no relocation: {summary['relocation_steps']}, "
-             f"{summary['relocated_vertices']}")
+             f"{summary['relocated_nodes']}")
     v0 = float(series[0]["volume"])
     drift = max(abs(float(r["volume"]) / v0 - 1.0) for r in series)
     if drift > 1e-3:

@@ -394,7 +394,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
   summary["stokes_factorizations"] = sim.stokes().n_factorizations();
   summary["ale_rebuilds"] = sim.ale_rebuilds();
   summary["relocation_steps"] = sim.relocation_steps();
-  summary["relocated_vertices"] = sim.relocated_vertices();
+  summary["relocated_nodes"] = sim.relocated_nodes();
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& o : last.objects) {
     const double v0 = sim.initial_volumes().at(o.object - 1);

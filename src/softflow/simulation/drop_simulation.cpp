@@ -295,7 +295,7 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   r.set(p + "ale_rebuilds", ale_rebuilds_);
   r.set(p + "ale_relocation", relocation_);
   r.set(p + "relocation_steps", relocation_steps_);
-  r.set(p + "relocated_vertices", relocated_vertices_);
+  r.set(p + "relocated_nodes", relocated_nodes_);
 }
 
 void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& p) {
@@ -329,10 +329,10 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
     if (relocation.size() != n) throw InputError("the checkpoint does not fit the mesh it carries");
     relocation_ = std::move(relocation);
     relocation_steps_ = r.get_int(p + "relocation_steps");
-    relocated_vertices_ = r.get_int(p + "relocated_vertices");
+    relocated_nodes_ = r.get_int(p + "relocated_nodes");
   } else {
     std::fill(relocation_.begin(), relocation_.end(), mesh::Point::Zero());
-    relocation_steps_ = relocated_vertices_ = 0;
+    relocation_steps_ = relocated_nodes_ = 0;
   }
   // The mesh-motion operator must be the one of the saved reference: the
   // current one if they agree (always after a fresh start; usually after a
@@ -410,7 +410,7 @@ void DropSimulation::relocate_vertices(std::vector<mesh::Point>& moved) {
   if (report.nodes_moved == 0) return;
   for (int i = 0; i < mesh_.n_nodes(); ++i) relocation_[i] += moved[i] - before[i];
   ++relocation_steps_;
-  relocated_vertices_ += report.nodes_moved;
+  relocated_nodes_ += report.nodes_moved;
 }
 
 double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat, double dt) {
@@ -442,9 +442,13 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
         "step {} (t = {:.4f}): the moving mesh degraded: {} has quality {:.3g} < "
         "time.min_quality = {:.3g}. The deformation is too large for a mesh that is never "
         "remeshed; try a smaller time.step, a larger interface.redistribution_factor, or a finer "
-        "mesh{}",
+        "mesh{}{}",
         steps_ + 1, time_ + dt, mesh::describe_element(mesh_, mesh::worst_tet(mesh_)),
         quality, config_.time.min_quality,
+        config_.time.relocation_quality > 0.0
+            ? " (node relocation, time.relocation_quality, could not keep it valid: a finer "
+              "mesh gives it nodes to move)"
+            : "; time.relocation_quality > 0 moves free nodes to keep elements valid",
         // Explicit tension collapses the interface mesh above the capillary step limit.
         config_.interface.semi_implicit_tension
             ? ""

@@ -145,9 +145,9 @@ class DropSimulation {
   /// How often the mesh-motion operator was rebuilt on the current mesh.
   [[nodiscard]] int ale_rebuilds() const { return ale_rebuilds_; }
   /// Steps whose mesh motion relocated vertices (time.relocation_quality),
-  /// and the vertex moves over all of them.
+  /// and the node moves over all of them (a node moved in two steps counts twice).
   [[nodiscard]] int relocation_steps() const { return relocation_steps_; }
-  [[nodiscard]] int relocated_vertices() const { return relocated_vertices_; }
+  [[nodiscard]] int relocated_nodes() const { return relocated_nodes_; }
   [[nodiscard]] int steps() const { return steps_; }
   /// Each object's volume at t = 0 (the reference for the volume drift).
   [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
@@ -209,7 +209,7 @@ class DropSimulation {
   double ale_rebuilt_at_quality_ = std::numeric_limits<double>::infinity();
   int ale_rebuilds_ = 0;
   int relocation_steps_ = 0;
-  int relocated_vertices_ = 0;
+  int relocated_nodes_ = 0;
   double translation_x_ = 0.0;
   double time_ = 0.0;
   double last_dt_ = 0.0;  // t_n - t_{n-1}: the mesh velocity's BDF2 (0 before the first step)
