@@ -138,7 +138,7 @@ TEST(CaseConfig, EmptyFileIsTheUndisturbedShearFlow) {
   EXPECT_EQ(c.sizing.far_size, 3.0);
   EXPECT_EQ(c.sizing.growth, 0.4);
   EXPECT_TRUE(c.sizing.optimize_high_order);
-  EXPECT_EQ(c.solver, SolverType::direct);
+  EXPECT_EQ(c.solver, SolverType::automatic);
   EXPECT_EQ(c.rtol, 1e-8);
   EXPECT_EQ(c.max_iterations, 500);
   EXPECT_EQ(c.petsc_options, "");
@@ -324,7 +324,7 @@ TEST(CaseConfigErrors, BadEnumString) {
                "objects[1].shape = \"cube\": must be one of \"sphere\", \"ellipsoid\"");
   EXPECT_ERROR("[[objects]]\nshape = \"sphre\"\n", "(did you mean \"sphere\"?)");
   EXPECT_ERROR("[solver]\ntype = \"lu\"\n",
-               "solver.type = \"lu\": must be one of \"direct\", \"iterative\"");
+               "solver.type = \"lu\": must be one of \"auto\", \"direct\", \"iterative\"");
 }
 
 TEST(CaseConfigErrors, WrongArrayLength) {

@@ -17,7 +17,9 @@
 
 namespace softflow::io {
 
-enum class SolverType { direct, iterative };
+/// [solver] type. `automatic` ("auto") picks direct up to
+/// simulation::kDirectSolverLimit unknowns, iterative above.
+enum class SolverType { automatic, direct, iterative };
 
 /// How the walls move in time (SPEC §1); physics::WallMotion has the formulas.
 enum class FlowType { steady, start_up, cessation, oscillatory };
@@ -148,7 +150,7 @@ struct CaseConfig {
   FlowConfig flow;  ///< [flow] type and the keys of that type
   std::vector<ObjectConfig> objects;       ///< [[objects]], in file order (object k = objects[k-1])
   geometry::MeshSizing sizing;             ///< [mesh]
-  SolverType solver = SolverType::direct;  ///< [solver] type
+  SolverType solver = SolverType::automatic;  ///< [solver] type
   double rtol = 1e-8;                      ///< [solver] rtol (iterative solver)
   int max_iterations = 500;                ///< [solver] max_iterations (iterative solver)
   std::string petsc_options;               ///< [solver] petsc_options, passed to PETSc as is

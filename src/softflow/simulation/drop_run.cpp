@@ -391,6 +391,8 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
                                  {"correct_interface", total.correct * per_step},
                                  {"analysis", total.analysis * per_step}};
   summary["stokes_iterations_per_step"] = static_cast<double>(ledger.stokes_iterations) * per_step;
+  summary["stokes_solver"] =
+      sim.stokes().settings().method == la::SaddlePointMethod::direct ? "direct" : "iterative";
   summary["stokes_factorizations"] = sim.stokes().n_factorizations();
   summary["ale_rebuilds"] = sim.ale_rebuilds();
   summary["relocation_steps"] = sim.relocation_steps();

@@ -11,6 +11,8 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/parallel/mesh_broadcast.hpp"
+#include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/simulation/case_flow.hpp"
 
 namespace softflow::simulation {
 
@@ -106,10 +108,24 @@ MeshedCase build_mesh(const io::CaseConfig& config) {
   return out;
 }
 
-la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
+la::SaddlePointMethod solver_method(io::SolverType type, int unknowns) {
+  switch (type) {
+    case io::SolverType::direct:
+      return la::SaddlePointMethod::direct;
+    case io::SolverType::iterative:
+      return la::SaddlePointMethod::iterative;
+    case io::SolverType::automatic:
+      break;
+  }
+  return unknowns <= kDirectSolverLimit ? la::SaddlePointMethod::direct : la::SaddlePointMethod::iterative;
+}
+
+la::SaddlePointSettings solver_settings(const io::CaseConfig& config, const mesh::Mesh& mesh) {
   la::SaddlePointSettings s;
-  s.method = config.solver == io::SolverType::direct ? la::SaddlePointMethod::direct
-                                                     : la::SaddlePointMethod::iterative;
+  const int unknowns = config.solver == io::SolverType::automatic
+                           ? physics::make_stokes_dof_map(mesh, has_interface_slip(config)).n_dofs()
+                           : 0;
+  s.method = solver_method(config.solver, unknowns);
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
   return s;

@@ -31,7 +31,8 @@ geometry::ShearCellSpec unit_drop_cell(double side, int equator_nodes, double fa
 
 }  // namespace
 
-DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes) {
+DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes,
+                              const la::SaddlePointSettings& settings) {
   const double h0 = interface_size(equator_nodes);
   const auto exact =
       DropInLinearFlow::simple_shear(DropInLinearFlow::Kind::instantaneous, lambda, 1.0, gamma);
@@ -40,7 +41,7 @@ DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes) {
   // pre-asymptotic (even its P2 interpolant then converges at ~h^2.2).
   const auto mesh = geometry::build_shear_cell(
       unit_drop_cell(6.0, equator_nodes, 2.5 * h0, false, 0.3 * 24 / equator_nodes));
-  physics::StokesSystem system(mesh, la::SaddlePointSettings{});
+  physics::StokesSystem system(mesh, settings);
   physics::StokesProblem problem;
   problem.viscosity = {1.0, lambda};
   problem.interfacial_tension = {gamma};
@@ -62,6 +63,8 @@ DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes) {
   r.pressure_jump = measures[0].pressure_jump;
   r.exact_pressure_jump = 2 * gamma;  // the outer pressure averages to zero over the sphere
   r.max_velocity = analysis::max_velocity(system.dofs(), result.solution);
+  r.solution = result.solution;
+  r.iterations = result.solve.iterations;
   return r;
 }
 

@@ -2,6 +2,10 @@
 // tests and the validation programs so both measure the same thing.
 #pragma once
 
+#include <vector>
+
+#include "softflow/la/saddle_point_solver.hpp"
+
 namespace softflow::verification {
 
 struct DropSolveResult {
@@ -13,12 +17,15 @@ struct DropSolveResult {
   double pressure_jump = 0.0;     ///< area-averaged p_drop - p_matrix
   double exact_pressure_jump = 0.0;
   double max_velocity = 0.0;
+  std::vector<double> solution;   ///< every unknown (velocity, pressure), global numbering
+  int iterations = 0;             ///< of the Stokes solve
 };
 
 /// Unit drop (viscosity ratio lambda, tension gamma) in a box [-3,3]^3 in
 /// simple shear, the exact instantaneous field on every box face; meshes
 /// refined uniformly in shape (far size 2.5 h0, growth 0.3 * 24 / N).
-DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes);
+DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes,
+                              const la::SaddlePointSettings& settings = {});
 
 /// Unit drop with Gamma = 1 at rest in a periodic 8^3 cell with walls at
 /// rest (far size 2): the exact solution is u = 0 and a jump 2 Gamma / R = 2.

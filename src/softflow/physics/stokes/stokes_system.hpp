@@ -80,6 +80,8 @@ class StokesSystem {
 
   /// Assembles the problem on the current mesh and solves it.
   StokesResult solve(const StokesProblem& problem);
+  /// The solver settings in use (solver.type "auto" resolved).
+  [[nodiscard]] const la::SaddlePointSettings& settings() const { return settings_; }
 
   /// The direct method's factorisation reuse as a part of the run's state
   /// ("stokes"): whether the next solve refactors, the builds so far, and
