@@ -759,7 +759,7 @@ growth = 0.4
 optimize_high_order = true
 
 [solver]
-type = "direct"
+type = "auto"
 rtol = 1e-08
 max_iterations = 500
 petsc_options = ""
