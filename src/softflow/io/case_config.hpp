@@ -90,7 +90,7 @@ struct TimeConfig {
   /// on the current mesh (and again after each further 5 % drop), as the
   /// thesis's incremental ALE does every step; 0 = always the initial mesh.
   double ale_rebuild_quality = 0.2;
-  /// Below this element quality the free vertices of the elements below it
+  /// Below this element quality the free nodes (vertices and edge nodes) of the elements below it
   /// are relocated to improve them (mesh::NodeRelocation), as part of the
   /// step's mesh motion; 0 = never.
   double relocation_quality = 0.2;

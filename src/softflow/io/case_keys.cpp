@@ -287,7 +287,7 @@ Table<CaseConfig> time_table() {
               "mesh (and after each further 5 % drop); 0 = never"),
        number("relocation_quality", time(&TimeConfig::relocation_quality), 0.2,
               Range::right_open(0, 1),
-              "below this element quality the free vertices of the bad elements (not on an "
+              "below this element quality the free nodes of the bad elements (not on an "
               "interface, a wall or a periodic face) are moved to improve them; 0 = never"),
        number("steady_tolerance", time(&TimeConfig::steady_tolerance), 0.0, Range::at_least(0),
               "> 0: stop at steady state, once every object's D, shape vector D (cos 2 theta, "

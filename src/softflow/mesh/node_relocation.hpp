@@ -49,7 +49,7 @@ class NodeRelocation {
 
  private:
   /// Smallest quality of the tetrahedra around `node` on `nodes`.
-  [[nodiscard]] double local_quality(const std::vector<Point>& nodes, int vertex) const;
+  [[nodiscard]] double local_quality(const std::vector<Point>& nodes, int node) const;
   /// Moves `node` by `shift` and, if it is a vertex, its edge nodes by half of it.
   void shift(std::vector<Point>& nodes, int node, const Point& shift) const;
   /// Compass search for one node; true if it moved.
