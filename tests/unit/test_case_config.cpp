@@ -73,6 +73,7 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.sizing.equator_nodes, b.sizing.equator_nodes);
   EXPECT_EQ(a.sizing.far_size, b.sizing.far_size);
   EXPECT_EQ(a.sizing.growth, b.sizing.growth);
+  EXPECT_EQ(a.sizing.interior_growth, b.sizing.interior_growth);
   EXPECT_EQ(a.sizing.optimize_high_order, b.sizing.optimize_high_order);
   EXPECT_EQ(a.solver, b.solver);
   EXPECT_EQ(a.rtol, b.rtol);
@@ -137,6 +138,7 @@ TEST(CaseConfig, EmptyFileIsTheUndisturbedShearFlow) {
   EXPECT_EQ(c.sizing.equator_nodes, 40);
   EXPECT_EQ(c.sizing.far_size, 3.0);
   EXPECT_EQ(c.sizing.growth, 0.4);
+  EXPECT_FALSE(c.sizing.interior_growth.has_value());  // = growth
   EXPECT_TRUE(c.sizing.optimize_high_order);
   EXPECT_EQ(c.solver, SolverType::automatic);
   EXPECT_EQ(c.rtol, 1e-8);
@@ -235,6 +237,7 @@ interfacial_tension = 2.75
 equator_nodes = 50
 far_size = 2.5
 growth = 0.3
+interior_growth = 0.05
 optimize_high_order = false
 [solver]
 type = "iterative"
@@ -301,6 +304,7 @@ TEST(CaseConfigErrors, OutOfRange) {
   EXPECT_ERROR("[flow]\nshear_rate = -0.5\n", "flow.shear_rate = -0.5: must be >= 0");
   EXPECT_ERROR("[solver]\nrtol = 1.0\n", "solver.rtol = 1.0: must be in (0, 1)");
   EXPECT_ERROR("[mesh]\nequator_nodes = 6\n", "mesh.equator_nodes = 6: must be an integer >= 8");
+  EXPECT_ERROR("[mesh]\ninterior_growth = -0.5\n", "mesh.interior_growth = -0.5: must be >= 0");
   EXPECT_ERROR("[[objects]]\nviscosity_ratio = 0\n", "objects[1].viscosity_ratio = 0: must be > 0");
   EXPECT_ERROR("[[objects]]\nshape = \"ellipsoid\"\nsemi_axes = [1, 0, 1]\n",
                "objects[1].semi_axes[2] = 0: must be > 0");

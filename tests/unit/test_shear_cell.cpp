@@ -1,4 +1,5 @@
 // gmsh shear cell: node order, volumes, interfaces, periodicity and input validation.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -303,6 +304,35 @@ TEST(ShearCell, UnitSphereInterfaceResolution) {
   EXPECT_GT(report.seconds, 0.0);
 }
 
+// The 28-node sphere of the thesis has one vertex inside (a hub every
+// interior element shares); interior_growth = 0 fills it at the interface
+// size without touching the interface or, unset, the default mesh.
+TEST(ShearCell, InteriorGrowthRefinesOnlyTheObjectInterior) {
+  auto spec = small_cell(8, 8, 8, {sphere(Vector3d::Zero(), 1.0)});
+  spec.sizing.equator_nodes = 28;
+  spec.sizing.far_size = 2.0;
+  geometry::MeshReport graded, same, uniform;
+  const auto m_graded = geometry::build_shear_cell(spec, &graded);
+  spec.sizing.interior_growth = spec.sizing.growth;
+  geometry::build_shear_cell(spec, &same);
+  spec.sizing.interior_growth = 0.0;
+  const auto m_uniform = geometry::build_shear_cell(spec, &uniform);
+  EXPECT_EQ(same.fingerprint, graded.fingerprint);  // unset = growth, to the bit
+  EXPECT_LE(graded.n_object_interior_vertices, 2);
+  EXPECT_GE(uniform.n_object_interior_vertices, 5 * std::max(graded.n_object_interior_vertices, 1));
+  EXPECT_EQ(uniform.n_interface_nodes, graded.n_interface_nodes);
+  // Matrix elements are unchanged in number to a few near the interface.
+  auto matrix_tets = [](const mesh::Mesh& m) {
+    return std::count(m.tet_region.begin(), m.tet_region.end(), 0);
+  };
+  EXPECT_NEAR(static_cast<double>(matrix_tets(m_uniform)), static_cast<double>(matrix_tets(m_graded)),
+              0.05 * matrix_tets(m_graded));
+  EXPECT_GT(m_uniform.n_tets() - matrix_tets(m_uniform), m_graded.n_tets() - matrix_tets(m_graded));
+  // The enclosed volume is the curved surface's: the same interface nodes
+  // give the same object volume however its interior is filled.
+  EXPECT_NEAR(region_volumes(m_uniform)[1], region_volumes(m_graded)[1], 1e-12);
+}
+
 TEST(ShearCell, TwoObjectsGetTheirOwnRegionsAndInterfaces) {
   const auto m = geometry::build_shear_cell(
       small_cell(8, 4, 4,
@@ -374,6 +404,9 @@ TEST(ShearCellValidation, RejectsBadSizesNamingTheField) {
   spec = small_cell(4, 4, 4);
   spec.sizing.growth = -1;
   EXPECT_NE(input_error_message(spec).find("mesh.growth"), std::string::npos);
+  spec = small_cell(4, 4, 4);
+  spec.sizing.interior_growth = -0.1;
+  EXPECT_NE(input_error_message(spec).find("mesh.interior_growth = -0.1"), std::string::npos);
   spec = small_cell(4, -1, 4);
   EXPECT_NE(input_error_message(spec).find("box.height"), std::string::npos);
   spec = small_cell(4, 4, 4, {ellipsoid(Vector3d::Zero(), Vector3d(1, 0, 1), Vector3d::Zero())});

@@ -72,6 +72,8 @@ void validate_sizing(const MeshSizing& s) {
   if (!positive(s.far_size))
     throw InputError(fmt::format("mesh.far_size = {}: must be > 0", num(s.far_size)));
   if (!positive(s.growth)) throw InputError(fmt::format("mesh.growth = {}: must be > 0", num(s.growth)));
+  if (s.interior_growth && !(*s.interior_growth >= 0.0 && std::isfinite(*s.interior_growth)))
+    throw InputError(fmt::format("mesh.interior_growth = {}: must be >= 0", num(*s.interior_growth)));
 }
 
 void validate_shape(int k, const ObjectSpec& o) {
@@ -411,8 +413,9 @@ void set_periodicity(const mesh::Box& box, const CellEntities& e) {
 // Size field
 // ---------------------------------------------------------------------------
 
-// Min(far_size, min_k (h0_k + growth d_k)), d_k an approximate distance to
-// object k's surface: |r - a| for a sphere, |rho - 1| * min semi-axis for an
+// Min(far_size, min_k (h0_k + g d_k)), g = growth outside object k and
+// interior_growth inside it, d_k an approximate distance to object k's
+// surface: |r - a| for a sphere, |rho - 1| * min semi-axis for an
 // ellipsoid, rho the normalised radius in the body frame. Evaluated in C++
 // through gmsh's size callback: as a MathEval expression its cost grew with
 // the number of objects per query (50 objects: no mesh after 10 minutes);
@@ -425,6 +428,7 @@ class SizeField {
       Term t;
       t.h0 = interface_element_size(o, spec.sizing);
       t.growth = spec.sizing.growth;
+      t.interior_growth = spec.sizing.interior_growth.value_or(spec.sizing.growth);
       if (o.shape == ObjectShape::sphere) {
         t.sphere = true;
         t.rows = Matrix3d::Identity();
@@ -460,9 +464,10 @@ class SizeField {
         if (t.offset[i] != 0.0) v = any ? v + t.offset[i] : t.offset[i];
         sum += v * v;
       }
-      const double distance = t.sphere ? std::abs(std::sqrt(sum) - t.scale)
-                                       : std::abs(std::sqrt(sum) - 1.0) * t.scale;
-      size = std::min(size, t.h0 + t.growth * distance);
+      const double r = std::sqrt(sum);
+      const double distance = t.sphere ? std::abs(r - t.scale) : std::abs(r - 1.0) * t.scale;
+      const bool inside = r < (t.sphere ? t.scale : 1.0);
+      size = std::min(size, t.h0 + (inside ? t.interior_growth : t.growth) * distance);
     }
     return size;
   }
@@ -473,7 +478,7 @@ class SizeField {
     Matrix3d rows = Matrix3d::Identity();  ///< x -> rows x + offset: centred (sphere) or body, normalised
     Vector3d offset = Vector3d::Zero();
     double scale = 1.0;                    ///< sphere: radius; ellipsoid: min semi-axis
-    double h0 = 0.0, growth = 0.0;
+    double h0 = 0.0, growth = 0.0, interior_growth = 0.0;
   };
   double far_;
   std::vector<Term> terms_;
@@ -888,6 +893,12 @@ MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double mi
     for (int node : face) on_interface[node] = 1;
   r.n_interface_nodes = static_cast<int>(std::count(on_interface.begin(), on_interface.end(), 1));
   r.n_equator_nodes = spec.objects.empty() ? 0 : count_equator_nodes(m, spec.objects[0]);
+  std::vector<char> in_object(m.n_nodes(), 0);
+  for (int t = 0; t < m.n_tets(); ++t)
+    if (m.tet_region[t] > 0)
+      for (int k = 0; k < 4; ++k) in_object[m.tets[t][k]] = 1;
+  for (int node = 0; node < m.n_nodes(); ++node)
+    if (in_object[node] && !on_interface[node]) ++r.n_object_interior_vertices;
   r.min_quality = min_quality;
   r.seconds = seconds;
   r.fingerprint = mesh::fingerprint(m);

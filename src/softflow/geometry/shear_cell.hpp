@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,12 @@ struct MeshSizing {
   double far_size = 3.0;
   /// Size growth with distance from the interface: h(d) = h0 + growth * d.
   double growth = 0.4;
+  /// The same growth inside the objects, towards their centres; unset =
+  /// growth. 0 keeps the interface size throughout an object: the fields
+  /// that live only there (a particle's Finger tensor, a drop's conformation)
+  /// are then resolved like the interface, and a strongly deformed object
+  /// has interior vertices to relocate instead of one hub.
+  std::optional<double> interior_growth;
   /// Run gmsh's high-order optimisation (fixes inverted curved elements).
   bool optimize_high_order = true;
 };
@@ -49,6 +56,10 @@ struct MeshReport {
   int n_tets = 0;
   int n_interface_nodes = 0;  ///< P2 nodes on all interfaces
   int n_equator_nodes = 0;    ///< effective P2 nodes on the first object's equator: 2 x 2 pi r / mean edge
+  /// Tetrahedron vertices strictly inside the objects (all objects): with
+  /// the default growth a sphere of 28 equator nodes has a single one, a hub
+  /// whose star of elements is all there is to deform.
+  int n_object_interior_vertices = 0;
   double min_quality = 0.0;   ///< mesh::min_quality of the result
   double seconds = 0.0;
   /// mesh::fingerprint of the result: equal fingerprints, the same mesh to

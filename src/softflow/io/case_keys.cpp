@@ -226,6 +226,11 @@ Table<CaseConfig> mesh_table() {
               "element size at the walls, far from the objects"),
        number("growth", sizing(&geometry::MeshSizing::growth), 0.4, Range::above(0),
               "the size grows as h0 + growth * distance from the interface"),
+       optional_number("interior_growth", sizing(&geometry::MeshSizing::interior_growth),
+                       Computed{"= growth"}, Range::at_least(0),
+                       "growth of the size inside the objects, towards their centres; 0 = the "
+                       "interface size throughout (resolves a particle's or viscoelastic drop's "
+                       "stress, and gives a strongly deformed object interior vertices to move)"),
        boolean("optimize_high_order", sizing(&geometry::MeshSizing::optimize_high_order), true,
                "let gmsh untangle curved P2 elements")}};
 }

@@ -131,6 +131,7 @@ io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_na
     c.config.sizing.equator_nodes = n;
     c.config.sizing.far_size = base.sizing.far_size * scale;
     c.config.sizing.growth = base.sizing.growth * scale;
+    if (base.sizing.interior_growth) c.config.sizing.interior_growth = *base.sizing.interior_growth * scale;
     c.config.name = fmt::format("{}_{}", base.name, c.label);
     c.config.output_directory = (fs::path(base.output_directory) / c.label).string();
     c.toml_text = io::to_toml(c.config);

@@ -66,6 +66,7 @@ MeshedCase mesh_here(const io::CaseConfig& config) {
                 // (2 x 2 pi r / mean edge on the first object's equator).
                 {"equator_nodes", r.n_equator_nodes},
                 {"equator_nodes_requested", config.sizing.equator_nodes},
+                {"object_interior_vertices", r.n_object_interior_vertices},
                 {"min_quality", r.min_quality},
                 {"seconds", r.seconds},
                 {"fingerprint", fmt::format("{:016x}", r.fingerprint)}};

@@ -58,11 +58,12 @@ nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet) {
   const auto meshed = build_mesh(config);
   if (!quiet && is_root())
     fmt::print("mesh: {} nodes, {} tetrahedra, {} interface nodes, {} equator nodes ({} asked), "
-               "min quality {:.3f}, {:.2f} s, fingerprint {}\n",
+               "{} vertices inside objects, min quality {:.3f}, {:.2f} s, fingerprint {}\n",
                meshed.report["nodes"].get<int>(), meshed.report["tetrahedra"].get<int>(),
                meshed.report["interface_nodes"].get<int>(),
                meshed.report["equator_nodes"].get<int>(),
                meshed.report["equator_nodes_requested"].get<int>(),
+               meshed.report["object_interior_vertices"].get<int>(),
                meshed.report["min_quality"].get<double>(), meshed.report["seconds"].get<double>(),
                meshed.report["fingerprint"].get<std::string>());
   return meshed.report;
