@@ -18,7 +18,7 @@
 namespace softflow::io {
 
 /// [solver] type. `automatic` ("auto") picks direct up to
-/// simulation::kDirectSolverLimit unknowns, iterative above.
+/// la::kDirectSolverLimit unknowns, iterative above.
 enum class SolverType { automatic, direct, iterative };
 
 /// How the walls move in time (SPEC §1); physics::WallMotion has the formulas.

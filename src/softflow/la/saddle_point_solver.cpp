@@ -82,10 +82,17 @@ void configure_iterative(const SaddlePointSettings& s, KSP ksp,
 
 }  // namespace
 
+SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns) {
+  if (method != SaddlePointMethod::automatic) return method;
+  return unknowns <= kDirectSolverLimit ? SaddlePointMethod::direct : SaddlePointMethod::iterative;
+}
+
 SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings,
                                      const std::vector<NamedIndexSet>& fields,
                                      MatNullSpace near_nullspace)
     : settings_(settings) {
+  if (settings.method == SaddlePointMethod::automatic)
+    throw SolverError("SaddlePointSolver: the method must be resolved (resolve_method) before the solver is made");
   check(KSPCreate(PETSC_COMM_WORLD, ksp_.out()), "KSPCreate");
   check(KSPSetOptionsPrefix(ksp_.get(), settings.prefix.c_str()), "KSPSetOptionsPrefix");
   check(KSPSetTolerances(ksp_.get(), settings.rtol, PETSC_DEFAULT, PETSC_DEFAULT,

@@ -9,9 +9,22 @@
 namespace softflow::la {
 
 enum class SaddlePointMethod {
+  /// direct up to kDirectSolverLimit unknowns, iterative above; the system
+  /// that owns the matrix resolves it (resolve_method) before the solver
+  /// is made, since only it knows the size.
+  automatic,
   direct,     ///< MUMPS LU (exact; practical up to ~150k unknowns, PLATFORM.md)
   iterative,  ///< FGMRES + lower Schur fieldsplit, BoomerAMG on velocity
 };
+
+/// Above this many unknowns SaddlePointMethod::automatic solves iteratively:
+/// MUMPS LU took 3.5 GB and 77 s at 124k unknowns, 19 GB and 1000 s at 366k
+/// on this machine, FGMRES + Schur fieldsplit 0.8 GB / 7 s and 2.2 GB / 29 s
+/// (PLATFORM.md); below it the direct solver's factor reuse wins.
+inline constexpr int kDirectSolverLimit = 150000;
+
+/// `method` with automatic replaced by the choice for `unknowns`.
+SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns);
 
 struct SaddlePointSettings {
   SaddlePointMethod method = SaddlePointMethod::direct;

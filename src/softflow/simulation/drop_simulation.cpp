@@ -37,7 +37,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
       reference_nodes_(mesh_.nodes),
       relocation_(mesh_.n_nodes(), mesh::Point::Zero()),
       relocator_(std::make_unique<mesh::NodeRelocation>(mesh_)) {
-  stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_, mesh_),
+  stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_),
                                                     has_interface_slip(config_));
   ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
   physics::InterfaceTrackerSettings tracking;

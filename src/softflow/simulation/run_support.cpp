@@ -11,7 +11,6 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/parallel/mesh_broadcast.hpp"
-#include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 
 namespace softflow::simulation {
@@ -109,24 +108,13 @@ MeshedCase build_mesh(const io::CaseConfig& config) {
   return out;
 }
 
-la::SaddlePointMethod solver_method(io::SolverType type, int unknowns) {
-  switch (type) {
-    case io::SolverType::direct:
-      return la::SaddlePointMethod::direct;
-    case io::SolverType::iterative:
-      return la::SaddlePointMethod::iterative;
-    case io::SolverType::automatic:
-      break;
-  }
-  return unknowns <= kDirectSolverLimit ? la::SaddlePointMethod::direct : la::SaddlePointMethod::iterative;
-}
-
-la::SaddlePointSettings solver_settings(const io::CaseConfig& config, const mesh::Mesh& mesh) {
+la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
   la::SaddlePointSettings s;
-  const int unknowns = config.solver == io::SolverType::automatic
-                           ? physics::make_stokes_dof_map(mesh, has_interface_slip(config)).n_dofs()
-                           : 0;
-  s.method = solver_method(config.solver, unknowns);
+  switch (config.solver) {
+    case io::SolverType::automatic: s.method = la::SaddlePointMethod::automatic; break;
+    case io::SolverType::direct: s.method = la::SaddlePointMethod::direct; break;
+    case io::SolverType::iterative: s.method = la::SaddlePointMethod::iterative; break;
+  }
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
   return s;

@@ -42,18 +42,11 @@ MeshedCase build_mesh(const io::CaseConfig& config);
 /// meshes again and reports it on every rank.
 void mesh_before_mpi(const io::CaseConfig& config);
 
-/// Above this many Stokes unknowns solver.type = "auto" solves iteratively:
-/// MUMPS LU took 3.5 GB and 77 s at 124k unknowns, 19 GB and 1000 s at 366k
-/// on this machine, FGMRES + Schur fieldsplit 0.8 GB / 7 s and 2.2 GB / 29 s
-/// (PLATFORM.md); below it the direct solver's factor reuse wins.
-inline constexpr int kDirectSolverLimit = 150000;
-
-/// The method solver.type asks for on a system of `unknowns` Stokes unknowns.
-la::SaddlePointMethod solver_method(io::SolverType type, int unknowns);
-
-/// The Stokes solver's settings for `config` on `mesh` (which decides
-/// solver.type = "auto" by its number of unknowns).
-la::SaddlePointSettings solver_settings(const io::CaseConfig& config, const mesh::Mesh& mesh);
+/// The Stokes solver's settings for `config`. solver.type = "auto" stays
+/// SaddlePointMethod::automatic: the StokesSystem decides it from its
+/// number of unknowns (la::kDirectSolverLimit); stokes().settings() then
+/// holds the method it chose.
+la::SaddlePointSettings solver_settings(const io::CaseConfig& config);
 
 /// Draws `picture` (e.g. "deformation.png") in `directory` with the
 /// repository's scripts/<script> (matplotlib): a missing Python or

@@ -88,8 +88,7 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
                mesh.n_nodes(), mesh.n_tets(), meshed.report["interface_nodes"].get<int>(),
                meshed.report["min_quality"].get<double>());
 
-  const auto settings = solver_settings(config, mesh);
-  physics::StokesSystem stokes(mesh, settings, has_interface_slip(config));  // step 2
+  physics::StokesSystem stokes(mesh, solver_settings(config), has_interface_slip(config));  // step 2
   const auto result = stokes.solve(stokes_problem(config, mesh, 0.0));  // the initial state
   const auto& dofs = stokes.dofs();
   if (!options.quiet && root)
@@ -113,7 +112,7 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
         {"velocity", dofs.n_field_dofs(physics::kVelocityField)},
         {"pressure", dofs.n_field_dofs(physics::kPressureField)}}},
       {"solver",
-       {{"method", settings.method == la::SaddlePointMethod::direct ? "direct" : "iterative"},
+       {{"method", stokes.settings().method == la::SaddlePointMethod::direct ? "direct" : "iterative"},
         {"iterations", result.solve.iterations},
         {"converged_reason", result.solve.reason},
         {"residual_norm", result.solve.residual_norm},

@@ -59,6 +59,8 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
   if (dofs_.element_size() != TetMatrix::RowsAtCompileTime)
     throw SolverError(fmt::format("StokesSystem: {} element dofs, the kernels take {}",
                                   dofs_.element_size(), TetMatrix::RowsAtCompileTime));
+  // Before create_matrices, which lays the matrices out for the method.
+  settings_.method = la::resolve_method(settings_.method, dofs_.n_dofs());
   partition();
   create_matrices();
   // The iterative method splits velocity from the constraints: pressure,
