@@ -105,7 +105,9 @@ def small_deborah_checks():
     ]
 
 
-def general_case_text(name, drop, dt, end, equator=28, far=4.0):
+def general_case_text(name, drop, dt, end, equator=28, far=4.0, growth=None, interior_growth=None):
+    sizing = "".join(f"{key} = {value}\n" for key, value in (("growth", growth), ("interior_growth", interior_growth))
+                     if value is not None)
     return f"""[case]
 name = "{name}"
 [[objects]]
@@ -113,7 +115,7 @@ name = "{name}"
 [mesh]
 equator_nodes = {equator}
 far_size = {far}
-[time]
+{sizing}[time]
 step = {dt}
 end = {end}
 [checkpoint]
@@ -121,6 +123,110 @@ interval_minutes = 0
 [output]
 fields = false
 """
+
+
+# The drop's interior filled at the interface size (mesh.interior_growth = 0):
+# with the default growth the 28-node sphere has one vertex inside, so the
+# drop's conformation (P1) is a star of elements around a hub.
+# (name, drop lines, dt, end, equator, far, growth) per run.
+def interior_runs():
+    """(De_d, UCM run, twin run) at Ca = 0.025, 28 equator nodes, interior_growth = 0, dt = 0.01."""
+    twin = ("newtonian_Ca0.025_dt0.01_ig0", f"viscosity_ratio = {LAMBDA}\n", 0.01, 6.0, 28, 4.0, None)
+    return [(de, (f"ucm_Ca0.025_l{de:g}_dt0.01_ig0", ucm_lines(de), 0.01, 6.0, 28, 4.0, None), twin)
+            for de in (0.01, 0.02, 0.05, 0.1)]
+
+
+# The whole mesh refined by one ratio (equator nodes, far size and growth), the
+# interior at the interface size: De_d = 0.1, Ca = 0.025, dt = 0.02.
+INTERIOR_LEVELS = [(20, 5.6, 0.56), (28, 4.0, 0.4), (40, 2.8, 0.28)]
+
+
+def interior_level_runs():
+    out = []
+    for n, far, growth in INTERIOR_LEVELS:
+        out.append((n, (f"ucm_Ca0.025_l0.1_N{n}_ig0", ucm_lines(0.1), 0.02, 6.0, n, far, growth),
+                    (f"newtonian_Ca0.025_N{n}_ig0", f"viscosity_ratio = {LAMBDA}\n", 0.02, 6.0, n, far, growth)))
+    return out
+
+
+def interior_case_text(run):
+    name, drop, dt, end, equator, far, growth = run
+    return general_case_text(name, drop, dt, end, equator, far, growth, interior_growth=0)
+
+
+def interior_report(work, md):
+    """Appends the interior-resolution tables to md."""
+    def pair(run, twin):
+        u = read_run(os.path.join(work, run[0]), 0.1 * run[3])
+        w = read_run(os.path.join(work, twin[0]), 0.1 * twin[3])
+        return (u, w) if u and w and u["status"] == "completed" and w["status"] == "completed" else (None, None)
+
+    def vertices_inside(run):
+        return run["summary"]["mesh"].get("object_interior_vertices", "")
+
+    md += ["", "## The drop's interior resolved (mesh.interior_growth = 0)", "",
+           "With the default growth the 28-node drop has a single mesh vertex inside it: its P1 "
+           "conformation is a star of elements around one hub. Filling the interior at the interface "
+           "size (interior_growth = 0; the interface and the matrix mesh are unchanged) gives it 12. "
+           "Ca = 0.025, 28 equator nodes, dt = 0.01, each UCM run beside its twin on the same mesh; "
+           "the first column repeats the default mesh's shift (table above).", "",
+           "| De_d | shift, default interior [deg] | D (UCM) | D (Newt.) | shift, interior filled [deg] | "
+           "Greco shift [deg] | shift / Greco | vertices inside |", "|---|---|---|---|---|---|---|---|"]
+    default = {de: (run, twin) for de, run, twin in small_deborah_runs()}
+    points = []
+    for de, run, twin in interior_runs():
+        u, w = pair(run, twin)
+        g = greco_shift(LAMBDA, SMALL_CA, 0, de / (SMALL_CA * LAMBDA))
+        old = ""
+        if de in default:
+            du, dw = pair(*default[de])
+            if du is not None:
+                old = f"{du['theta_steady'] - dw['theta_steady']:+.4f}"
+        if u is None:
+            md.append(f"| {de:g} | {old} | | | | {g:+.4f} | not run | |")
+            continue
+        shift = u["theta_steady"] - w["theta_steady"]
+        points.append((de, shift))
+        md.append(f"| {de:g} | {old} | {u['D_steady']:.5f} | {w['D_steady']:.5f} | {shift:+.4f} | {g:+.4f} | "
+                  f"{shift / g:.2f} | {vertices_inside(u)} |")
+    if len(points) >= 2:
+        slopes = [f"{(b[1] - a[1]) / (b[0] - a[0]):+.2f} ({a[0]:g}-{b[0]:g})" for a, b in zip(points, points[1:])]
+        md += ["", "Slopes between successive De_d [deg per unit De_d]: " + ", ".join(slopes) + "; Greco "
+               f"{greco_shift(LAMBDA, SMALL_CA, 0, 1.0 / (SMALL_CA * LAMBDA)):+.2f}."]
+    md += ["", "The whole mesh refined by one ratio (equator nodes, far size, growth; interior at the "
+           "interface size), De_d = 0.1, Ca = 0.025, dt = 0.02:", "",
+           "| equator nodes (asked / meshed) | unknowns | vertices inside | D (UCM) | D (Newt.) | shift [deg] | "
+           "Greco shift [deg] | shift / Greco | wall UCM / Newt. [s] |", "|---|---|---|---|---|---|---|---|---|"]
+    levels = []
+    g = greco_shift(LAMBDA, SMALL_CA, 0, 0.1 / (SMALL_CA * LAMBDA))
+    for n, run, twin in interior_level_runs():
+        u, w = pair(run, twin)
+        if u is None:
+            md.append(f"| {n} | | | | | | {g:+.4f} | not run | |")
+            continue
+        shift = u["theta_steady"] - w["theta_steady"]
+        meshed = u["summary"]["mesh"]["equator_nodes"]
+        levels.append((meshed, shift, u["D_steady"], w["D_steady"]))
+        md.append(f"| {n} / {meshed} | {u['unknowns']} | {vertices_inside(u)} | {u['D_steady']:.5f} | "
+                  f"{w['D_steady']:.5f} | {shift:+.4f} | {g:+.4f} | {shift / g:.2f} | {u['wall']:.0f} / {w['wall']:.0f} |")
+    if len(levels) == 3:
+        (n0, s0, *_), (n1, s1, *_), (n2, s2, *_) = levels
+        if (s1 - s0) * (s2 - s1) > 0 and abs(s2 - s1) < abs(s1 - s0):
+            # Observed order with h = 1 / (meshed equator nodes), uneven ratios: solve
+            # (s1 - s0) / (s2 - s1) = (h0^p - h1^p) / (h1^p - h2^p) by bisection.
+            def ratio(p):
+                return (n0 ** -p - n1 ** -p) / (n1 ** -p - n2 ** -p)
+            target, lo, hi = (s1 - s0) / (s2 - s1), 0.1, 10.0
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if ratio(mid) < target else (lo, mid)
+            p = 0.5 * (lo + hi)
+            limit = s2 + (s2 - s1) * n2 ** -p / (n1 ** -p - n2 ** -p)
+            md += ["", f"Observed order of the shift {p:.2f}; Richardson-extrapolated shift {limit:+.4f} deg = "
+                   f"{limit / g:.2f} of Greco's."]
+        else:
+            md += ["", "The shifts do not converge monotonically over these levels: no order or extrapolation."]
+    return points
 
 
 def small_deborah_report(work, md):
@@ -301,6 +407,7 @@ def report(work):
             md.append(f"| {de:g} | {ca:g} | {pairs[[c for c, _ in pairs].index(ca)][1]:g} | {u['D_steady']:.5f} | "
                       f"{w['D_steady']:.5f} | {shift:+.3f} | {g:+.3f} | {extrapolated} |")
     small_points, small_fit = small_deborah_report(work, md)
+    interior_points = interior_report(work, md)
     with open(os.path.join(OUT, "ucm_drop.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["Ca", "dt", "D_ucm", "D_newtonian", "D_taylor", "theta_ucm_deg", "theta_newtonian_deg",
@@ -339,6 +446,9 @@ def report(work):
         top = max(de) * 1.05
         slope = greco_shift(LAMBDA, SMALL_CA, 0, 1.0 / (SMALL_CA * LAMBDA))
         axes[5].plot([0, top], [0, slope * top], "--", color="k", label="Greco (eq. 2.60)")
+        if interior_points:
+            axes[5].plot([p[0] for p in interior_points], [p[1] for p in interior_points], "^",
+                         label="interior filled (interior_growth = 0)")
         if small_fit:
             axes[5].plot([0, top], [small_fit[0], small_fit[0] + small_fit[1] * top], ":",
                          label=f"line through De_d <= 0.05 (slope {small_fit[1]:.2f})")
@@ -374,6 +484,14 @@ def main():
             for r in (run, twin):
                 small.setdefault(r[0], general_case_text(r[0], r[1], r[2], r[3], equator, far))
         jobs += list(small.items())
+        interior = {}
+        for _, run, twin in interior_runs():
+            for r in (run, twin):
+                interior.setdefault(r[0], interior_case_text(r))
+        for _, run, twin in interior_level_runs():
+            for r in (run, twin):
+                interior.setdefault(r[0], interior_case_text(r))
+        jobs += list(interior.items())
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
     report(args.work)
