@@ -41,9 +41,9 @@ T_END = 12.0
 WINDOW = 2.0 * math.pi
 
 # (equator nodes, far size, growth): one refinement factor for all three.
-MESHES = {20: (20, 4.5, 0.56), 28: (28, 3.2, 0.4), 40: (40, 2.25, 0.28)}
+MESHES = {20: (20, 4.5, 0.56), 28: (28, 3.2, 0.4), 40: (40, 2.25, 0.28), 48: (48, 1.875, 0.233)}
 STUDY_C = [0.025, 0.05, 0.1, 0.2, 0.3, 0.5]
-STUDY_M = [20, 28, 40]
+STUDY_M = [20, 28, 40, 48]
 STUDY_T = [0.04, 0.02, 0.01]
 STUDY_L = [0.5]
 # The particle's interior filled at the interface size (mesh.interior_growth
@@ -115,6 +115,41 @@ def roscoe_theta(ca_e):
     return math.degrees(math.pi / 4 - 0.75 * ca_e)
 
 
+def richardson_triples(hs, values, amplitudes):
+    """Text per consecutive triple of levels (sizes hs, coarse to fine): observed order p from
+    (v0 - v1) / (v1 - v2) = (h0^p - h1^p) / (h1^p - h2^p) (uneven ratios), and the extrapolated
+    value v2 - (v1 - v2) h2^p / (h1^p - h2^p). Each difference must stand above the oscillation
+    of the two runs it compares, and the differences must shrink."""
+    out = []
+    for k in range(len(values) - 2):
+        (h0, h1, h2), (v0, v1, v2) = hs[k:k + 3], values[k:k + 3]
+        a = amplitudes[k:k + 3]
+        d1, d2 = v0 - v1, v1 - v2
+        label = f"levels {k + 1}-{k + 3}: differences {d1:+.2e}, {d2:+.2e}"
+        if not (d1 * d2 > 0 and abs(d1) > a[0] + a[1] and abs(d2) > a[1] + a[2]):
+            out.append(label + f": no order (not monotone, or not above the oscillation, half-amplitude up to {max(a):.1e})")
+            continue
+
+        def ratio(p):
+            return (h0 ** p - h1 ** p) / (h1 ** p - h2 ** p)
+        target, lo, hi = d1 / d2, 0.05, 12.0
+        if not ratio(lo) < target < ratio(hi):
+            out.append(label + ": order outside [0.05, 12]")
+            continue
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if ratio(mid) < target else (lo, mid)
+        p = 0.5 * (lo + hi)
+        limit = v2 - d2 * h2 ** p / (h1 ** p - h2 ** p)
+        out.append(label + f": observed order {p:.2f}, Richardson D = {limit:.5f}, the finer run {v2 / limit - 1:+.2%} from it")
+    return out
+
+
+def meshed_size(r):
+    """1 / (equator nodes the mesher made), the element size the studies refine."""
+    return 1.0 / r["summary"]["mesh"]["equator_nodes"]
+
+
 def interior_section(results):
     """The runs with the interior filled (mesh.interior_growth = 0) beside the default mesh's."""
     md = ["", "## The particle's interior filled (mesh.interior_growth = 0, dt = 0.02)", "",
@@ -125,7 +160,7 @@ def interior_section(results):
           "| Ca_e | equator nodes | vertices inside (filled) | D default | D filled | "
           "theta default [deg] | theta filled [deg] | ellipsoid dev. default / filled | status filled |",
           "|---|---|---|---|---|---|---|---|---|"]
-    filled_d = []
+    filled = []
     for c, n in STUDY_I:
         a, b = results[case_name(c, n, 0.02)], results[case_name(c, n, 0.02, True)]
         if b is None:
@@ -134,20 +169,13 @@ def interior_section(results):
         inside = lambda r: r["summary"]["mesh"].get("object_interior_vertices", "?") if r else ""  # noqa: E731
         fmt = lambda r, k, f: format(r[k], f) if r and reached_steady(r) else "-"  # noqa: E731
         if c == 0.1 and reached_steady(b):
-            filled_d.append(b["D_steady"])
+            filled.append((meshed_size(b), b["D_steady"], b["D_amplitude"]))
         md.append(f"| {c:g} | {n} | {inside(b)} | {fmt(a, 'D_steady', '.5f')} | "
                   f"{fmt(b, 'D_steady', '.5f')} | {fmt(a, 'theta_steady', '.3f')} | {fmt(b, 'theta_steady', '.3f')} | "
                   f"{fmt(a, 'deviation', '.1e')} / {fmt(b, 'deviation', '.1e')} | {b['status']} (t = {b['end']:g}) |")
-    if len(filled_d) == 3:
-        d1, d2 = filled_d[0] - filled_d[1], filled_d[1] - filled_d[2]
-        text = f"Filled interior, Ca_e = 0.1: differences {d1:+.2e}, {d2:+.2e}"
-        if d1 * d2 > 0 and abs(d2) < abs(d1):
-            order = math.log(d1 / d2) / math.log(1.4)
-            text += (f": observed order {order:.2f} (factor 1.4); Richardson extrapolation "
-                     f"D = {filled_d[2] - d2 / (1.4 ** order - 1):.5f}.")
-        else:
-            text += ": not monotone, no order."
-        md += ["", text]
+    if len(filled) >= 3:
+        md += ["", "Filled interior, Ca_e = 0.1, h = 1 / meshed equator nodes:", ""]
+        md += ["- " + t for t in richardson_triples(*zip(*filled))]
     return md
 
 
@@ -217,32 +245,20 @@ def report(work):
              [(case_name(0.1, 28, dt), f"{dt:g}") for dt in STUDY_T], "dt")):
         md += ["", title, "", f"| {key} | unknowns | D | D ampl. | theta [deg] | spread | wall time [s] | status |",
                "|---|---|---|---|---|---|---|---|"]
-        values, amplitudes = [], []
+        values, amplitudes, hs = [], [], []
         for name, label in rows:
             r = results[name]
             if r is None:
                 md.append(f"| {label} | | | | | | | not run |")
                 continue
+            hs.append(meshed_size(r) if "Mesh" in title else float(label))
             values.append(r["D_steady"])
             amplitudes.append(r["D_amplitude"])
             md.append(f"| {label} | {r['unknowns']} | {r['D_steady']:.5f} | {r['D_amplitude']:.1e} | "
                       f"{r['theta_steady']:.3f} | {r['stress']['spread']:.3f} | {r['wall']:.0f} | {r['status']} |")
-        if len(values) == 3:
-            factor = 1.4 if "Mesh" in title else 2.0
-            d1, d2 = values[0] - values[1], values[1] - values[2]
-            amplitude = max(amplitudes)
-            text = f"Differences {d1:+.2e}, {d2:+.2e}"
-            # Each difference must stand above the oscillation of the two runs it compares.
-            if d1 * d2 > 0 and abs(d1) > amplitudes[0] + amplitudes[1] and abs(d2) > amplitudes[1] + amplitudes[2]:
-                order = math.log(d1 / d2) / math.log(factor)
-                extrapolated = values[2] - d2 / (factor ** order - 1)
-                text += (f": observed order {order:.2f} (refinement factor {factor:g}); Richardson "
-                         f"extrapolation D = {extrapolated:.5f}, the finest run "
-                         f"{values[2] / extrapolated - 1:+.2%} from it.")
-            else:
-                text += (f": no order can be read, the differences are not above the residual "
-                         f"oscillation of D (half-amplitude up to {amplitude:.1e}) the averages carry.")
-            md += ["", text]
+        if len(values) >= 3:
+            md += ["", "h = 1 / meshed equator nodes" if "Mesh" in title else "h = dt", ""]
+            md += ["- " + t for t in richardson_triples(hs, values, amplitudes)]
     md += interior_section(results)
     for name, (c, n, dt, *filled) in all_cases().items():
         r = results[name]

@@ -1,0 +1,55 @@
+// softflow converge's levels: every element size shrinks by one ratio,
+// the objects' interior included.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "softflow/simulation/convergence.hpp"
+
+using namespace softflow;
+
+namespace {
+
+constexpr const char* kCase = R"([[objects]]
+[mesh]
+equator_nodes = 20
+far_size = 4.0
+growth = 0.5
+{}
+[time]
+step = 0.05
+end = 1.0
+)";
+
+std::string case_with(const std::string& interior) {
+  std::string text = kCase;
+  text.replace(text.find("{}"), 2, interior);
+  return text;
+}
+
+}  // namespace
+
+TEST(MeshLevels, FarSizeGrowthAndInteriorGrowthShrinkWithTheInterfaceSize) {
+  simulation::ConvergeOptions options;
+  options.levels = 3;
+  options.factor = 1.5;
+  const auto sweep = simulation::mesh_levels(case_with("interior_growth = 0.2"), "case.toml", options);
+  ASSERT_EQ(sweep.cases.size(), 3u);
+  for (const auto& c : sweep.cases) {
+    const double scale = 20.0 / c.config.sizing.equator_nodes;
+    EXPECT_DOUBLE_EQ(c.config.sizing.far_size, 4.0 * scale);
+    EXPECT_DOUBLE_EQ(c.config.sizing.growth, 0.5 * scale);
+    ASSERT_TRUE(c.config.sizing.interior_growth.has_value());
+    EXPECT_DOUBLE_EQ(*c.config.sizing.interior_growth, 0.2 * scale);
+  }
+  EXPECT_EQ(sweep.cases[2].config.sizing.equator_nodes, 45);  // round(20 x 1.5^2)
+}
+
+TEST(MeshLevels, AnUnsetInteriorGrowthStaysTheGrowthAndZeroStaysZero) {
+  simulation::ConvergeOptions options;
+  options.levels = 3;
+  for (const auto& c : simulation::mesh_levels(case_with(""), "case.toml", options).cases)
+    EXPECT_FALSE(c.config.sizing.interior_growth.has_value());
+  for (const auto& c : simulation::mesh_levels(case_with("interior_growth = 0"), "case.toml", options).cases)
+    EXPECT_EQ(c.config.sizing.interior_growth, 0.0);
+}
