@@ -67,6 +67,7 @@ TEST(NodeRelocation, LeavesAGoodMeshAlone) {
   const auto report = mesh::NodeRelocation(m).improve(nodes, 0.9 * kKuhn);
   EXPECT_EQ(report.nodes_moved, 0);
   EXPECT_EQ(nodes, m.nodes);
+  EXPECT_EQ(report.smallest_quality, min_quality(m, nodes));  // from the same scan
 }
 
 TEST(NodeRelocation, RestoresElementsAroundAPushedVertex) {
@@ -86,6 +87,8 @@ TEST(NodeRelocation, RestoresElementsAroundAPushedVertex) {
   EXPECT_GT(report.quality_after, 0.9 * kKuhn);
   EXPECT_GT(min_quality(m, nodes), 0.9 * kKuhn);
   EXPECT_LT(nodes[v].norm(), 0.1);
+  // Kept up to date through the moves (only the moved nodes' elements rescanned).
+  EXPECT_EQ(report.smallest_quality, min_quality(m, nodes));
 }
 
 TEST(NodeRelocation, UnbendsAFoldedEdge) {
@@ -108,6 +111,7 @@ TEST(NodeRelocation, UnbendsAFoldedEdge) {
   // midpoint exactly for the elements to be within 10 % of the cube's.
   EXPECT_GT(min_quality(m, nodes), 0.9 * kKuhn);
   EXPECT_LT((nodes[mid] - Point(0.5, 0, 0)).norm(), 0.2);
+  EXPECT_EQ(report.smallest_quality, min_quality(m, nodes));
 }
 
 TEST(NodeRelocation, NeverMovesInterfaceNodes) {

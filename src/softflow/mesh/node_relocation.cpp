@@ -101,10 +101,22 @@ bool NodeRelocation::relocate(std::vector<Point>& nodes, int node) const {
 NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double target,
                                                    int sweeps) const {
   Report report;
+  // One scan serves both the search for bad elements and the caller's
+  // smallest quality; after the moves only elements around a moved node
+  // change (a vertex's edge nodes lie on its own elements).
+  std::vector<double> quality(tets_.size());
   std::vector<int> bad;
-  for (int t = 0; t < static_cast<int>(tets_.size()); ++t)
-    if (tet_quality(nodes, tets_[t]) < target) bad.push_back(t);
-  if (bad.empty()) return report;
+  for (int t = 0; t < static_cast<int>(tets_.size()); ++t) {
+    quality[t] = tet_quality(nodes, tets_[t]);
+    if (quality[t] < target) bad.push_back(t);
+  }
+  auto smallest = [&] {
+    return quality.empty() ? 1.0 : *std::min_element(quality.begin(), quality.end());
+  };
+  if (bad.empty()) {
+    report.smallest_quality = smallest();
+    return report;
+  }
   auto worst_of = [&](const std::vector<int>& tets) {
     double q = 1.0;
     for (int t : tets) q = std::min(q, tet_quality(nodes, tets_[t]));
@@ -129,6 +141,10 @@ NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double
     if (!any) break;
   }
   report.quality_after = worst_of(bad);
+  for (int node = 0; node < static_cast<int>(nodes.size()); ++node)
+    if (counted[node])
+      for (int t : tets_of_node_[node]) quality[t] = tet_quality(nodes, tets_[t]);
+  report.smallest_quality = smallest();
   return report;
 }
 

@@ -37,6 +37,9 @@ class NodeRelocation {
     int nodes_moved = 0;
     double quality_before = 1.0;  ///< smallest quality of the elements below the target
     double quality_after = 1.0;   ///< the same elements' smallest quality after the moves
+    /// Smallest quality over every element after the moves (1 without
+    /// elements): what a caller checks next, without scanning again.
+    double smallest_quality = 1.0;
   };
 
   /// Relocates, in `nodes` (positions of the constructor's mesh, possibly

@@ -398,19 +398,20 @@ void DropSimulation::rebuild_ale_if_degraded() {
   ++ale_rebuilds_;
 }
 
-void DropSimulation::relocate_vertices(std::vector<mesh::Point>& moved) {
+std::optional<double> DropSimulation::relocate_vertices(std::vector<mesh::Point>& moved) {
   // Part of this step's mesh motion, so the mesh velocity (and with it the
   // ALE transport) sees the relocation; kept in relocation_ so that later
   // steps, which extend the interface displacement from the reference
   // again, keep it too.
   const double target = config_.time.relocation_quality;
-  if (target <= 0.0) return;
+  if (target <= 0.0) return std::nullopt;
   const std::vector<mesh::Point> before = moved;
   const auto report = relocator_->improve(moved, target);
-  if (report.nodes_moved == 0) return;
+  if (report.nodes_moved == 0) return report.smallest_quality;
   for (int i = 0; i < mesh_.n_nodes(); ++i) relocation_[i] += moved[i] - before[i];
   ++relocation_steps_;
   relocated_nodes_ += report.nodes_moved;
+  return report.smallest_quality;
 }
 
 double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat, double dt) {
@@ -431,11 +432,11 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
     const auto& nodes = trackers_[k].surface().volume_node;
     for (std::size_t i = 0; i < nodes.size(); ++i) moved[nodes[i]] = x_hat[k][i];
   }
-  relocate_vertices(moved);
+  const auto measured = relocate_vertices(moved);
   mesh_velocity_ = physics::bdf_mesh_velocity(moved, mesh_.nodes, previous_nodes_, dt, last_dt_);
   last_dt_ = dt;
   previous_nodes_ = std::exchange(mesh_.nodes, std::move(moved));
-  const double quality = mesh::min_quality(mesh_);
+  const double quality = measured ? *measured : mesh::min_quality(mesh_);
   last_quality_ = quality;
   if (quality < config_.time.min_quality) {
     throw MeshError(fmt::format(

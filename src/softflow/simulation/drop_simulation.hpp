@@ -3,6 +3,7 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -166,7 +167,10 @@ class DropSimulation {
   void rebuild_ale_if_degraded();
   /// Relocates free vertices of elements below time.relocation_quality in
   /// `moved` (the step's new mesh) and records the shift in relocation_.
-  void relocate_vertices(std::vector<mesh::Point>& moved);
+  /// Relocates free nodes of `moved` (time.relocation_quality); returns the
+  /// smallest element quality of the result when it was measured on the way
+  /// (relocation on), nothing otherwise.
+  std::optional<double> relocate_vertices(std::vector<mesh::Point>& moved);
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
                    StageSeconds& stages);
