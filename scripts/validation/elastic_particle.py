@@ -200,9 +200,9 @@ def report(work):
     for c, n in [(c, 28) for c in STUDY_C] + [(c, 40) for c in STUDY_L]:
         if n == 40 and c == STUDY_L[0]:
             md += ["", "## The largest deformation on the finer mesh (40 equator nodes, dt = 0.02)", "",
-                   "On 28 equator nodes the run at Ca_e = 0.5 stops at D ~ 0.53: an element at the "
-                   "particle's tip folds (at (1.59, 0.75, 0), i.e. at distance L = 1.76 along the major "
-                   "axis), where the tip's radius of curvature in the shear plane, B^2 / L = 0.17, is well "
+                   "On 28 equator nodes the run at Ca_e = 0.5 stops at D ~ 0.53: an element with a "
+                   "vertex at the particle's tip folds (the vertex at (1.59, 0.75, 0), i.e. at distance "
+                   "L = 1.76 along the major axis), where the tip's radius of curvature in the shear plane, B^2 / L = 0.17, is well "
                    "below the interface element size 2 pi / 14 = 0.45. Node relocation moves only nodes "
                    "off the interface and cannot mend that (docs/time_stepping.md); filling the interior "
                    "(below) moves the fold to the matrix side of the same tip. The 40-node mesh "
