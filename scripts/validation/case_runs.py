@@ -24,6 +24,27 @@ def run_case(build, work, name, text, rerun=False):
     return directory
 
 
+def richardson(hs, values, bracket=(0.05, 12.0)):
+    """Order p and limit v* of v = v* + c h^p through three levels (coarse to fine, sizes hs at
+    any ratios): p solves (v0 - v1) / (v1 - v2) = (h0^p - h1^p) / (h1^p - h2^p) by bisection
+    within `bracket`. None when the differences change sign or no p in the bracket fits."""
+    (h0, h1, h2), (v0, v1, v2) = hs, values
+    d1, d2 = v0 - v1, v1 - v2
+    if d1 * d2 <= 0:
+        return None
+
+    def mismatch(p):
+        return (h0 ** p - h1 ** p) / (h1 ** p - h2 ** p) - d1 / d2
+    lo, hi = bracket
+    if mismatch(lo) * mismatch(hi) > 0:
+        return None
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if mismatch(lo) * mismatch(mid) <= 0 else (mid, hi)
+    p = 0.5 * (lo + hi)
+    return p, v2 - d2 * h2 ** p / (h1 ** p - h2 ** p)
+
+
 def read_csv(path):
     with open(path) as f:
         return list(csv.DictReader(f))

@@ -27,14 +27,13 @@ import concurrent.futures
 import csv
 import math
 import os
-import re
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_csv, read_run, run_case  # noqa: E402
+from case_runs import read_csv, read_run, richardson, run_case  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -117,32 +116,23 @@ def roscoe_theta(ca_e):
 
 
 def richardson_triples(hs, values, amplitudes):
-    """Text per consecutive triple of levels (sizes hs, coarse to fine): observed order p from
-    (v0 - v1) / (v1 - v2) = (h0^p - h1^p) / (h1^p - h2^p) (uneven ratios), and the extrapolated
-    value v2 - (v1 - v2) h2^p / (h1^p - h2^p). Each difference must stand above the oscillation
-    of the two runs it compares, and the differences must shrink."""
+    """Per consecutive triple of levels (sizes hs, coarse to fine): (text, (order, limit) or
+    None) from case_runs.richardson. Each difference must stand above the oscillation of the
+    two runs it compares."""
     out = []
     for k in range(len(values) - 2):
-        (h0, h1, h2), (v0, v1, v2) = hs[k:k + 3], values[k:k + 3]
-        a = amplitudes[k:k + 3]
-        d1, d2 = v0 - v1, v1 - v2
+        v, a = values[k:k + 3], amplitudes[k:k + 3]
+        d1, d2 = v[0] - v[1], v[1] - v[2]
         label = f"levels {k + 1}-{k + 3}: differences {d1:+.2e}, {d2:+.2e}"
         if not (d1 * d2 > 0 and abs(d1) > a[0] + a[1] and abs(d2) > a[1] + a[2]):
-            out.append(label + f": no order (not monotone, or not above the oscillation, half-amplitude up to {max(a):.1e})")
+            out.append((label + f": no order (not monotone, or not above the oscillation, half-amplitude up to {max(a):.1e})", None))
             continue
-
-        def ratio(p):
-            return (h0 ** p - h1 ** p) / (h1 ** p - h2 ** p)
-        target, lo, hi = d1 / d2, 0.05, 12.0
-        if not ratio(lo) < target < ratio(hi):
-            out.append(label + ": order outside [0.05, 12]")
+        fit = richardson(hs[k:k + 3], v)
+        if fit is None:
+            out.append((label + ": order outside [0.05, 12]", None))
             continue
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if ratio(mid) < target else (lo, mid)
-        p = 0.5 * (lo + hi)
-        limit = v2 - d2 * h2 ** p / (h1 ** p - h2 ** p)
-        out.append(label + f": observed order {p:.2f}, Richardson D = {limit:.5f}, the finer run {v2 / limit - 1:+.2%} from it")
+        p, limit = fit
+        out.append((label + f": observed order {p:.2f}, Richardson D = {limit:.5f}, the finer run {v[2] / limit - 1:+.2%} from it", fit))
     return out
 
 
@@ -177,13 +167,13 @@ def interior_section(results):
     if len(filled) >= 3:
         md += ["", "Filled interior, Ca_e = 0.1, h = 1 / meshed equator nodes:", ""]
         triples = richardson_triples(*zip(*filled))
-        md += ["- " + t for t in triples]
+        md += ["- " + text for text, _ in triples]
         # The finest triple of the sequence that refines every part of the mesh
         # is the reference the benchmarks measure against.
-        best = re.search(r"Richardson D = ([0-9.]+)", triples[-1])
+        best = triples[-1][1]
         if best:
             md += ["", f"Best estimate of the converged D at Ca_e = 0.1 (finest triple above): "
-                   f"Richardson extrapolation D = {best.group(1)}."]
+                   f"Richardson extrapolation D = {best[1]:.5f}."]
     return md
 
 
@@ -266,7 +256,7 @@ def report(work):
                       f"{r['theta_steady']:.3f} | {r['stress']['spread']:.3f} | {r['wall']:.0f} | {r['status']} |")
         if len(values) >= 3:
             md += ["", "h = 1 / meshed equator nodes" if "Mesh" in title else "h = dt", ""]
-            md += ["- " + t for t in richardson_triples(hs, values, amplitudes)]
+            md += ["- " + text for text, _ in richardson_triples(hs, values, amplitudes)]
     md += interior_section(results)
     for name, (c, n, dt, *filled) in all_cases().items():
         r = results[name]

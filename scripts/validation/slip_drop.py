@@ -24,7 +24,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, run_case  # noqa: E402
+from case_runs import read_run, richardson, run_case  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -122,19 +122,10 @@ def report(work):
                   f"{r['unknowns']} | {r['wall']:.0f} |")
     if len(mesh_d) == 3:
         (n0, d0, t0), (n1, d1, t1), (n2, d2, t2) = mesh_d
-        if (d0 - d1) * (d1 - d2) > 0:
-            # D(N) = D* + c N^-p through the three points (unequal ratios): bisection on p.
-            target = (d0 - d1) / (d1 - d2)
-            g = lambda p: (n0 ** -p - n1 ** -p) / (n1 ** -p - n2 ** -p) - target  # noqa: E731
-            lo, hi = 0.1, 10.0
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if g(lo) * g(mid) <= 0:
-                    hi = mid
-                else:
-                    lo = mid
-            order = 0.5 * (lo + hi)
-            extrapolated = d2 - (d1 - d2) * n2 ** -order / (n1 ** -order - n2 ** -order)
+        # D(N) = D* + c N^-p through the three points (unequal ratios).
+        fit = richardson([1.0 / n0, 1.0 / n1, 1.0 / n2], [d0, d1, d2], (0.1, 10.0))
+        if fit:
+            order, extrapolated = fit
             md += ["", f"Observed order of D in the equator-node count: {order:.2f}; Richardson value "
                    f"{extrapolated:.5f} (theory {slip_taylor(LAMBDA, 0.1, 1.0):.5f}); finest mesh "
                    f"{abs(d2 / extrapolated - 1):.2%} from it."]

@@ -25,7 +25,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, run_case  # noqa: E402
+from case_runs import read_run, richardson, run_case  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -125,6 +125,14 @@ fields = false
 """
 
 
+def completed_pair(work, run, twin):
+    """A run and its twin, each (name, drop lines, dt, end, ...), read with steady values over the
+    last 10 % of their time; (None, None) unless both completed."""
+    u = read_run(os.path.join(work, run[0]), 0.1 * run[3])
+    w = read_run(os.path.join(work, twin[0]), 0.1 * twin[3])
+    return (u, w) if u and w and u["status"] == "completed" and w["status"] == "completed" else (None, None)
+
+
 # The drop's interior filled at the interface size (mesh.interior_growth = 0):
 # with the default growth the 28-node sphere has one vertex inside, so the
 # drop's conformation (P1) is a star of elements around a hub.
@@ -156,11 +164,6 @@ def interior_case_text(run):
 
 def interior_report(work, md):
     """Appends the interior-resolution tables to md."""
-    def pair(run, twin):
-        u = read_run(os.path.join(work, run[0]), 0.1 * run[3])
-        w = read_run(os.path.join(work, twin[0]), 0.1 * twin[3])
-        return (u, w) if u and w and u["status"] == "completed" and w["status"] == "completed" else (None, None)
-
     def vertices_inside(run):
         return run["summary"]["mesh"].get("object_interior_vertices", "")
 
@@ -175,11 +178,11 @@ def interior_report(work, md):
     default = {de: (run, twin) for de, run, twin in small_deborah_runs()}
     points = []
     for de, run, twin in interior_runs():
-        u, w = pair(run, twin)
+        u, w = completed_pair(work, run, twin)
         g = greco_shift(LAMBDA, SMALL_CA, 0, de / (SMALL_CA * LAMBDA))
         old = ""
         if de in default:
-            du, dw = pair(*default[de])
+            du, dw = completed_pair(work, *default[de])
             if du is not None:
                 old = f"{du['theta_steady'] - dw['theta_steady']:+.4f}"
         if u is None:
@@ -200,7 +203,7 @@ def interior_report(work, md):
     levels = []
     g = greco_shift(LAMBDA, SMALL_CA, 0, 0.1 / (SMALL_CA * LAMBDA))
     for n, run, twin in interior_level_runs():
-        u, w = pair(run, twin)
+        u, w = completed_pair(work, run, twin)
         if u is None:
             md.append(f"| {n} | | | | | | {g:+.4f} | not run | |")
             continue
@@ -211,17 +214,10 @@ def interior_report(work, md):
                   f"{w['D_steady']:.5f} | {shift:+.4f} | {g:+.4f} | {shift / g:.2f} | {u['wall']:.0f} / {w['wall']:.0f} |")
     if len(levels) == 3:
         (n0, s0, *_), (n1, s1, *_), (n2, s2, *_) = levels
-        if (s1 - s0) * (s2 - s1) > 0 and abs(s2 - s1) < abs(s1 - s0):
-            # Observed order with h = 1 / (meshed equator nodes), uneven ratios: solve
-            # (s1 - s0) / (s2 - s1) = (h0^p - h1^p) / (h1^p - h2^p) by bisection.
-            def ratio(p):
-                return (n0 ** -p - n1 ** -p) / (n1 ** -p - n2 ** -p)
-            target, lo, hi = (s1 - s0) / (s2 - s1), 0.1, 10.0
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                lo, hi = (mid, hi) if ratio(mid) < target else (lo, mid)
-            p = 0.5 * (lo + hi)
-            limit = s2 + (s2 - s1) * n2 ** -p / (n1 ** -p - n2 ** -p)
+        # h = 1 / (meshed equator nodes); the differences must shrink.
+        fit = richardson([1.0 / n0, 1.0 / n1, 1.0 / n2], [s0, s1, s2], (0.1, 10.0))
+        if fit and abs(s2 - s1) < abs(s1 - s0):
+            p, limit = fit
             md += ["", f"Observed order of the shift {p:.2f}; Richardson-extrapolated shift {limit:+.4f} deg = "
                    f"{limit / g:.2f} of Greco's."]
         else:
@@ -231,11 +227,6 @@ def interior_report(work, md):
 
 def small_deborah_report(work, md):
     """Appends the small-De_d tables to md; returns the points for the plot."""
-    def pair(run, twin):
-        u = read_run(os.path.join(work, run[0]), 0.1 * run[3])
-        w = read_run(os.path.join(work, twin[0]), 0.1 * twin[3])
-        return (u, w) if u and w and u["status"] == "completed" and w["status"] == "completed" else (None, None)
-
     md += ["", "## Small drop Deborah numbers at Ca = 0.025: the slope of the shift", "",
            "UCM drops at Ca = 0.025 (28 equator nodes), De_d = lambda_d gamma_dot from 0.005 to 0.2, "
            "each beside a Newtonian twin at the same dt. Greco's shift (eq. 2.60 as printed) is "
@@ -244,7 +235,7 @@ def small_deborah_report(work, md):
            "|---|---|---|---|---|---|---|---|"]
     points = []
     for de, run, twin in small_deborah_runs():
-        u, w = pair(run, twin)
+        u, w = completed_pair(work, run, twin)
         g = greco_shift(LAMBDA, SMALL_CA, 0, de / (SMALL_CA * LAMBDA))
         if u is None:
             md.append(f"| {de:g} | {run[2]:g} | {run[3]:g} | | | | {g:+.4f} | not run |")
@@ -269,7 +260,7 @@ def small_deborah_report(work, md):
            "| run | De_d (Greco) | D (run) | D (Newt.) | shift [deg] | Greco shift [deg] | shift / Greco |",
            "|---|---|---|---|---|---|---|"]
     for label, de, run, twin, _, _ in small_deborah_checks():
-        u, w = pair(run, twin)
+        u, w = completed_pair(work, run, twin)
         g = greco_shift(LAMBDA, SMALL_CA, 0, de / (SMALL_CA * LAMBDA))
         if u is None:
             md.append(f"| {label} | {de:g} | | | | {g:+.4f} | not run |")
@@ -485,10 +476,7 @@ def main():
                 small.setdefault(r[0], general_case_text(r[0], r[1], r[2], r[3], equator, far))
         jobs += list(small.items())
         interior = {}
-        for _, run, twin in interior_runs():
-            for r in (run, twin):
-                interior.setdefault(r[0], interior_case_text(r))
-        for _, run, twin in interior_level_runs():
+        for _, run, twin in interior_runs() + interior_level_runs():
             for r in (run, twin):
                 interior.setdefault(r[0], interior_case_text(r))
         jobs += list(interior.items())
