@@ -117,12 +117,12 @@ NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double
     report.smallest_quality = smallest();
     return report;
   }
-  auto worst_of = [&](const std::vector<int>& tets) {
+  auto worst_of_bad = [&] {
     double q = 1.0;
-    for (int t : tets) q = std::min(q, tet_quality(nodes, tets_[t]));
+    for (int t : bad) q = std::min(q, quality[t]);
     return q;
   };
-  report.quality_before = worst_of(bad);
+  report.quality_before = worst_of_bad();
   std::vector<char> counted(nodes.size(), 0);
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     bool any = false;
@@ -140,10 +140,10 @@ NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double
         }
     if (!any) break;
   }
-  report.quality_after = worst_of(bad);
   for (int node = 0; node < static_cast<int>(nodes.size()); ++node)
     if (counted[node])
       for (int t : tets_of_node_[node]) quality[t] = tet_quality(nodes, tets_[t]);
+  report.quality_after = worst_of_bad();
   report.smallest_quality = smallest();
   return report;
 }
