@@ -369,6 +369,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   auto* ca_e_option = theory->add_option(
       "--ca-e", ca_e, "elastic capillary number eta_m gamma_dot / G (Roscoe; default: --ca)");
+  double solid_viscosity_ratio = 0.0;
+  auto* solid_viscosity_option = theory->add_option(
+      "--solid-viscosity-ratio", solid_viscosity_ratio,
+      "Kelvin-Voigt particle: mu_d / eta_m, its viscosity over the matrix's (adds its D and theta)");
   double slip = 0.0;
   auto* slip_option = theory->add_option(
       "--slip", slip,
@@ -463,6 +467,7 @@ int main(int argc, char** argv) {
     try {
       if (*ca_e_option) theory_query.ca_e = ca_e;
       if (*slip_option) theory_query.slip = slip;
+      if (*solid_viscosity_option) theory_query.solid_viscosity_ratio = solid_viscosity_ratio;
       std::cout << softflow::analysis::theory::theory_table(lambda, ca, theory_query);
       return kOk;
     } catch (const softflow::InputError& e) {

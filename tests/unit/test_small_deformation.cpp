@@ -74,6 +74,25 @@ TEST(SmallDeformation, RoscoeSmallCa) {
   EXPECT_NEAR(roscoe_small_ca_angle_deg(0.1), 40.702816536518824, 1e-10);
 }
 
+TEST(SmallDeformation, KelvinVoigtSphere) {
+  // mu_d / eta_m = 1, Ca_e = 0.1: D = 0.125 as Roscoe's; theta = 45 deg -
+  // (2 + 3)/4 * 0.1 rad = 45 - 0.125 rad = 37.83803...; by hand
+  // 0.125 * 180 / pi = 7.161972439135291.
+  EXPECT_NEAR(kelvin_voigt_small_ca_deformation(0.1, 1.0), 0.125, 1e-15);
+  EXPECT_NEAR(kelvin_voigt_small_ca_angle_deg(0.1, 1.0), 45.0 - 7.161972439135291, 1e-10);
+  // lambda_s = 4: (8 + 3)/4 * 0.05 = 0.1375 rad = 7.878169683048820 deg.
+  EXPECT_NEAR(kelvin_voigt_small_ca_angle_deg(0.05, 4.0), 45.0 - 7.878169683048820, 1e-10);
+  // No viscosity: Roscoe's neo-Hookean sphere.
+  EXPECT_EQ(kelvin_voigt_small_ca_angle_deg(0.1, 0.0), roscoe_small_ca_angle_deg(0.1));
+  EXPECT_THROW(kelvin_voigt_small_ca_angle_deg(0.1, -1.0), softflow::InputError);
+  TheoryQuery query;
+  query.ca_e = 0.1;
+  query.solid_viscosity_ratio = 1.0;
+  const std::string table = theory_table(1.0, 0.1, query);
+  EXPECT_NE(table.find("mu_d / eta_m = 1: D 0.125, theta 37.838 deg"), std::string::npos) << table;
+  EXPECT_EQ(theory_table(1.0, 0.1).find("Kelvin-Voigt"), std::string::npos);
+}
+
 TEST(SmallDeformation, RejectsNegativeInput) {
   EXPECT_THROW(taylor_deformation(-1.0, 0.1), softflow::InputError);
   EXPECT_THROW(chaffey_brenner_angle_deg(1.0, -0.1), softflow::InputError);

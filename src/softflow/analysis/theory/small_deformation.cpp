@@ -75,14 +75,28 @@ double slip_taylor_deformation(double lambda, double ca, double alpha) {
          (16.0 * (1.0 + lambda + 5.0 * alpha * lambda)) * ca;
 }
 
-double roscoe_small_ca_deformation(double ca_e) {
+double roscoe_small_ca_deformation(double ca_e) { return kelvin_voigt_small_ca_deformation(ca_e, 0.0); }
+
+double roscoe_small_ca_angle_deg(double ca_e) { return kelvin_voigt_small_ca_angle_deg(ca_e, 0.0); }
+
+// The derivation (docs/viscoelastic.md): at small strain the sphere's
+// interior strain rate is uniform, E_in = (5 E - S / eta_m) / (2 lambda_s + 3)
+// with S = 2 G eps the elastic stress (Eshelby's relation for a viscous
+// sphere carrying a uniform extra stress), and the strain obeys the linearised
+// upper-convected law d eps/dt = E_in + W eps - eps W. Its steady solution has
+// principal strains +-a in the shear plane, D = a, and
+// tan 2 theta = 2 / ((2 lambda_s + 3) Ca_e); first order in Ca_e gives the
+// two functions below.
+double kelvin_voigt_small_ca_deformation(double ca_e, double lambda_s) {
   require_non_negative("Ca_e", ca_e);
+  require_non_negative("mu_d / eta_m", lambda_s);
   return 1.25 * ca_e;
 }
 
-double roscoe_small_ca_angle_deg(double ca_e) {
+double kelvin_voigt_small_ca_angle_deg(double ca_e, double lambda_s) {
   require_non_negative("Ca_e", ca_e);
-  return degrees(kQuarterPi - 0.75 * ca_e);
+  require_non_negative("mu_d / eta_m", lambda_s);
+  return degrees(kQuarterPi - 0.25 * (2.0 * lambda_s + 3.0) * ca_e);
 }
 
 std::string theory_table(double lambda, double ca, const TheoryQuery& query) {
@@ -114,6 +128,10 @@ std::string theory_table(double lambda, double ca, const TheoryQuery& query) {
   const double ca_e = query.ca_e.value_or(ca);
   out += fmt::format("  Neo-Hookean sphere, Ca_e = {:g} (Roscoe): D {:.6g}, theta {:.6g} deg\n", ca_e,
                      roscoe_small_ca_deformation(ca_e), roscoe_small_ca_angle_deg(ca_e));
+  if (const auto lambda_s = query.solid_viscosity_ratio)
+    out += fmt::format("  Kelvin-Voigt sphere, Ca_e = {:g}, mu_d / eta_m = {:g}: D {:.6g}, theta {:.6g} deg\n",
+                       ca_e, *lambda_s, kelvin_voigt_small_ca_deformation(ca_e, *lambda_s),
+                       kelvin_voigt_small_ca_angle_deg(ca_e, *lambda_s));
   return out;
 }
 

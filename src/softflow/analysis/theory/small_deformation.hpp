@@ -48,6 +48,19 @@ double roscoe_small_ca_deformation(double ca_e);
 /// theta = pi/4 - 3/4 Ca_e [rad]. Same range as roscoe_small_ca_deformation.
 double roscoe_small_ca_angle_deg(double ca_e);
 
+/// Kelvin-Voigt sphere (neo-Hookean modulus G plus a viscosity mu_d, tau =
+/// 2 mu_d D + G (B - I)) in a Newtonian fluid, first order in Ca_e =
+/// eta_m shear_rate / G, lambda_s = mu_d / eta_m (docs/viscoelastic.md
+/// derives it): D = 5/4 Ca_e, whatever lambda_s. lambda_s = 0 is Roscoe's
+/// neo-Hookean limit.
+double kelvin_voigt_small_ca_deformation(double ca_e, double lambda_s);
+
+/// The same sphere's angle, in degrees: theta = pi/4 - (2 lambda_s + 3)/4 Ca_e
+/// [rad]. The solid's viscosity lengthens the shape's relaxation time
+/// eta_m (2 lambda_s + 3) / (2 G), so the vorticity turns the shape further
+/// towards the flow; lambda_s = 0 gives roscoe_small_ca_angle_deg.
+double kelvin_voigt_small_ca_angle_deg(double ca_e, double lambda_s);
+
 /// Optional inputs of theory_table beyond lambda and Ca.
 struct TheoryQuery {
   double p = 0.0;                    ///< matrix elasticity (Greco)
@@ -56,12 +69,16 @@ struct TheoryQuery {
   /// Navier slip alpha (made dimensionless with R / eta_m) of the slip-drop
   /// D; default: the examples alpha = 0.1 and 1.
   std::optional<double> slip;
+  /// Kelvin-Voigt particle: its viscosity over the matrix's, mu_d / eta_m.
+  std::optional<double> solid_viscosity_ratio;
 };
 
-/// A few lines for `softflow theory --lambda L --ca C [--p P --p-d PD --ca-e CE --slip A]`:
+/// A few lines for `softflow theory --lambda L --ca C [--p P --p-d PD --ca-e CE --slip A
+/// --solid-viscosity-ratio LS]`:
 /// Taylor D, Chaffey-Brenner theta, the slip-drop D at the given alpha (else
 /// at alpha = 0.1 and 1), the Greco correction as coefficients of p and p_d
-/// and its value at the given p, p_d, and Roscoe's elastic sphere at Ca_e.
+/// and its value at the given p, p_d, Roscoe's elastic sphere at Ca_e, and
+/// the Kelvin-Voigt sphere's at the given lambda_s.
 std::string theory_table(double lambda, double ca, const TheoryQuery& query = {});
 
 }  // namespace softflow::analysis::theory
