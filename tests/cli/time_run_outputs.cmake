@@ -25,6 +25,11 @@ foreach(f case.toml summary.json timeseries.csv fields.pvd deformation.png
     message(FATAL_ERROR "missing ${f}")
   endif()
 endforeach()
+# The run reports its peak memory (largest rank, all ranks) in megabytes.
+file(READ ${WORK}/out/summary.json summary)
+if(NOT summary MATCHES "\"peak_memory_mb\": {[^}]*\"all_ranks\": [1-9][0-9]*\\.[^}]*\"largest_rank\": [1-9]")
+  message(FATAL_ERROR "summary.json lacks a positive peak_memory_mb: ${summary}")
+endif()
 file(STRINGS ${WORK}/out/timeseries.csv lines)
 list(GET lines 0 header)
 foreach(column t D theta_deg L B W xc yc zc uc vc wc volume area ellipsoid_dev min_quality)
