@@ -113,8 +113,12 @@ SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings,
   if (set) settings_.max_reuse_iterations = static_cast<int>(reuse);
 }
 
-void SaddlePointSolver::set_operators(Mat a, Mat pmat) {
+void SaddlePointSolver::set_operators(Mat a, Mat pmat, Mat schur) {
   check(KSPSetOperators(ksp_.get(), a, pmat ? pmat : a), "KSPSetOperators");
+  if (!schur || settings_.method != SaddlePointMethod::iterative) return;
+  PC pc = nullptr;
+  check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
+  check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_USER, schur), "SchurPre(user)");
 }
 
 void SaddlePointSolver::set_up() {

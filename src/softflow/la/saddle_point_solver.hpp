@@ -56,9 +56,10 @@ struct SolveReport {
 ///
 /// where A is the viscous block, B the (negative) divergence, and M/eta the
 /// P1 pressure mass matrix weighted by 1/viscosity of each phase, which
-/// approximates the Schur complement -B A^{-1} B^T. The preconditioning
-/// matrix `pmat` carries -M/eta in its pressure block; with the direct
-/// method it is ignored.
+/// approximates the Schur complement -B A^{-1} B^T. -M/eta comes either as
+/// the pressure block of a preconditioning matrix `pmat` or as a matrix of
+/// its own (set_operators' `schur`); with the direct method both are
+/// ignored.
 ///
 /// The unknowns come as a list of named fields (e.g. "velocity",
 /// "pressure"; later multipliers or a conformation tensor). The iterative
@@ -74,7 +75,11 @@ class SaddlePointSolver {
                     MatNullSpace near_nullspace = nullptr);
 
   /// Sets the operator (and preconditioning matrix) for the next solve.
-  void set_operators(Mat a, Mat pmat);
+  /// `schur` (iterative method, two fields): the Schur complement's
+  /// preconditioning matrix on the second field's space, in the order of
+  /// its index set; the other blocks of the preconditioner are then taken
+  /// from `pmat` (or `a`), so no second copy of the whole system is needed.
+  void set_operators(Mat a, Mat pmat, Mat schur = nullptr);
   /// Solves a x = b, rebuilding the preconditioner unless the reuse policy
   /// keeps it; throws SolverError if the solver does not converge even with
   /// a fresh preconditioner.

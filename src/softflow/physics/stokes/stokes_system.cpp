@@ -171,7 +171,11 @@ void StokesSystem::create_matrices() {
   a_ = std::make_unique<la::CooMatrix>(range_, n, range_, n);
   declare(*a_, true);
   a_->create();
-  if (iterative) {
+  if (iterative && !slip_) {
+    create_schur_matrix();
+  } else if (iterative) {
+    // With slip the velocity block of the preconditioner differs from A's
+    // (the jump penalty), so it gets a matrix of its own.
     pmat_ = std::make_unique<la::CooMatrix>(range_, n, range_, n);
     declare(*pmat_, false);  // same declaration order: same block handles
     // With slip, a penalty on the jump at each interface node (preconditioner
@@ -190,8 +194,34 @@ void StokesSystem::create_matrices() {
   }
 }
 
+void StokesSystem::create_schur_matrix() {
+  // The pressure unknowns' positions within the pressure field, which is
+  // the numbering of the Schur complement's space (PCFIELDSPLIT orders a
+  // split by global index, and each rank owns a contiguous block).
+  pressure_position_.assign(dofs_.n_dofs(), -1);
+  PetscInt n_pressure = 0, first_owned = -1, owned = 0;
+  for (int i = 0; i < dofs_.n_dofs(); ++i) {
+    if (dofs_.field_of(i) != kPressureField) continue;
+    if (range_.owns(i)) {
+      if (first_owned < 0) first_owned = n_pressure;
+      ++owned;
+    }
+    pressure_position_[i] = static_cast<int>(n_pressure++);
+  }
+  if (first_owned < 0) first_owned = n_pressure;  // this rank owns no pressure
+  const la::OwnershipRange range{first_owned, first_owned + owned};
+  schur_ = std::make_unique<la::CooMatrix>(range, n_pressure, range, n_pressure);
+  for (int t : owned_tets_) {
+    const auto d = dofs_.element_dofs(t);
+    std::array<PetscInt, 4> p;
+    for (int k = 0; k < 4; ++k) p[k] = pressure_position_[d[30 + k]];
+    schur_blocks_.push_back(schur_->add_block(std::span<const PetscInt>(p), std::span<const PetscInt>(p)));
+  }
+  schur_->create();
+}
+
 void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& problem, Vec rhs) {
-  const bool iterative = static_cast<bool>(pmat_);
+  const bool iterative = pmat_ || schur_;
   TetMatrix ke;
   TetVector fe;
   const auto& viscoelastic = problem.viscoelastic;
@@ -214,7 +244,8 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
       add_viscoelastic_tet_terms(viscoelastic, fem::quadrature_points(geometry, tabulation_, t), ke,
                                  fe);
     a_->set_block(tet_blocks_[e], ke);
-    if (iterative) {
+    if (schur_) schur_->set_block(schur_blocks_[e], mass);
+    if (pmat_) {
       ke.bottomRightCorner<4, 4>() = mass;
       pmat_->set_block(tet_blocks_[e], ke);
     }
@@ -257,7 +288,7 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
       check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
     }
     a_->set_block(interface_blocks_[i], block);
-    if (iterative) pmat_->set_block(interface_blocks_[i], block);
+    if (pmat_) pmat_->set_block(interface_blocks_[i], block);
   }
   if (slip_) {
     // The nodal normals and scales serve the operator and the preconditioner.
@@ -265,11 +296,12 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
                           interface_node_scale(geometry)};
     assemble_slip(geometry, problem, nodes);
     a_->assemble();
-    if (iterative) assemble_slip_schur_estimate(problem, nodes);
+    if (pmat_) assemble_slip_schur_estimate(problem, nodes);
   } else {
     a_->assemble();
   }
-  if (iterative) pmat_->assemble();
+  if (pmat_) pmat_->assemble();
+  if (schur_) schur_->assemble();
   check(VecAssemblyBegin(rhs), "VecAssemblyBegin");
   check(VecAssemblyEnd(rhs), "VecAssemblyEnd");
 }
@@ -309,6 +341,14 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
     check(MatZeroRowsColumns(m, static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
                              is_operator ? x : nullptr, is_operator ? rhs : nullptr),
           "MatZeroRowsColumns");
+  }
+  if (schur_) {  // the gauge's row and column, as in the operator's pressure block
+    std::vector<PetscInt> gauge;
+    for (PetscInt dof : rows)
+      if (pressure_position_[dof] >= 0) gauge.push_back(pressure_position_[dof]);
+    check(MatZeroRowsColumns(schur_->get(), static_cast<PetscInt>(gauge.size()), gauge.data(), 1.0,
+                             nullptr, nullptr),
+          "MatZeroRowsColumns(Schur)");
   }
 }
 
@@ -367,7 +407,7 @@ Eigen::Matrix<double, 3, 9> StokesSystem::slip_constraint_block(int node, const 
 
 void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem,
                                  const SlipNodes& nodes) {
-  const bool iterative = static_cast<bool>(pmat_);
+  const bool iterative = static_cast<bool>(pmat_);  // with slip, the only preconditioning matrix
   for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i) {
     const int f = owned_interface_faces_[i];
     const auto m = surface_mass(fem::triangle_nodes(geometry, mesh_.interface_faces[f]));
@@ -449,7 +489,8 @@ std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(const mesh::Mesh
   check(VecSet(x.get(), 0.0), "VecSet");
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
-  solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr);
+  solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr,
+                         schur_ ? schur_->get() : nullptr);
   return {std::move(rhs), std::move(x)};
 }
 

@@ -57,7 +57,8 @@ struct StokesResult {
 ///     [ B   0   ] [p] = [0]              [ B  -M/eta   ]
 ///
 /// A = (1) plus the semi-implicit tension's surface Laplacian, B = (4),
-/// M/eta the pressure mass weighted by 1/viscosity per phase.
+/// M/eta the pressure mass weighted by 1/viscosity per phase, assembled as a
+/// matrix of the pressure space alone (P's other blocks are the operator's).
 class StokesSystem {
  public:
   /// `interface_slip`: separate velocity copies at interfaces coupled by
@@ -113,6 +114,11 @@ class StokesSystem {
   void record_factorization(const StokesProblem& problem);
   void partition();
   void create_matrices();
+  /// The iterative method without slip: the Schur complement's
+  /// preconditioning matrix -M/eta on the pressure space alone (the
+  /// velocity block is A's own), instead of a second copy of the whole
+  /// system.
+  void create_schur_matrix();
   /// Rigid-body modes of the owned velocity dofs: the near-nullspace AMG
   /// needs to coarsen a 3D elasticity-like velocity block well.
   la::NullSpace velocity_near_nullspace() const;
@@ -165,7 +171,13 @@ class StokesSystem {
   std::vector<int> owned_interface_faces_;
   using InterfaceMatrix = Eigen::Matrix<double, 18, 18>;
   std::unique_ptr<la::CooMatrix> a_;
-  std::unique_ptr<la::CooMatrix> pmat_;  // only for the iterative method: -M/eta in the pressure block
+  // The iterative method's preconditioning: with slip a whole matrix pmat_
+  // (penalised velocity block, constraint estimates); without, only the
+  // pressure block -M/eta (schur_), numbered by pressure_position_.
+  std::unique_ptr<la::CooMatrix> pmat_;
+  std::unique_ptr<la::CooMatrix> schur_;
+  std::vector<la::CooMatrix::Block> schur_blocks_;
+  std::vector<int> pressure_position_;  // dof -> index among the pressure unknowns, or -1
   std::vector<la::CooMatrix::Block> tet_blocks_, interface_blocks_;
   std::vector<la::CooMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
   std::vector<la::CooMatrix::Block> slip_penalty_blocks_;  // pmat_ only
