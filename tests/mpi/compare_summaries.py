@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Compares two summary.json files of the same case: same unknowns, same
-solution quantities to solver tolerance. Exit 1 (and say what) if not."""
+solution quantities to solver tolerance (one Stokes solve: velocity,
+pressure jumps; a time run: each object's final shape and volume). Exit 1
+(and say what) if not."""
 import json
 import sys
 
@@ -19,8 +21,16 @@ def main(serial_path, parallel_path):
         failures.append(f"unknowns {serial['unknowns']} vs {parallel['unknowns']}")
     if parallel["mpi_ranks"] != 2:
         failures.append(f"parallel run used {parallel['mpi_ranks']} ranks")
-    pairs = [("max_velocity", serial["max_velocity"], parallel["max_velocity"])]
-    for s, p in zip(serial["objects"], parallel["objects"]):
+    if "final" in serial:  # a time run: every object's shape and position at the end
+        if serial["steps"] != parallel["steps"]:
+            failures.append(f"steps {serial['steps']} vs {parallel['steps']}")
+        pairs = []
+        for s, p in zip(serial["final"], parallel["final"], strict=True):
+            for key in ("D", "theta_deg", "L", "B", "W", "volume"):
+                pairs.append((f"object {s['object']} {key}", s[key], p[key]))
+    else:
+        pairs = [("max_velocity", serial["max_velocity"], parallel["max_velocity"])]
+    for s, p in zip(serial.get("objects", []), parallel.get("objects", [])):
         pairs.append(("pressure_jump", s["pressure_jump"], p["pressure_jump"]))
         for k in range(3):
             pairs.append((f"mean_interface_velocity[{k}]", s["mean_interface_velocity"][k],
