@@ -4,11 +4,16 @@ run_case writes CASE.toml in `work` and runs `softflow run` into work/NAME,
 unless that directory already holds a summary.json (a finished run: scripts
 can be re-run to regenerate their reports, or resumed after an interruption).
 read_run reads summary.json and the time series, with steady values as the
-means over the rows at t >= t_end - window."""
+means over the rows at t >= t_end - window. validation_main is the command
+line the validation scripts share."""
+import argparse
+import concurrent.futures
 import csv
 import json
 import os
 import subprocess
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def run_case(build, work, name, text, rerun=False):
@@ -71,3 +76,20 @@ def read_run(directory, window):
         "wall": summary["wall_seconds"], "unknowns": summary["unknowns"], "steps": summary["steps"],
         "status": summary["status"], "end": t[-1],
     }
+
+
+def validation_main(work_name, jobs, report, runner=run_case):
+    """`SCRIPT [build_dir] [work_dir] [--jobs N] [--report-only]`: runs every
+    (name, case text) of jobs() with `runner` (two at a time by default),
+    unless --report-only, then report(work_dir). work_dir defaults to
+    output/WORK_NAME."""
+    parser = argparse.ArgumentParser()
+    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    parser.add_argument("work", nargs="?", default=os.path.join(ROOT, "output", work_name))
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--report-only", action="store_true")
+    args = parser.parse_args()
+    if not args.report_only:
+        with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+            list(pool.map(lambda j: runner(args.build, args.work, *j), jobs()))
+    report(args.work)

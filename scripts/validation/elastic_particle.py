@@ -22,8 +22,6 @@ particle's material at gamma_dot / 2, the period of the slow oscillation the
 initial state leaves); the half-amplitude of D over that window is reported.
 Finished cases (a summary.json in their directory) are not rerun.
 Usage: scripts/validation/elastic_particle.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import argparse
-import concurrent.futures
 import csv
 import math
 import os
@@ -33,7 +31,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_csv, read_run, richardson, run_case  # noqa: E402
+from case_runs import read_csv, read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -309,17 +307,8 @@ def report(work):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    parser.add_argument("work", nargs="?", default=os.path.join(ROOT, "output", "validation_elastic_particle"))
-    parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--report-only", action="store_true")
-    args = parser.parse_args()
-    if not args.report_only:
-        jobs = [(name, case_text(name, *spec)) for name, spec in all_cases().items()]
-        with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-            list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
-    report(args.work)
+    validation_main("validation_elastic_particle",
+                    lambda: [(name, case_text(name, *spec)) for name, spec in all_cases().items()], report)
 
 
 if __name__ == "__main__":

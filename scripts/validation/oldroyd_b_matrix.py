@@ -19,8 +19,6 @@ Box 30, dt = lambda_m / 5, to t = 6; steady values are means over the last
 10 %. Finished runs are not rerun.
 
 Usage: scripts/validation/oldroyd_b_matrix.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import argparse
-import concurrent.futures
 import csv
 import math
 import os
@@ -30,7 +28,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, run_case  # noqa: E402
+from case_runs import read_run, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -156,16 +154,7 @@ def report(work):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    parser.add_argument("work", nargs="?", default=os.path.join(ROOT, "output", "validation_oldroyd_b_matrix"))
-    parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--report-only", action="store_true")
-    args = parser.parse_args()
-    if not args.report_only:
-        with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-            list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs().items()))
-    report(args.work)
+    validation_main("validation_oldroyd_b_matrix", lambda: list(jobs().items()), report)
 
 
 if __name__ == "__main__":

@@ -13,8 +13,6 @@ refines the whole mesh (interface size, far size and growth by one factor).
 
 Finished cases (a summary.json in their directory) are not rerun.
 Usage: scripts/validation/slip_drop.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import argparse
-import concurrent.futures
 import csv
 import math
 import os
@@ -24,7 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, richardson, run_case  # noqa: E402
+from case_runs import read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -159,19 +157,11 @@ def report(work):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    parser.add_argument("work", nargs="?", default=os.path.join(ROOT, "output", "validation_slip_drop"))
-    parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--report-only", action="store_true")
-    args = parser.parse_args()
-    if not args.report_only:
-        jobs = [(name_of(a, ca), case_text(name_of(a, ca), a, ca)) for a in ALPHAS for ca in CAS]
-        jobs += [(name_of(1.0, 0.1, n), case_text(name_of(1.0, 0.1, n), 1.0, 0.1, n, far, g))
-                 for n, far, g in MESHES if n != 28]
-        with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-            list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
-    report(args.work)
+    def jobs():
+        out = [(name_of(a, ca), case_text(name_of(a, ca), a, ca)) for a in ALPHAS for ca in CAS]
+        return out + [(name_of(1.0, 0.1, n), case_text(name_of(1.0, 0.1, n), 1.0, 0.1, n, far, g))
+                      for n, far, g in MESHES if n != 28]
+    validation_main("validation_slip_drop", jobs, report)
 
 
 if __name__ == "__main__":

@@ -14,8 +14,6 @@ is the shortest time scale), to t = 6.
 
 Finished cases (a summary.json in their directory) are not rerun.
 Usage: scripts/validation/ucm_drop.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import argparse
-import concurrent.futures
 import csv
 import math
 import os
@@ -25,7 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, richardson, run_case  # noqa: E402
+from case_runs import read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -76,7 +74,7 @@ def small_deborah_runs():
     twin = {dt: (f"newtonian_Ca0.025_dt{dt:g}", f"viscosity_ratio = {LAMBDA}\n", dt, 6.0 if dt > 0.005 else 3.0)
             for dt in (0.005, 0.01)}
     twin[0.02] = (pair_name(SMALL_CA, 2.0, False), f"viscosity_ratio = {LAMBDA}\n", 0.02, 6.0)
-    out = [(0.005, (f"ucm_Ca0.025_l0.005_dt0.005", ucm_lines(0.005), 0.005, 3.0), twin[0.005])]
+    out = [(0.005, ("ucm_Ca0.025_l0.005_dt0.005", ucm_lines(0.005), 0.005, 3.0), twin[0.005])]
     out += [(de, (f"ucm_Ca0.025_l{de:g}_dt0.01", ucm_lines(de), 0.01, 6.0), twin[0.01]) for de in (0.01, 0.02, 0.03)]
     # The fixed-Deborah runs above at Ca = 0.025 (dt = lambda_d / 5), one at dt = lambda_d / 10.
     out.append((0.05, (pair_name(SMALL_CA, 1.0, True), ucm_lines(0.05), 0.01, 6.0),
@@ -453,36 +451,31 @@ def report(work):
         f.write("\n".join(md) + "\n\n![UCM drop](ucm_drop.png)\n")
 
 
+def all_jobs():
+    """Every (name, case text) of the studies above."""
+    jobs = [(name_of(ca, ucm), case_text(name_of(ca, ucm), ca, ucm)) for ca in CAS for ucm in (True, False)]
+    jobs += [(name_of(0.1, ucm, n, k), case_text(name_of(0.1, ucm, n, k), 0.1, ucm, n, far, k))
+             for n, far, k in RESOLUTION for ucm in (True, False)]
+    jobs += [(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}",
+              case_text(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}", 0.1, ucm, p_d=p_d))
+             for p_d in P_D_STUDY for ucm in (True, False)]
+    jobs += [(pair_name(ca, p_d, ucm), case_text(pair_name(ca, p_d, ucm), ca, ucm, p_d=p_d))
+             for pairs in FIXED_DEBORAH.values() for ca, p_d in pairs for ucm in (True, False)]
+    small = {r[0]: general_case_text(r[0], r[1], r[2], r[3])
+             for _, run, twin in small_deborah_runs() for r in (run, twin)}
+    for _, _, run, twin, equator, far in small_deborah_checks():
+        for r in (run, twin):
+            small.setdefault(r[0], general_case_text(r[0], r[1], r[2], r[3], equator, far))
+    jobs += list(small.items())
+    interior = {}
+    for _, run, twin in interior_runs() + interior_level_runs():
+        for r in (run, twin):
+            interior.setdefault(r[0], interior_case_text(r))
+    return jobs + list(interior.items())
+
+
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    parser.add_argument("work", nargs="?", default=os.path.join(ROOT, "output", "validation_ucm_drop"))
-    parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--report-only", action="store_true")
-    args = parser.parse_args()
-    if not args.report_only:
-        jobs = [(name_of(ca, ucm), case_text(name_of(ca, ucm), ca, ucm)) for ca in CAS for ucm in (True, False)]
-        jobs += [(name_of(0.1, ucm, n, k), case_text(name_of(0.1, ucm, n, k), 0.1, ucm, n, far, k))
-                 for n, far, k in RESOLUTION for ucm in (True, False)]
-        jobs += [(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}",
-                  case_text(f"{'ucm' if ucm else 'newtonian'}_Ca0.1_pd{p_d:g}", 0.1, ucm, p_d=p_d))
-                 for p_d in P_D_STUDY for ucm in (True, False)]
-        jobs += [(pair_name(ca, p_d, ucm), case_text(pair_name(ca, p_d, ucm), ca, ucm, p_d=p_d))
-                 for pairs in FIXED_DEBORAH.values() for ca, p_d in pairs for ucm in (True, False)]
-        small = {r[0]: general_case_text(r[0], r[1], r[2], r[3])
-                 for _, run, twin in small_deborah_runs() for r in (run, twin)}
-        for _, _, run, twin, equator, far in small_deborah_checks():
-            for r in (run, twin):
-                small.setdefault(r[0], general_case_text(r[0], r[1], r[2], r[3], equator, far))
-        jobs += list(small.items())
-        interior = {}
-        for _, run, twin in interior_runs() + interior_level_runs():
-            for r in (run, twin):
-                interior.setdefault(r[0], interior_case_text(r))
-        jobs += list(interior.items())
-        with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-            list(pool.map(lambda j: run_case(args.build, args.work, *j), jobs))
-    report(args.work)
+    validation_main("validation_ucm_drop", all_jobs, report)
 
 
 if __name__ == "__main__":
