@@ -7,8 +7,9 @@ Writes docs/benchmarks/scaling.{md,json}.
 Every run is `softflow run` on a generated case (solver.type = "iterative",
 so that every size is solved the same way; "auto" would pick LU below 150k
 unknowns). A solve run has time.end = 0 (one Stokes solve of the initial
-state); a step run takes STEPS steps of dt = 0.05 and reports the mean wall
-time per stage and per step. Peak memory is getrusage's peak resident set
+state); a step run takes STEPS steps of dt = 0.05 (0.01 for the eight drops,
+which move across the mesh) and reports the mean wall time per stage and
+per step. Peak memory is getrusage's peak resident set
 (summary.json peak_memory_mb), largest rank. The machine is shared and
 noisy: read ratios within one run. Finished runs (a summary.json in their
 directory) are not rerun, so an interrupted benchmark resumes.
