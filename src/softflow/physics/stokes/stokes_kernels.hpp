@@ -8,7 +8,10 @@
 namespace softflow::physics {
 
 /// Element matrix in the local order of fem::StokesDofMap (30 velocity + 4 pressure).
-using TetMatrix = Eigen::Matrix<double, 34, 34>;
+inline constexpr int kTetVelocityDofs = 30;
+inline constexpr int kTetPressureDofs = 4;
+using TetMatrix = Eigen::Matrix<double, kTetVelocityDofs + kTetPressureDofs,
+                                kTetVelocityDofs + kTetPressureDofs>;
 using TetVector = Eigen::Matrix<double, 34, 1>;
 using TriangleVelocityVector = Eigen::Matrix<double, 18, 1>;
 

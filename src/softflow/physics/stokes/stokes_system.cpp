@@ -213,8 +213,8 @@ void StokesSystem::create_schur_matrix() {
   schur_ = std::make_unique<la::CooMatrix>(range, n_pressure, range, n_pressure);
   for (int t : owned_tets_) {
     const auto d = dofs_.element_dofs(t);
-    std::array<PetscInt, 4> p;
-    for (int k = 0; k < 4; ++k) p[k] = pressure_position_[d[30 + k]];
+    std::array<PetscInt, kTetPressureDofs> p;  // the element's last dofs (stokes_kernels.hpp)
+    for (int k = 0; k < kTetPressureDofs; ++k) p[k] = pressure_position_[d[kTetVelocityDofs + k]];
     schur_blocks_.push_back(schur_->add_block(std::span<const PetscInt>(p), std::span<const PetscInt>(p)));
   }
   schur_->create();
