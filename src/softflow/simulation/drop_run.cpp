@@ -31,7 +31,6 @@
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/io/vtu_writer.hpp"
-#include "softflow/parallel/memory.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
@@ -712,8 +711,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
   ledger.wall_seconds = earlier_wall_seconds + seconds_since(session_start);
   auto summary = make_summary(config, sim, ledger, last, status, stop_reason, checkpoint);
-  const auto memory = parallel::peak_memory(PETSC_COMM_WORLD);  // collective
-  summary["peak_memory_mb"] = {{"largest_rank", memory.largest_rank_mb}, {"all_ranks", memory.total_mb}};
+  summary["peak_memory_mb"] = peak_memory_summary();  // collective
   if (checkpoint_bytes > 0)  // what a checkpoint costs: the last one written in this session
     summary["checkpoint_cost"] = {{"bytes", checkpoint_bytes}, {"seconds", checkpoint_seconds}};
   const bool written =

@@ -10,6 +10,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/parallel/memory.hpp"
 #include "softflow/parallel/mesh_broadcast.hpp"
 #include "softflow/simulation/case_flow.hpp"
 
@@ -118,6 +119,11 @@ la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
   return s;
+}
+
+nlohmann::json peak_memory_summary() {
+  const auto memory = parallel::peak_memory(PETSC_COMM_WORLD);
+  return {{"largest_rank", memory.largest_rank_mb}, {"all_ranks", memory.total_mb}};
 }
 
 void draw_plot(const std::string& script, const std::filesystem::path& directory,

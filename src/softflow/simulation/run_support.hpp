@@ -48,6 +48,10 @@ void mesh_before_mpi(const io::CaseConfig& config);
 /// holds the method it chose.
 la::SaddlePointSettings solver_settings(const io::CaseConfig& config);
 
+/// summary.json's "peak_memory_mb": the largest rank's and all ranks' peak
+/// resident set (parallel::peak_memory). Collective.
+nlohmann::json peak_memory_summary();
+
 /// Draws `picture` (e.g. "deformation.png") in `directory` with the
 /// repository's scripts/<script> (matplotlib): a missing Python or
 /// matplotlib costs the picture, with a warning unless `quiet`, not the run.

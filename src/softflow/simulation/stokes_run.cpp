@@ -13,7 +13,6 @@
 #include "softflow/io/output_directory.hpp"
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/mesh/quality.hpp"
-#include "softflow/parallel/memory.hpp"
 #include "softflow/parallel/mesh_broadcast.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
@@ -126,8 +125,7 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
       {"objects", object_summary(config, measures)},
   };
   summary["wall_seconds"] = seconds_since(start);
-  const auto memory = parallel::peak_memory(PETSC_COMM_WORLD);  // collective
-  summary["peak_memory_mb"] = {{"largest_rank", memory.largest_rank_mb}, {"all_ranks", memory.total_mb}};
+  summary["peak_memory_mb"] = peak_memory_summary();  // collective
   if (!options.quiet && root)
     for (const auto& o : summary["objects"]) {
       // What the README promises for end = 0: the jump across each interface.
