@@ -78,6 +78,12 @@ def read_run(directory, window):
     }
 
 
+def meshed_size(r):
+    """1 / (equator nodes the mesher made) of a read_run result: the element size
+    a whole-mesh study refines (the mesher rounds the asked count unevenly)."""
+    return 1.0 / r["summary"]["mesh"]["equator_nodes"]
+
+
 def validation_main(work_name, jobs, report, runner=run_case):
     """`SCRIPT [build_dir] [work_dir] [--jobs N] [--report-only]`: runs every
     (name, case text) of jobs() with `runner` (two at a time by default),

@@ -31,7 +31,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_csv, read_run, richardson, validation_main  # noqa: E402
+from case_runs import meshed_size, read_csv, read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -132,11 +132,6 @@ def richardson_triples(hs, values, amplitudes):
         p, limit = fit
         out.append((label + f": observed order {p:.2f}, Richardson D = {limit:.5f}, the finer run {v[2] / limit - 1:+.2%} from it", fit))
     return out
-
-
-def meshed_size(r):
-    """1 / (equator nodes the mesher made), the element size the studies refine."""
-    return 1.0 / r["summary"]["mesh"]["equator_nodes"]
 
 
 def interior_section(results):

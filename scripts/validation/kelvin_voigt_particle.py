@@ -35,7 +35,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, richardson, validation_main  # noqa: E402
+from case_runs import meshed_size, read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -113,11 +113,6 @@ def small_strain_tilt_deg(ca_e, lam):
     flow's: tan 2 theta = 1 / x (docs/viscoelastic.md). Exact as Ca_e -> 0
     at fixed x (a very viscous solid, whose strain stays small)."""
     return math.degrees(0.5 * math.atan((2.0 * lam + 3.0) * ca_e / 2.0))
-
-
-def meshed_size(r):
-    """1 / (equator nodes the mesher made), the element size the study refines."""
-    return 1.0 / r["summary"]["mesh"]["equator_nodes"]
 
 
 def tilt(r):
