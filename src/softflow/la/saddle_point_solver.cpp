@@ -131,11 +131,21 @@ void SaddlePointSolver::set_up() {
   have_preconditioner_ = true;
 }
 
-SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
+SolveReport SaddlePointSolver::solve(Vec b, Vec x, bool x_is_guess) {
   const bool reuse = settings_.method == SaddlePointMethod::direct &&
                      settings_.max_reuse_iterations > 0 && have_preconditioner_ && !refactor_next_;
-  SolveReport r = solve_once(b, x, reuse);
-  if (reuse && (r.reason.rfind("DIVERGED", 0) == 0)) r = solve_once(b, x, false);  // stale factors
+  // A failed attempt with stale factors leaves x anywhere (even NaN): the
+  // retry with fresh factors starts again from the caller's guess.
+  la::Vector guess;
+  if (reuse && x_is_guess) {
+    check(VecDuplicate(x, guess.out()), "VecDuplicate");
+    check(VecCopy(x, guess.get()), "VecCopy");
+  }
+  SolveReport r = solve_once(b, x, reuse, x_is_guess);
+  if (reuse && (r.reason.rfind("DIVERGED", 0) == 0)) {  // stale factors
+    if (x_is_guess) check(VecCopy(guess.get(), x), "VecCopy");
+    r = solve_once(b, x, false, x_is_guess);
+  }
   if (r.reason == "DIVERGED_NANORINF") {
     throw SolverError(fmt::format(
         "the Stokes system holds NaN or Inf ({} after {} iterations): a parameter far out of "
@@ -163,8 +173,10 @@ SolveReport SaddlePointSolver::solve(Vec b, Vec x) {
   return r;
 }
 
-SolveReport SaddlePointSolver::solve_once(Vec b, Vec x, bool reuse) {
+SolveReport SaddlePointSolver::solve_once(Vec b, Vec x, bool reuse, bool x_is_guess) {
   const auto start = std::chrono::steady_clock::now();
+  check(KSPSetInitialGuessNonzero(ksp_.get(), x_is_guess ? PETSC_TRUE : PETSC_FALSE),
+        "KSPSetInitialGuessNonzero");
   check(KSPSetReusePreconditioner(ksp_.get(), reuse ? PETSC_TRUE : PETSC_FALSE),
         "KSPSetReusePreconditioner");
   if (!reuse) ++n_setups_;

@@ -82,8 +82,10 @@ class SaddlePointSolver {
   void set_operators(Mat a, Mat pmat, Mat schur = nullptr);
   /// Solves a x = b, rebuilding the preconditioner unless the reuse policy
   /// keeps it; throws SolverError if the solver does not converge even with
-  /// a fresh preconditioner.
-  SolveReport solve(Vec b, Vec x);
+  /// a fresh preconditioner. With `x_is_guess` the Krylov method starts from
+  /// x (e.g. the previous time step's solution) instead of zero; the
+  /// tolerance stays relative to |b|, so a good guess saves iterations.
+  SolveReport solve(Vec b, Vec x, bool x_is_guess = false);
 
   /// Number of preconditioner (re)builds so far (factorisations for the direct method).
   [[nodiscard]] int n_setups() const { return n_setups_; }
@@ -103,7 +105,7 @@ class SaddlePointSolver {
   void set_up();
 
  private:
-  SolveReport solve_once(Vec b, Vec x, bool reuse);
+  SolveReport solve_once(Vec b, Vec x, bool reuse, bool x_is_guess);
 
   SaddlePointSettings settings_;
   Solver ksp_;

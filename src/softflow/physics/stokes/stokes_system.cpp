@@ -366,14 +366,15 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
     throw SolverError(fmt::format("StokesProblem: {} viscosities for {} regions",
                                   problem.viscosity.size(), mesh_.n_objects + 1));
   const auto start = std::chrono::steady_clock::now();
-  auto [rhs, x] = assemble_system(mesh_, problem);
+  auto [rhs, x] = assemble_system(mesh_, problem, previous_solution_);
   StokesResult result;
   result.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const int setups = solver_->n_setups();
-  result.solve = solver_->solve(rhs.get(), x.get());
+  result.solve = solver_->solve(rhs.get(), x.get(), !previous_solution_.empty());
   if (solver_->n_setups() > setups) record_factorization(problem);
   result.solution = la::gather_to_all(x.get());
+  previous_solution_ = result.solution;
   return result;
 }
 
@@ -481,12 +482,19 @@ void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
   check(VecRestoreArrayRead(diagonal.get(), &a), "VecRestoreArrayRead");
 }
 
-std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(const mesh::Mesh& geometry,
-                                                                const StokesProblem& problem) {
+std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(
+    const mesh::Mesh& geometry, const StokesProblem& problem, const std::vector<double>& guess) {
   la::Vector rhs = la::make_vector(range_.size(), dofs_.n_dofs());
   la::Vector x = la::make_vector(range_.size(), dofs_.n_dofs());
   check(VecSet(rhs.get(), 0.0), "VecSet");
-  check(VecSet(x.get(), 0.0), "VecSet");
+  if (guess.empty()) {
+    check(VecSet(x.get(), 0.0), "VecSet");
+  } else {  // the owned part; apply_dirichlet then puts the boundary values in
+    PetscScalar* values = nullptr;
+    check(VecGetArray(x.get(), &values), "VecGetArray");
+    std::copy(guess.begin() + range_.begin, guess.begin() + range_.end, values);
+    check(VecRestoreArray(x.get(), &values), "VecRestoreArray");
+  }
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
   solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr,
@@ -548,6 +556,9 @@ void save_matrix_record(StateRecord& out, const std::string& prefix,
 }  // namespace
 
 void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const {
+  // The next solve's initial guess: a restarted run iterates from the same
+  // vector as an uninterrupted one.
+  out.set(prefix + "initial_guess", previous_solution_);
   out.set(prefix + "refactor_next", solver_->refactor_next());
   out.set(prefix + "n_factorizations", solver_->n_setups());
   out.set(prefix + "has_factors", factors_.has_value());
@@ -560,6 +571,14 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
 }
 
 void StokesSystem::restore_state(const StateRecord& in, const std::string& prefix) {
+  // Checkpoints from before the guess was kept: the next solve starts from zero.
+  previous_solution_.clear();
+  if (in.contains(prefix + "initial_guess")) {
+    previous_solution_ = in.get_array(prefix + "initial_guess");
+    if (!previous_solution_.empty() && static_cast<PetscInt>(previous_solution_.size()) != dofs_.n_dofs())
+      throw InputError(fmt::format("the saved state's {}initial_guess has {} values for {} unknowns",
+                                   prefix, previous_solution_.size(), dofs_.n_dofs()));
+  }
   if (in.get_bool(prefix + "has_factors") && settings_.method == la::SaddlePointMethod::direct) {
     auto read = [&](const std::string& p) {
       MatrixRecord r{in.get_points(p + "nodes"), {}, {}, false};

@@ -127,8 +127,10 @@ class StokesSystem {
   /// Assembly, Dirichlet elimination and operators handed to the solver:
   /// the system ready to solve, as (right-hand side, initial guess with the
   /// boundary values).
+  /// `guess` (global, may be empty = zero) fills x's free entries.
   std::pair<la::Vector, la::Vector> assemble_system(const mesh::Mesh& geometry,
-                                                    const StokesProblem& problem);
+                                                    const StokesProblem& problem,
+                                                    const std::vector<double>& guess = {});
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
   /// The 18 velocity unknowns of interface triangle `face` on the side of
   /// `region` (the same for both with a continuous velocity).
@@ -183,6 +185,10 @@ class StokesSystem {
   std::vector<la::CooMatrix::Block> slip_penalty_blocks_;  // pmat_ only
   std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
+  /// The last solution (global): the next solve's initial guess. The dofs
+  /// never change (the mesh moves, it is not remeshed), and a step changes
+  /// the solution by O(dt): a few Krylov iterations fewer per step.
+  std::vector<double> previous_solution_;
   std::optional<MatrixRecord> analysis_, factors_;  // direct method only
 };
 
