@@ -10,9 +10,16 @@ Every run stops at steady state (time.steady_tolerance 2e-5 over a window of
 accepted and rejected steps, unknowns, the steady D and its error against the
 extrapolated D; runs go one at a time (timings), `--repeats` times, medians
 reported. The machine is shared: compare ratios within one run of this script.
+A second table answers the same question by extrapolation: `softflow
+converge` on three coarse meshes of the same family (coarsest `--richardson`
+equator nodes, factor 1.25), timed as a whole; its Richardson value is
+compared with the reference. The reference comes from the study's finest
+three levels, so the two share at most one mesh (stated in the table).
+
 Writes docs/benchmarks/time_to_answer.{md,json}.
 
-Usage: bench/run_time_to_answer.py [build_dir] [--repeats N] [--work DIR] [--levels 31,39]"""
+Usage: bench/run_time_to_answer.py [build_dir] [--repeats N] [--work DIR] [--levels 31,35,39]
+                                   [--richardson 25] [--jobs 1]"""
 import argparse
 import json
 import os
@@ -24,8 +31,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "docs", "benchmarks")
 STUDY = os.path.join(ROOT, "docs", "accuracy", "converge_drop.md")
 BASE = os.path.join(ROOT, "examples", "converge_drop.toml")
-# (equator nodes asked, far size, growth): levels 3-5 of the convergence study.
-LEVELS = {31: (3.613, 0.3613), 39: (2.872, 0.2872), 49: (2.286, 0.2286)}
+
+
+def level_mesh(equator):
+    """(far size, growth) of the study's mesh family at `equator` nodes: the
+    coarsest level's (20 nodes: 5.6, 0.56) scaled by 20 / equator, as
+    `softflow converge` scales them."""
+    return 5.6 * 20 / equator, 0.56 * 20 / equator
+
 # (label, [time] lines): the example's constant step and adaptive steps from a small first step.
 STEPPING = [("constant dt = 0.05", "step = 0.05\n"),
             ("adaptive, tolerance 1e-3", "step = 0.01\nadaptive_tolerance = 1e-3\n"),
@@ -33,13 +46,20 @@ STEPPING = [("constant dt = 0.05", "step = 0.05\n"),
 
 
 def reference_d():
-    """The extrapolated steady D of the convergence study (its table)."""
+    """The extrapolated steady D of the convergence study and the meshed
+    equator nodes of its finest three levels (its tables)."""
+    d_ref, meshed = None, []
     with open(STUDY) as f:
         for line in f:
             cells = [c.strip() for c in line.split("|")]
             if len(cells) > 5 and cells[2] == "D" and cells[4] in ("yes", "no"):
-                return float(cells[5])
-    raise SystemExit(f"no extrapolated D in {STUDY}")
+                d_ref = float(cells[5])
+            match = re.match(r"\d+ / (\d+)$", cells[2]) if len(cells) > 3 else None
+            if match:
+                meshed.append(int(match.group(1)))
+    if d_ref is None:
+        raise SystemExit(f"no extrapolated D in {STUDY}")
+    return d_ref, meshed[-3:]
 
 
 def case_text(name, equator, far, growth, time_lines):
@@ -68,19 +88,53 @@ def run(build, work, name, text, reuse):
         return json.load(f)
 
 
+def richardson_answer(build, work, coarsest, jobs, reuse):
+    """`softflow converge` on three levels from `coarsest` equator nodes:
+    (total wall seconds, converge.json's D entry, the levels' rows)."""
+    import csv
+    import time
+    name = f"converge_N{coarsest}"
+    out = os.path.join(work, name)
+    text = case_text(name, coarsest, *level_mesh(coarsest), "step = 0.05\n")
+    text = text.replace("\n[output]\n", f'\n[output]\ndirectory = "{out}"\n')
+    timing = os.path.join(work, name + "_wall_seconds.txt")
+    if not (reuse and os.path.exists(timing)):
+        path = os.path.join(work, name + ".toml")
+        with open(path, "w") as f:
+            f.write(text)
+        if os.path.exists(out):
+            import shutil
+            shutil.rmtree(out)
+        start = time.monotonic()
+        subprocess.run([os.path.join(build, "softflow"), "converge", path, "--levels", "3",
+                        "--factor", "1.25", "-j", str(jobs), "-q"], check=True)
+        with open(timing, "w") as f:
+            f.write(f"{time.monotonic() - start}\n")
+    with open(timing) as f:
+        wall = float(f.read())
+    with open(os.path.join(out, "converge.json")) as f:
+        entry = next(e for e in json.load(f)["extrapolation"] if e["quantity"] == "D")
+    with open(os.path.join(out, "converge.csv")) as f:
+        levels = list(csv.DictReader(f))
+    return wall, entry, levels
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_time_to_answer"))
-    parser.add_argument("--levels", default="31,39,49")
+    parser.add_argument("--levels", default="31,35,39")
+    parser.add_argument("--richardson", type=int, default=25,
+                        help="coarsest equator nodes of the three-level extrapolation")
+    parser.add_argument("--jobs", type=int, default=1, help="levels of the extrapolation run at once")
     parser.add_argument("--reuse", action="store_true", help="report finished runs instead of running them again")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
-    d_ref = reference_d()
+    d_ref, reference_levels = reference_d()
     results = []
     for equator in [int(n) for n in args.levels.split(",")]:
-        far, growth = LEVELS[equator]
+        far, growth = level_mesh(equator)
         for label, lines in STEPPING:
             name = f"N{equator}_" + re.sub(r"[^a-z0-9]+", "_", label.lower()).strip("_")
             summaries = [run(args.build, args.work, name, case_text(name, equator, far, growth, lines), args.reuse)
@@ -99,13 +153,25 @@ def main():
             print(f"N{equator} {label:26s} {r['wall_seconds_median']:7.1f} s  steps {r['accepted_steps']:4d} "
                   f"(+{r['rejected_steps']} rejected)  t_steady {r['t_steady']}  D {d:.6f}  error {100 * r['D_error']:+.3f} %",
                   flush=True)
+    wall, entry, levels = richardson_answer(args.build, args.work, args.richardson, args.jobs, args.reuse)
+    meshed = [int(l["meshed_equator_nodes"]) for l in levels]
+    extrapolation = {"equator_nodes": [int(l["equator_nodes"]) for l in levels], "meshed_equator_nodes": meshed,
+                     "unknowns": [int(l["unknowns"]) for l in levels], "jobs": args.jobs,
+                     "level_wall_seconds": [float(l["wall_seconds"]) for l in levels],
+                     "wall_seconds": wall, "order": entry["orders"][-1], "D": entry["extrapolated"],
+                     "D_error": (entry["extrapolated"] / d_ref - 1.0) if entry["extrapolated"] else None,
+                     "shared_with_reference": sorted(set(meshed) & set(reference_levels))}
+    print(f"Richardson from {meshed}: {wall:.1f} s  order {extrapolation['order']}  D {entry['extrapolated']}  "
+          f"error {100 * extrapolation['D_error']:+.3f} %", flush=True)
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "time_to_answer.json"), "w") as f:
-        json.dump({"reference_D": d_ref, "repeats": args.repeats, "results": results}, f, indent=2)
+        json.dump({"reference_D": d_ref, "reference_meshed_equator_nodes": reference_levels,
+                   "repeats": args.repeats, "results": results, "extrapolation": extrapolation}, f, indent=2)
     md = ["# Time to a converged answer: the main drop from rest to steady state", "",
           "lambda = 1, Ca = 0.1, box 30 (15 diameters); meshes of the whole-mesh study "
           "(docs/accuracy/converge_drop.md); every run stops at steady state (steady_tolerance 2e-5, "
-          f"window 2). Error: steady D against the study's extrapolated D = {d_ref:.7f}. "
+          f"window 2). Error: steady D against the study's extrapolated D = {d_ref:.7f} (from its meshes "
+          f"with {', '.join(map(str, reference_levels))} equator nodes). "
           f"Median wall time of {args.repeats} run(s) each, one run at a time. "
           "Generated by `bench/run_time_to_answer.py`.", "",
           "| equator nodes | stepping | unknowns | wall time [s] | steps accepted (rejected) | largest dt | "
@@ -116,6 +182,19 @@ def main():
         md.append(f"| {r['equator_nodes']} | {r['stepping']} | {r['unknowns']} | {r['wall_seconds_median']:.1f} | "
                   f"{r['accepted_steps']} ({r['rejected_steps']}) | {largest} | {steady} | "
                   f"{r['D']:.6f} | {100 * r['D_error']:+.3f} % |")
+    e = extrapolation
+    shared = ", ".join(map(str, e["shared_with_reference"])) or "none"
+    md += ["", "## The answer by extrapolation from three coarse meshes", "",
+           f"`softflow converge` (constant dt = 0.05, the same steady stop) on the family's meshes with "
+           f"{' / '.join(map(str, e['equator_nodes']))} equator nodes asked "
+           f"({' / '.join(map(str, e['meshed_equator_nodes']))} meshed), {e['jobs']} level(s) at a time; "
+           f"the Richardson value of D from the three against the reference. Meshes shared with the "
+           f"reference's three: {shared}.", "",
+           "| levels (meshed equator nodes) | unknowns | wall time of each level [s] | total wall time [s] | "
+           "observed order | extrapolated D | error of D |", "|---|---|---|---|---|---|---|",
+           f"| {' / '.join(map(str, e['meshed_equator_nodes']))} | {' / '.join(map(str, e['unknowns']))} | "
+           f"{' / '.join(f'{w:.1f}' for w in e['level_wall_seconds'])} | {e['wall_seconds']:.1f} | "
+           f"{e['order']:.2f} | {e['D']:.6f} | {100 * e['D_error']:+.3f} % |"]
     md += ["", "![D and dt against t](time_to_answer.png)"]
     with open(os.path.join(OUT, "time_to_answer.md"), "w") as f:
         f.write("\n".join(md) + "\n")
