@@ -345,10 +345,21 @@ int main(int argc, char** argv) {
   converge->add_option("case", case_file, "case file (TOML): the coarsest level")
       ->required()
       ->check(CLI::ExistingFile);
-  converge->add_option("--levels", converge_options.levels, "meshes (3 to 8)")->capture_default_str();
-  converge->add_option("--factor", converge_options.factor,
+  auto* levels_option =
+      converge->add_option("--levels", converge_options.levels, "meshes (3 to 8)")->capture_default_str();
+  auto* factor_option =
+      converge
+          ->add_option("--factor", converge_options.factor,
                        "refinement ratio of the element sizes from one level to the next, in (1, 2]")
-      ->capture_default_str();
+          ->capture_default_str();
+  converge
+      ->add_option("--equator-nodes", converge_options.equator_nodes,
+                   "the levels' equator nodes instead of --levels/--factor, ascending, comma-separated "
+                   "(e.g. 20,25,31,39,49,61,78 to step past a count gmsh cannot mesh); far size and "
+                   "growth scale with them")
+      ->delimiter(',')
+      ->excludes(levels_option)
+      ->excludes(factor_option);
   converge->add_option("-j,--jobs", jobs, "levels run at the same time (each on one core)")
       ->capture_default_str();
   converge->add_flag("-q,--quiet", quiet, "print nothing but errors");

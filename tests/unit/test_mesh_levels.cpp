@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "softflow/common/error.hpp"
 #include "softflow/simulation/convergence.hpp"
 
 using namespace softflow;
@@ -52,4 +53,32 @@ TEST(MeshLevels, AnUnsetInteriorGrowthStaysTheGrowthAndZeroStaysZero) {
     EXPECT_FALSE(c.config.sizing.interior_growth.has_value());
   for (const auto& c : simulation::mesh_levels(case_with("interior_growth = 0"), "case.toml", options).cases)
     EXPECT_EQ(c.config.sizing.interior_growth, 0.0);
+}
+
+TEST(MeshLevels, ExplicitEquatorNodesAreTheLevelsWithEverySizeScaled) {
+  simulation::ConvergeOptions options;
+  options.equator_nodes = {20, 25, 31, 39, 49, 61, 78};  // 76 (factor 1.25) fails in gmsh
+  const auto sweep = simulation::mesh_levels(case_with(""), "case.toml", options);
+  ASSERT_EQ(sweep.cases.size(), 7u);
+  for (std::size_t k = 0; k < sweep.cases.size(); ++k) {
+    const auto& c = sweep.cases[k];
+    EXPECT_EQ(c.config.sizing.equator_nodes, options.equator_nodes[k]);
+    EXPECT_EQ(c.label, "N" + std::to_string(options.equator_nodes[k]));
+    EXPECT_DOUBLE_EQ(c.config.sizing.far_size, 4.0 * 20.0 / options.equator_nodes[k]);
+    EXPECT_DOUBLE_EQ(c.config.sizing.growth, 0.5 * 20.0 / options.equator_nodes[k]);
+  }
+}
+
+TEST(MeshLevels, ExplicitEquatorNodesMustBeThreeToEightAscendingCounts) {
+  for (const std::vector<int> bad : {std::vector<int>{20, 25}, {20, 25, 25}, {30, 25, 40}, {6, 20, 25},
+                                     {10, 11, 12, 13, 14, 15, 16, 17, 18}}) {
+    simulation::ConvergeOptions options;
+    options.equator_nodes = bad;
+    try {
+      (void)simulation::mesh_levels(case_with(""), "case.toml", options);
+      ADD_FAILURE() << "accepted " << ::testing::PrintToString(bad);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--equator-nodes"), std::string::npos) << e.what();
+    }
+  }
 }

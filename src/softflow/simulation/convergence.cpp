@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "softflow/analysis/richardson.hpp"
@@ -101,12 +102,23 @@ io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_na
     throw InputError(fmt::format("{}: a case file with lists is a sweep; softflow converge takes "
                                  "one case and makes the meshes itself",
                                  source_name));
-  if (options.levels < 3 || options.levels > 8)
-    throw InputError(fmt::format("--levels {}: between 3 and 8 (an order needs three meshes)",
-                                 options.levels));
-  if (!(options.factor > 1.0 && options.factor <= 2.0))
-    throw InputError(fmt::format("--factor {}: the refinement ratio must lie in (1, 2]",
-                                 options.factor));
+  const auto& listed = options.equator_nodes;
+  if (!listed.empty()) {
+    if (listed.size() < 3 || listed.size() > 8)
+      throw InputError(fmt::format("--equator-nodes {}: 3 to 8 levels (an order needs three meshes)",
+                                   fmt::join(listed, ",")));
+    for (std::size_t k = 0; k < listed.size(); ++k)
+      if (listed[k] < 8 || (k > 0 && listed[k] <= listed[k - 1]))
+        throw InputError(fmt::format("--equator-nodes {}: ascending counts, each at least 8",
+                                     fmt::join(listed, ",")));
+  } else {
+    if (options.levels < 3 || options.levels > 8)
+      throw InputError(fmt::format("--levels {}: between 3 and 8 (an order needs three meshes)",
+                                   options.levels));
+    if (!(options.factor > 1.0 && options.factor <= 2.0))
+      throw InputError(fmt::format("--factor {}: the refinement ratio must lie in (1, 2]",
+                                   options.factor));
+  }
   const io::CaseConfig base = io::parse_case(toml_text, source_name);
   if (!(base.time.end > 0.0))
     throw InputError(fmt::format(
@@ -118,14 +130,17 @@ io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_na
   sweep.directory = base.output_directory;
   io::SweepParameter parameter{"mesh.equator_nodes", "equator_nodes", {}, {}};
   const int n0 = base.sizing.equator_nodes;
-  int previous = 0;
-  for (int k = 0; k < options.levels; ++k) {
+  std::vector<int> counts = listed;
+  for (int k = 0; counts.size() < static_cast<std::size_t>(options.levels) && listed.empty(); ++k) {
     int n = static_cast<int>(std::lround(n0 * std::pow(options.factor, k)));
-    if (n <= previous) n = previous + 1;
-    previous = n;
+    if (!counts.empty() && n <= counts.back()) n = counts.back() + 1;
+    counts.push_back(n);
+  }
+  for (std::size_t k = 0; k < counts.size(); ++k) {
+    const int n = counts[k];
     io::SweepCase c;
     c.label = fmt::format("N{}", n);
-    c.choice = {k};
+    c.choice = {static_cast<int>(k)};
     c.config = base;
     const double scale = static_cast<double>(n0) / n;
     c.config.sizing.equator_nodes = n;
@@ -168,13 +183,16 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
 
   std::string csv = "level,equator_nodes,meshed_equator_nodes,far_size,growth,status,unknowns,steps,t,steady,object,D,theta_deg,wall_seconds\n";
   std::string md = fmt::format(
-      "# Mesh convergence of {}\n\n{} meshes, each element size refined by {:g} from one level "
-      "to the next (equator nodes; far size and growth scaled with them). Written by `softflow "
-      "converge`; the runs are in the subdirectories, sweep.md lists them.\n\n"
+      "# Mesh convergence of {}\n\n{} meshes, {} (equator nodes; far size and growth scaled "
+      "with them). Written by `softflow converge`; the runs are in the subdirectories, sweep.md "
+      "lists them.\n\n"
       "| level | equator nodes (asked / meshed) | far size | growth | unknowns | steps | t | steady | "
       "object | D | theta [deg] | wall [s] | status |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
-      sweep.name, levels.size(), options.factor);
+      sweep.name, levels.size(),
+      options.equator_nodes.empty()
+          ? fmt::format("each element size refined by {:g} from one level to the next", options.factor)
+          : "at the equator-node counts given (--equator-nodes), every element size scaled with them");
   for (std::size_t k = 0; k < levels.size(); ++k) {
     const auto& l = levels[k];
     for (std::size_t o = 0; o < std::max<std::size_t>(1, l.deformation.size()); ++o) {
@@ -250,10 +268,15 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
     md += "\nNo extrapolation: not every level has completed (run `softflow converge` again to "
           "resume).\n";
   }
+  std::vector<int> asked;
+  for (const auto& l : levels) asked.push_back(l.equator_nodes);
   io::write_text_file_atomically(directory / "converge.csv", csv);
   io::write_text_file_atomically(directory / "converge.md", md);
   io::write_text_file_atomically(directory / "converge.json",
-                                 nlohmann::json{{"factor", options.factor},
+                                 nlohmann::json{{"factor", options.equator_nodes.empty()
+                                                               ? nlohmann::json(options.factor)
+                                                               : nlohmann::json()},
+                                                {"equator_nodes_asked", asked},
                                                 {"extrapolation", extrapolation}}
                                          .dump(2) +
                                      "\n");

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/sweep.hpp"
@@ -13,6 +14,10 @@ namespace softflow::simulation {
 struct ConvergeOptions {
   int levels = 4;        ///< meshes, at least 3 (an order needs three), at most 8
   double factor = 1.25;  ///< refinement ratio between consecutive levels, in (1, 2]
+  /// The levels' equator nodes given explicitly (ascending, 3 to 8 of them)
+  /// instead of levels and factor: e.g. to step past a count gmsh cannot
+  /// mesh. Far size and growth still scale by N_0 / N_k (N_0 the case's).
+  std::vector<int> equator_nodes;
 };
 
 /// The case of `toml_text` on `levels` meshes: level k has
