@@ -53,6 +53,31 @@ TEST(SmallDeformation, GrecoByHand) {
   EXPECT_LT(greco_angle_deg(1.0, 0.1, 0.0, 0.3), chaffey_brenner_angle_deg(1.0, 0.1));
 }
 
+TEST(SmallDeformation, SecondOrderFluidsByHandAndTheirEqualRelaxationTimeIdentity) {
+  for (const double lambda : {0.0, 0.5, 1.0, 2.0, 10.0})
+    EXPECT_NEAR(second_order_fluid_angle_deg(lambda, 0.07, 0.0, 0.0),
+                chaffey_brenner_angle_deg(lambda, 0.07), 1e-12);
+  // UCM drop, lambda = 2, p_d = 0.5, Ca = 0.1: drop coefficient 3*4 / (2*3*54) = 1/27;
+  // theta = 45 deg - 0.1 (1.575 + 1/54) rad = 35.86980... deg: a shift of
+  // -0.1/54 rad = -0.10610 deg where eq. 2.60 as printed has -0.18568.
+  EXPECT_NEAR(second_order_fluid_angle_deg(2.0, 0.1, 0.0, 0.5) - chaffey_brenner_angle_deg(2.0, 0.1),
+              -0.1 / 54.0 * 180.0 / std::numbers::pi, 1e-12);
+  // Matrix term at lambda = 2: (76 + 64 + 16) / (2 * 3 * 54) = 13/27, as in
+  // eq. 2.60 (2340/4860); at lambda = 0 it is 1/2 where eq. 2.60 has 11/30.
+  EXPECT_NEAR(second_order_fluid_angle_deg(2.0, 0.1, 1.0, 0.0), greco_angle_deg(2.0, 0.1, 1.0, 0.0),
+              1e-12);
+  EXPECT_NEAR(chaffey_brenner_angle_deg(0.0, 0.1) - second_order_fluid_angle_deg(0.0, 0.1, 1.0, 0.0),
+              0.05 * 180.0 / std::numbers::pi, 1e-12);
+  // Both phases with the same relaxation time (De_d = De_m = De; Ca p = De,
+  // Ca p_d = De / lambda): the shift is -De/2 rad whatever lambda.
+  const double ca = 0.05, de = 0.02;
+  for (const double lambda : {0.1, 0.5, 1.0, 2.0, 7.0})
+    EXPECT_NEAR(second_order_fluid_angle_deg(lambda, ca, de / ca, de / (ca * lambda)) -
+                    chaffey_brenner_angle_deg(lambda, ca),
+                -de / 2.0 * 180.0 / std::numbers::pi, 1e-12)
+        << "lambda = " << lambda;
+}
+
 TEST(SmallDeformation, SlipDrop) {
   // alpha = 0 is Taylor's eq. 1.1.
   for (const double lambda : {0.0, 0.3, 1.0, 4.0}) {

@@ -40,7 +40,29 @@ double greco_drop_coefficient(double lambda) {
          (8.0 * (1.0 + lambda) * (16.0 + 19.0 * lambda));
 }
 
+/// Coefficient of p Ca for second-order fluids with Psi_2 = 0, derived
+/// here (scripts/theory/second_order_fluid_drop/), radians.
+double second_order_fluid_matrix_coefficient(double lambda) {
+  return (19.0 * lambda * lambda + 32.0 * lambda + 16.0) /
+         (2.0 * (1.0 + lambda) * (16.0 + 19.0 * lambda));
+}
+
+/// Coefficient of p_d Ca, as above.
+double second_order_fluid_drop_coefficient(double lambda) {
+  return 3.0 * lambda * lambda / (2.0 * (1.0 + lambda) * (16.0 + 19.0 * lambda));
+}
+
 }  // namespace
+
+double second_order_fluid_angle_deg(double lambda, double ca, double p, double p_d) {
+  require_non_negative("lambda", lambda);
+  require_non_negative("Ca", ca);
+  require_non_negative("p", p);
+  require_non_negative("p_d", p_d);
+  const double elastic = p * second_order_fluid_matrix_coefficient(lambda) +
+                         p_d * second_order_fluid_drop_coefficient(lambda);
+  return degrees(kQuarterPi - chaffey_brenner_slope(lambda) * ca - elastic * ca);
+}
 
 double taylor_deformation(double lambda, double ca) {
   require_non_negative("lambda", lambda);
@@ -115,10 +137,18 @@ std::string theory_table(double lambda, double ca, const TheoryQuery& query) {
       fmt::format("  Greco theta (eq. 2.60)                {:.6g} - ({:.4g} p + {:.4g} p_d) deg\n",
                   cb, per_p, per_p_d);
   out += "    (p = Psi_1 Gamma / (2 R eta^2) of the matrix, p_d the same for the drop)\n";
+  out += fmt::format("  Second-order fluids, Psi_2 = 0        {:.6g} - ({:.4g} p + {:.4g} p_d) deg\n",
+                     cb, degrees(second_order_fluid_matrix_coefficient(lambda) * ca),
+                     degrees(second_order_fluid_drop_coefficient(lambda) * ca));
+  out += "    (derived in softflow, docs/viscoelastic.md; differs from eq. 2.60 as printed)\n";
   if (query.p != 0.0 || query.p_d != 0.0)
     out += fmt::format("    at p = {:g}, p_d = {:g}:                 {:.6g} deg (shift {:+.4g} deg)\n",
                        query.p, query.p_d, greco_angle_deg(lambda, ca, query.p, query.p_d),
                        greco_angle_deg(lambda, ca, query.p, query.p_d) - cb);
+  if (query.p != 0.0 || query.p_d != 0.0)
+    out += fmt::format("    second-order fluids at p, p_d:      {:.6g} deg (shift {:+.4g} deg)\n",
+                       second_order_fluid_angle_deg(lambda, ca, query.p, query.p_d),
+                       second_order_fluid_angle_deg(lambda, ca, query.p, query.p_d) - cb);
   const std::vector<double> slips =
       query.slip ? std::vector<double>{*query.slip} : std::vector<double>{0.1, 1.0};
   for (const double alpha : slips) {

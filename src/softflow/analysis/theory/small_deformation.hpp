@@ -33,6 +33,20 @@ double chaffey_brenner_angle_deg(double lambda, double ca);
 /// Fig. 2.12b).
 double greco_angle_deg(double lambda, double ca, double p, double p_d);
 
+/// The same first-order angle derived in this project for second-order
+/// fluids with Psi_2 = 0 (UCM and Oldroyd-B at small Deborah numbers), in
+/// degrees, with p and p_d as in greco_angle_deg:
+/// theta = [eq. 2.59] - Ca [p (19 lambda^2 + 32 lambda + 16) / (2 (1 + lambda)(16 + 19 lambda))
+///                         + p_d 3 lambda^2 / (2 (1 + lambda)(16 + 19 lambda))].
+/// Derivation (Taylor's base flow, the reciprocal theorem with l = 2
+/// traction-driven auxiliary flows, checked by a direct solution):
+/// scripts/theory/second_order_fluid_drop/. It differs from eq. 2.60 as the
+/// thesis prints it: the drop term by the factor 4 / (2 lambda + 3) (7/4 at
+/// lambda = 2), the matrix term except at lambda = 2; docs/viscoelastic.md
+/// compares both with the runs. With the same relaxation time in both phases
+/// the shift is -De/2 rad whatever lambda.
+double second_order_fluid_angle_deg(double lambda, double ca, double p, double p_d);
+
 /// Drop with Navier slip alpha (made dimensionless with R / eta_m) on its
 /// interface, SPEC §10 (Ramachandran & Leal, thesis Fig. 2.11):
 /// D = (19 lambda + 16 + 80 alpha lambda) / (16 (1 + lambda + 5 alpha lambda)) Ca.
