@@ -18,7 +18,7 @@ three levels, so the two share at most one mesh (stated in the table).
 
 Writes docs/benchmarks/time_to_answer.{md,json}.
 
-Usage: bench/run_time_to_answer.py [build_dir] [--repeats N] [--work DIR] [--levels 31,35,39]
+Usage: bench/run_time_to_answer.py [build_dir] [--repeats N] [--work DIR] [--levels 31,33,39]
                                    [--richardson 25] [--jobs 1]"""
 import argparse
 import json
@@ -124,7 +124,7 @@ def main():
     parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_time_to_answer"))
-    parser.add_argument("--levels", default="31,35,39")
+    parser.add_argument("--levels", default="31,33,39")
     parser.add_argument("--richardson", type=int, default=25,
                         help="coarsest equator nodes of the three-level extrapolation")
     parser.add_argument("--jobs", type=int, default=1, help="levels of the extrapolation run at once")
