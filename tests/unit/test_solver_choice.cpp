@@ -10,6 +10,7 @@
 #include "softflow/simulation/run_support.hpp"
 
 using namespace softflow;
+using la::check;
 
 TEST(SolverChoice, AutoIsDirectBelowTheLimitAndExplicitChoicesAreKept) {
   io::CaseConfig config;
@@ -49,4 +50,67 @@ TEST(SolverChoice, AnUnresolvedMethodIsRefusedBySolverItself) {
   la::SaddlePointSettings settings;
   settings.method = la::SaddlePointMethod::automatic;
   EXPECT_THROW(la::SaddlePointSolver(settings, {}, nullptr), SolverError);
+}
+
+namespace {
+
+/// The 1D Laplacian (4 on the diagonal, -1 beside it) of size n.
+la::Matrix tridiagonal(PetscInt n) {
+  la::Matrix a;
+  check(MatCreateAIJ(PETSC_COMM_WORLD, PETSC_DECIDE, PETSC_DECIDE, n, n, 3, nullptr, 2, nullptr, a.out()),
+        "MatCreateAIJ");
+  PetscInt begin = 0, end = 0;
+  check(MatGetOwnershipRange(a.get(), &begin, &end), "MatGetOwnershipRange");
+  for (PetscInt i = begin; i < end; ++i) {
+    check(MatSetValue(a.get(), i, i, 4.0, INSERT_VALUES), "MatSetValue");
+    if (i > 0) check(MatSetValue(a.get(), i, i - 1, -1.0, INSERT_VALUES), "MatSetValue");
+    if (i + 1 < n) check(MatSetValue(a.get(), i, i + 1, -1.0, INSERT_VALUES), "MatSetValue");
+  }
+  check(MatAssemblyBegin(a.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  check(MatAssemblyEnd(a.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  return a;
+}
+
+}  // namespace
+
+TEST(InitialGuess, AGoodGuessSavesIterationsAndOneWorseThanZeroIsDropped) {
+  const PetscInt n = 40;
+  la::Matrix a = tridiagonal(n);
+  la::SaddlePointSettings settings;
+  settings.method = la::SaddlePointMethod::direct;  // GMRES around (reused) LU factors
+  settings.prefix = "guess_test_";
+  la::SaddlePointSolver solver(settings, {}, nullptr);
+  la::Vector exact, b, x;
+  check(MatCreateVecs(a.get(), exact.out(), b.out()), "MatCreateVecs");
+  check(VecDuplicate(b.get(), x.out()), "VecDuplicate");
+  check(VecSet(exact.get(), 1.0), "VecSet");
+  solver.set_operators(a.get(), nullptr);
+  check(MatMult(a.get(), exact.get(), b.get()), "MatMult");
+  (void)solver.solve(b.get(), x.get(), false);  // factors of the first operator
+  // A second, slightly different operator: the factors of the first are
+  // reused, so GMRES needs several iterations from zero.
+  la::Matrix shifted = tridiagonal(n);
+  check(MatShift(shifted.get(), 0.3), "MatShift");
+  solver.set_operators(shifted.get(), nullptr);
+  check(MatMult(shifted.get(), exact.get(), b.get()), "MatMult");
+
+  check(VecSet(x.get(), 0.0), "VecSet");
+  const auto from_zero = solver.solve(b.get(), x.get(), false);
+  ASSERT_TRUE(from_zero.reused_preconditioner);
+  ASSERT_GE(from_zero.iterations, 2);
+
+  // Close to the answer: fewer iterations, same tolerance relative to |b|.
+  check(VecSet(x.get(), 1.0 + 1e-5), "VecSet");
+  const auto from_guess = solver.solve(b.get(), x.get(), true);
+  EXPECT_LT(from_guess.iterations, from_zero.iterations);
+
+  // Far worse than zero (like the flow before the walls stopped): dropped,
+  // and the solve still converges instead of reporting divergence.
+  check(VecSet(x.get(), 1e9), "VecSet");
+  const auto from_bad = solver.solve(b.get(), x.get(), true);
+  EXPECT_EQ(from_bad.reason.rfind("CONVERGED", 0), 0u) << from_bad.reason;
+  check(VecAXPY(x.get(), -1.0, exact.get()), "VecAXPY");
+  PetscReal error = 0.0;
+  check(VecNorm(x.get(), NORM_INFINITY, &error), "VecNorm");
+  EXPECT_LT(error, 1e-6);
 }

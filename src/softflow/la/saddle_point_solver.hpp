@@ -83,8 +83,9 @@ class SaddlePointSolver {
   /// Solves a x = b, rebuilding the preconditioner unless the reuse policy
   /// keeps it; throws SolverError if the solver does not converge even with
   /// a fresh preconditioner. With `x_is_guess` the Krylov method starts from
-  /// x (e.g. the previous time step's solution) instead of zero; the
-  /// tolerance stays relative to |b|, so a good guess saves iterations.
+  /// x (e.g. the previous time step's solution) instead of zero, if x leaves
+  /// a smaller residual than zero does; the tolerance stays relative to |b|,
+  /// so a good guess saves iterations.
   SolveReport solve(Vec b, Vec x, bool x_is_guess = false);
 
   /// Number of preconditioner (re)builds so far (factorisations for the direct method).
@@ -106,6 +107,8 @@ class SaddlePointSolver {
 
  private:
   SolveReport solve_once(Vec b, Vec x, bool reuse, bool x_is_guess);
+  /// Whether |b - A x| < |b|: x is a better start than zero.
+  [[nodiscard]] bool reduces_residual(Vec b, Vec x) const;
 
   SaddlePointSettings settings_;
   Solver ksp_;
