@@ -21,11 +21,14 @@ Writes docs/benchmarks/time_to_answer.{md,json}.
 Usage: bench/run_time_to_answer.py [build_dir] [--repeats N] [--work DIR] [--levels 31,33,39]
                                    [--richardson 25] [--jobs 1]"""
 import argparse
+import csv
 import json
 import os
 import re
+import shutil
 import statistics
 import subprocess
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "docs", "benchmarks")
@@ -91,8 +94,6 @@ def run(build, work, name, text, reuse):
 def richardson_answer(build, work, coarsest, jobs, reuse):
     """`softflow converge` on three levels from `coarsest` equator nodes:
     (total wall seconds, converge.json's D entry, the levels' rows)."""
-    import csv
-    import time
     name = f"converge_N{coarsest}"
     out = os.path.join(work, name)
     text = case_text(name, coarsest, *level_mesh(coarsest), "step = 0.05\n")
@@ -103,7 +104,6 @@ def richardson_answer(build, work, coarsest, jobs, reuse):
         with open(path, "w") as f:
             f.write(text)
         if os.path.exists(out):
-            import shutil
             shutil.rmtree(out)
         start = time.monotonic()
         subprocess.run([os.path.join(build, "softflow"), "converge", path, "--levels", "3",
@@ -203,7 +203,6 @@ def main():
 
 def plot(work, results, d_ref):
     """D(t) and the step size against t for each run of the coarsest mesh."""
-    import csv
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -18,36 +18,20 @@ import math
 import os
 
 from case_runs import read_run, validation_main
+from oldroyd_b_matrix import ETA_P, T_END, case_text, dt_for, greco_shift
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
-LAMBDA, CA, ETA_P, T_END, WIS, TWIN_DT = 0.1, 0.1, 0.5, 6.0, (0.02, 0.04), 0.008
-
-
-def case_text(name, wi):
-    matrix = (f'[matrix]\nmodel = "oldroyd_b"\nsolvent_viscosity = {1 - ETA_P}\npolymer_viscosity = {ETA_P}\n'
-              f"relaxation_time = {wi}\n" if wi else "")
-    return f"""[case]
-name = "{name}"
-{matrix}[[objects]]
-viscosity_ratio = {LAMBDA}
-capillary_number = {CA}
-[mesh]
-equator_nodes = 28
-far_size = 4.0
-[time]
-step = {wi / 5 if wi else TWIN_DT:.10g}
-end = {T_END}
-[checkpoint]
-interval_minutes = 0
-[output]
-fields = false
-"""
+LAMBDA, CA, WIS = 0.1, 0.1, (0.02, 0.04)
+TWIN_DT = dt_for(WIS[-1])
 
 
 def jobs():
-    out = [(f"oldroyd_b_Wi{wi:g}", case_text(f"oldroyd_b_Wi{wi:g}", wi)) for wi in WIS]
-    return out + [("newtonian", case_text("newtonian", 0.0))]
+    """The elastic runs and the twin, with oldroyd_b_matrix.py's case file
+    (28 equator nodes, far size 4, dt = Wi / 5; the twin's step is the largest
+    Wi's)."""
+    out = [(f"oldroyd_b_Wi{wi:g}", case_text(f"oldroyd_b_Wi{wi:g}", CA, wi, 28, 4.0, True, LAMBDA)) for wi in WIS]
+    return out + [("newtonian", case_text("newtonian", CA, WIS[-1], 28, 4.0, False, LAMBDA))]
 
 
 def slope_per_wi(matrix_coefficient):
@@ -58,7 +42,7 @@ def slope_per_wi(matrix_coefficient):
 def report(work):
     lam = LAMBDA
     derived = slope_per_wi((19 * lam ** 2 + 32 * lam + 16) / (2 * (1 + lam) * (19 * lam + 16)))
-    printed = slope_per_wi((176 + 436 * lam + 323 * lam ** 2) / (30 * (1 + lam) * (16 + 19 * lam)))
+    printed = greco_shift(lam, 1.0, ETA_P, 0.0)  # per unit Wi: Ca p = eta_p Wi
     twin = read_run(os.path.join(work, "newtonian"), 0.1 * T_END)
     runs = {wi: read_run(os.path.join(work, f"oldroyd_b_Wi{wi:g}"), 0.1 * T_END) for wi in WIS}
     if twin is None or any(r is None for r in runs.values()):

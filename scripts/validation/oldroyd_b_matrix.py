@@ -48,13 +48,15 @@ def name(ca, wi, equator, elastic):
             else f"newtonian_Ca{ca:g}_dt{dt_for(wi):g}{mesh}")
 
 
-def case_text(run_name, ca, wi, equator, far, elastic):
+def case_text(run_name, ca, wi, equator, far, elastic, lam=LAMBDA):
+    """The case: elastic matrix with relaxation time wi, or its Newtonian twin
+    at the same step (dt_for(wi)); drop viscosity ratio lam."""
     matrix = (f'[matrix]\nmodel = "oldroyd_b"\nsolvent_viscosity = {1 - ETA_P}\npolymer_viscosity = {ETA_P}\n'
               f"relaxation_time = {wi:.10g}\n" if elastic else "")
     return f"""[case]
 name = "{run_name}"
 {matrix}[[objects]]
-viscosity_ratio = {LAMBDA}
+viscosity_ratio = {lam}
 capillary_number = {ca}
 [mesh]
 equator_nodes = {equator}

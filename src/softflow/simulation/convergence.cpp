@@ -131,10 +131,12 @@ io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_na
   io::SweepParameter parameter{"mesh.equator_nodes", "equator_nodes", {}, {}};
   const int n0 = base.sizing.equator_nodes;
   std::vector<int> counts = listed;
-  for (int k = 0; counts.size() < static_cast<std::size_t>(options.levels) && listed.empty(); ++k) {
-    int n = static_cast<int>(std::lround(n0 * std::pow(options.factor, k)));
-    if (!counts.empty() && n <= counts.back()) n = counts.back() + 1;
-    counts.push_back(n);
+  if (listed.empty()) {
+    for (int k = 0; k < options.levels; ++k) {
+      int n = static_cast<int>(std::lround(n0 * std::pow(options.factor, k)));
+      if (!counts.empty() && n <= counts.back()) n = counts.back() + 1;
+      counts.push_back(n);
+    }
   }
   for (std::size_t k = 0; k < counts.size(); ++k) {
     const int n = counts[k];

@@ -12,7 +12,7 @@ inline constexpr int kTetVelocityDofs = 30;
 inline constexpr int kTetPressureDofs = 4;
 using TetMatrix = Eigen::Matrix<double, kTetVelocityDofs + kTetPressureDofs,
                                 kTetVelocityDofs + kTetPressureDofs>;
-using TetVector = Eigen::Matrix<double, 34, 1>;
+using TetVector = Eigen::Matrix<double, kTetVelocityDofs + kTetPressureDofs, 1>;
 using TriangleVelocityVector = Eigen::Matrix<double, 18, 1>;
 
 using PressureMass = Eigen::Matrix<double, 4, 4>;
