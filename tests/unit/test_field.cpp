@@ -1,6 +1,6 @@
 // Finite-element functions on the curved mesh: interpolation, values and
 // gradients at quadrature points, point evaluation, transfer from a composed
-// dof map, L2 projection; and the coordinate-format assembly they rest on.
+// dof map, L2 projection. (The assembly they rest on: test_csr_matrix.cpp.)
 //
 // MPI-agnostic: every check is made on the elements a rank owns.
 #include <cmath>
@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include "softflow/fem/field.hpp"
-#include "softflow/la/coo_matrix.hpp"
 #include "support/verification/curved_box.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 
@@ -201,38 +200,3 @@ TEST(L2Projection, ConvergesAtTheOrderOfTheSpace) {
   EXPECT_GT(std::log2(error(8, 2) / error(16, 2)), 2.7);
 }
 
-TEST(CooMatrix, AssemblesNonSymmetricBlocksAsGivenAndDropsNegativeIndices) {
-  // Two overlapping 3x3 blocks on a 4x4 matrix, one index -1: the result
-  // must be their (i, j)-wise sum, not the transpose's.
-  const PetscInt n = 4;
-  const la::OwnershipRange all{la::mpi_rank() == 0 ? 0 : n, n};  // rank 0 owns every row
-  la::CooMatrix m(all, n, all, n);
-  const std::array<PetscInt, 3> rows_a{0, 1, 2}, rows_b{1, -1, 3};
-  la::CooMatrix::Block a{}, b{};
-  if (la::mpi_rank() == 0) {
-    a = m.add_block(std::span<const PetscInt>(rows_a), std::span<const PetscInt>(rows_a));
-    b = m.add_block(std::span<const PetscInt>(rows_b), std::span<const PetscInt>(rows_b));
-  }
-  m.create();
-  Eigen::Matrix3d ka, kb;
-  ka << 1, 2, 3, 4, 5, 6, 7, 8, 9;
-  kb << 10, 20, 30, 40, 50, 60, 70, 80, 90;
-  if (la::mpi_rank() == 0) {
-    m.set_block(a, ka);
-    m.set_block(b, kb);
-  }
-  m.assemble();
-  Eigen::Matrix4d expected = Eigen::Matrix4d::Zero();
-  expected.topLeftCorner<3, 3>() = ka;
-  const int map_b[3] = {1, -1, 3};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (map_b[i] >= 0 && map_b[j] >= 0) expected(map_b[i], map_b[j]) += kb(i, j);
-  if (la::mpi_rank() == 0)
-    for (PetscInt i = 0; i < n; ++i)
-      for (PetscInt j = 0; j < n; ++j) {
-        PetscScalar v = 0.0;
-        ASSERT_EQ(MatGetValues(m.get(), 1, &i, 1, &j, &v), 0);
-        EXPECT_EQ(v, expected(i, j)) << i << "," << j;
-      }
-}

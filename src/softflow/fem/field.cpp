@@ -8,7 +8,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/element/shape_functions.hpp"
-#include "softflow/la/coo_matrix.hpp"
+#include "softflow/la/csr_matrix.hpp"
 
 namespace softflow::fem {
 
@@ -225,7 +225,7 @@ ElementMatrix element_matrix(const Field& field) {
   const auto range = field.ownership();
   const la::OwnershipRange rows{range.begin, range.end};
   const int n = field.dofs().n_dofs();
-  ElementMatrix m{std::make_unique<la::CooMatrix>(rows, n, rows, n), {}};
+  ElementMatrix m{std::make_unique<la::CsrMatrix>(rows, n, rows, n), {}};
   for (int t : field.owned_elements())
     m.blocks.push_back(m.matrix->add_block(field.dofs().element_dofs(t), field.dofs().element_dofs(t)));
   m.matrix->create();

@@ -13,7 +13,7 @@
 #include "softflow/common/state.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/tabulation.hpp"
-#include "softflow/la/coo_matrix.hpp"
+#include "softflow/la/csr_matrix.hpp"
 #include "softflow/la/petsc.hpp"
 #include "softflow/mesh/mesh.hpp"
 
@@ -121,8 +121,8 @@ class Field {
 /// order (blocks[e] belongs to owned_elements()[e]) and the pattern
 /// created. Every element loop over a field assembles through it.
 struct ElementMatrix {
-  std::unique_ptr<la::CooMatrix> matrix;
-  std::vector<la::CooMatrix::Block> blocks;
+  std::unique_ptr<la::CsrMatrix> matrix;
+  std::vector<la::CsrMatrix::Block> blocks;
 };
 [[nodiscard]] ElementMatrix element_matrix(const Field& field);
 

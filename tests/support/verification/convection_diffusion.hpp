@@ -27,7 +27,7 @@ struct ConvectionDiffusionErrors {
 /// f = -eps lap phi + b . grad phi, b = (1, 0.6, -0.3) and a smooth exact
 /// phi that differs between the regions. For P1 the element residual lacks
 /// -eps lap phi_h; tau's Peclet factor (fem::supg_tau) makes that
-/// inconsistency O(h^2). Assembled through la::CooMatrix (the general,
+/// inconsistency O(h^2). Assembled through la::CsrMatrix (the general,
 /// non-symmetric path), solved by MUMPS LU. Collective.
 ConvectionDiffusionErrors solve_convection_diffusion(int n, double eps, bool supg);
 

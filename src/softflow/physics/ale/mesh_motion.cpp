@@ -7,7 +7,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/fem/dof_map.hpp"
-#include "softflow/la/coo_matrix.hpp"
+#include "softflow/la/csr_matrix.hpp"
 #include "softflow/la/saddle_point_solver.hpp"  // la::set_default_option
 
 namespace softflow::physics {
@@ -114,9 +114,9 @@ void AleMeshMotion::assemble(const mesh::Mesh& mesh) {
   // One element matrix feeds two blocks of the operator: the free-free
   // block A (rows and columns free) and the coupling block C (rows free,
   // columns prescribed on the interface). Each block's index lists carry -1
-  // for the other kind of node, which la::CooMatrix drops.
-  la::CooMatrix a(free_range_, n_free_, free_range_, n_free_);
-  la::CooMatrix c(free_range_, n_free_, interface_range_, n_interface_);
+  // for the other kind of node, which la::CsrMatrix drops.
+  la::CsrMatrix a(free_range_, n_free_, free_range_, n_free_);
+  la::CsrMatrix c(free_range_, n_free_, interface_range_, n_interface_);
   const bool has_coupling = n_interface_ > 0;
   std::array<PetscInt, 10> rows{}, interface_columns{};
   auto element_indices = [&](int t) {
@@ -126,7 +126,7 @@ void AleMeshMotion::assemble(const mesh::Mesh& mesh) {
       interface_columns[k] = interface_index_[rep];
     }
   };
-  std::vector<la::CooMatrix::Block> blocks;
+  std::vector<la::CsrMatrix::Block> blocks;
   for (int t : owned_tets_) {
     element_indices(t);
     blocks.push_back(a.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(rows)));

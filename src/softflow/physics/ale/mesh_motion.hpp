@@ -75,7 +75,7 @@ double ale_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
 /// Parallel layout as fem::DofMap/StokesSystem: the mesh is
 /// replicated, each rank owns a contiguous range of representative nodes
 /// (balanced by free unknowns) and assembles the tetrahedra whose first
-/// node's representative it owns (la::CooMatrix, as every operator).
+/// node's representative it owns (la::CsrMatrix, as every operator).
 class AleMeshMotion {
  public:
   explicit AleMeshMotion(const mesh::Mesh& reference, const AleSettings& settings = {});

@@ -121,12 +121,12 @@ la::NullSpace StokesSystem::velocity_near_nullspace() const {
 }
 
 void StokesSystem::create_matrices() {
-  // One coordinate-format pattern serves every solve (la::CooMatrix). The
+  // One compressed-row pattern serves every solve (la::CsrMatrix). The
   // interface blocks of the semi-implicit tension are always in it (zero
   // when the tension is explicit).
   const int n = dofs_.n_dofs();
   const bool iterative = settings_.method == la::SaddlePointMethod::iterative;
-  auto declare = [&](la::CooMatrix& m, bool record) {
+  auto declare = [&](la::CsrMatrix& m, bool record) {
     for (int t : owned_tets_) {
       const auto d = dofs_.element_dofs(t);
       const auto b = m.add_block(d, d);
@@ -168,7 +168,7 @@ void StokesSystem::create_matrices() {
       }
     }
   };
-  a_ = std::make_unique<la::CooMatrix>(range_, n, range_, n);
+  a_ = std::make_unique<la::CsrMatrix>(range_, n, range_, n);
   declare(*a_, true);
   a_->create();
   if (iterative && !slip_) {
@@ -176,7 +176,7 @@ void StokesSystem::create_matrices() {
   } else if (iterative) {
     // With slip the velocity block of the preconditioner differs from A's
     // (the jump penalty), so it gets a matrix of its own.
-    pmat_ = std::make_unique<la::CooMatrix>(range_, n, range_, n);
+    pmat_ = std::make_unique<la::CsrMatrix>(range_, n, range_, n);
     declare(*pmat_, false);  // same declaration order: same block handles
     // With slip, a penalty on the jump at each interface node (preconditioner
     // only; see assemble_slip_schur_estimate).
@@ -210,7 +210,7 @@ void StokesSystem::create_schur_matrix() {
   }
   if (first_owned < 0) first_owned = n_pressure;  // this rank owns no pressure
   const la::OwnershipRange range{first_owned, first_owned + owned};
-  schur_ = std::make_unique<la::CooMatrix>(range, n_pressure, range, n_pressure);
+  schur_ = std::make_unique<la::CsrMatrix>(range, n_pressure, range, n_pressure);
   for (int t : owned_tets_) {
     const auto d = dofs_.element_dofs(t);
     std::array<PetscInt, kTetPressureDofs> p;  // the element's last dofs (stokes_kernels.hpp)

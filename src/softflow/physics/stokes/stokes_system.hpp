@@ -11,7 +11,7 @@
 #include "softflow/common/state.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/tabulation.hpp"
-#include "softflow/la/coo_matrix.hpp"
+#include "softflow/la/csr_matrix.hpp"
 #include "softflow/la/petsc.hpp"
 #include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/mesh/mesh.hpp"
@@ -49,7 +49,7 @@ struct StokesResult {
 ///
 /// with u = g on the walls and pressure fixed at one matrix vertex. Mesh and
 /// dof map are replicated on every rank; each rank assembles the elements
-/// whose first unknown it owns (la::CooMatrix).
+/// whose first unknown it owns (la::CsrMatrix).
 ///
 /// The block system and the preconditioner of the iterative method:
 ///
@@ -172,17 +172,17 @@ class StokesSystem {
   std::vector<int> owned_tets_;
   std::vector<int> owned_interface_faces_;
   using InterfaceMatrix = Eigen::Matrix<double, 18, 18>;
-  std::unique_ptr<la::CooMatrix> a_;
+  std::unique_ptr<la::CsrMatrix> a_;
   // The iterative method's preconditioning: with slip a whole matrix pmat_
   // (penalised velocity block, constraint estimates); without, only the
   // pressure block -M/eta (schur_), numbered by pressure_position_.
-  std::unique_ptr<la::CooMatrix> pmat_;
-  std::unique_ptr<la::CooMatrix> schur_;
-  std::vector<la::CooMatrix::Block> schur_blocks_;
+  std::unique_ptr<la::CsrMatrix> pmat_;
+  std::unique_ptr<la::CsrMatrix> schur_;
+  std::vector<la::CsrMatrix::Block> schur_blocks_;
   std::vector<int> pressure_position_;  // dof -> index among the pressure unknowns, or -1
-  std::vector<la::CooMatrix::Block> tet_blocks_, interface_blocks_;
-  std::vector<la::CooMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
-  std::vector<la::CooMatrix::Block> slip_penalty_blocks_;  // pmat_ only
+  std::vector<la::CsrMatrix::Block> tet_blocks_, interface_blocks_;
+  std::vector<la::CsrMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
+  std::vector<la::CsrMatrix::Block> slip_penalty_blocks_;  // pmat_ only
   std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
   /// The last solution (global): the next solve's initial guess. The dofs

@@ -29,7 +29,7 @@ namespace softflow::physics {
 /// (SPEC §2 part 5, fem::supg_tau without diffusion).
 ///
 /// The operator (a0/dt) M + C(w) + SUPG is the same for every component:
-/// it is assembled once per step (la::CooMatrix; non-symmetric), factored
+/// it is assembled once per step (la::CsrMatrix; non-symmetric), factored
 /// once (MUMPS LU) and solved for each component. No boundary conditions
 /// are needed where w . n = 0 (walls moving tangentially, periodic faces,
 /// interfaces the mesh follows); inflow values can be imposed with
