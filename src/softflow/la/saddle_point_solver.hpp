@@ -36,6 +36,12 @@ struct SaddlePointSettings {
   /// factorisation); refactor once a solve needs more than this many
   /// iterations or fails. 0 refactors at every solve.
   int max_reuse_iterations = 25;
+  /// Iterative method in a time loop: keep the preconditioner (the
+  /// fieldsplit's sub-matrices, the AMG hierarchy) of an earlier matrix and
+  /// rebuild it once a solve needs more than this factor times the fewest
+  /// iterations any solve needed since the last rebuild, or fails. 0
+  /// rebuilds at every solve.
+  double max_reuse_growth = 1.3;
   /// Options prefix: every choice can be overridden from the command line,
   /// e.g. -stokes_ksp_type gmres or -stokes_fieldsplit_velocity_pc_type gamg.
   std::string prefix = "stokes_";
@@ -97,16 +103,20 @@ class SaddlePointSolver {
   /// preconditioner, and the builds so far. Checkpoints save it, so that a
   /// restarted run refactors at the same steps as an uninterrupted one.
   [[nodiscard]] bool refactor_next() const { return refactor_next_; }
-  void restore_reuse_state(bool refactor_next, int n_setups) {
+  /// Iterative method: the fewest iterations since the last rebuild (the
+  /// reference of max_reuse_growth).
+  [[nodiscard]] int fewest_iterations() const { return fewest_iterations_; }
+  void restore_reuse_state(bool refactor_next, int n_setups, int fewest_iterations) {
     refactor_next_ = refactor_next;
     n_setups_ = n_setups;
+    fewest_iterations_ = fewest_iterations;
   }
   /// Builds the preconditioner (factors) on the current operators now,
   /// without solving: a restart rebuilding the factors an earlier run had.
   void set_up();
 
  private:
-  SolveReport solve_once(Vec b, Vec x, bool reuse, bool x_is_guess);
+  SolveReport solve_once(Vec b, Vec x, bool reuse, bool x_is_guess, int max_iterations);
   /// Whether |b - A x| < |b|: x is a better start than zero.
   [[nodiscard]] bool reduces_residual(Vec b, Vec x) const;
 
@@ -115,6 +125,7 @@ class SaddlePointSolver {
   bool have_preconditioner_ = false;
   bool refactor_next_ = true;
   int n_setups_ = 0;
+  int fewest_iterations_ = 0;
 };
 
 /// Sets `-name value` in PETSc's options database unless the user already set it.

@@ -33,39 +33,51 @@ geometry::ShearCellSpec unit_drop_cell(double side, int equator_nodes, double fa
 
 DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes,
                               const la::SaddlePointSettings& settings) {
+  return drop_in_shear_sequence({lambda}, gamma, equator_nodes, settings).front();
+}
+
+std::vector<DropSolveResult> drop_in_shear_sequence(const std::vector<double>& lambdas,
+                                                    double gamma, int equator_nodes,
+                                                    const la::SaddlePointSettings& settings) {
   const double h0 = interface_size(equator_nodes);
-  const auto exact =
-      DropInLinearFlow::simple_shear(DropInLinearFlow::Kind::instantaneous, lambda, 1.0, gamma);
   // Growth scaled with h0: with a fixed growth the elements a little away
   // from the drop barely shrink, and the steep exterior disturbance stays
   // pre-asymptotic (even its P2 interpolant then converges at ~h^2.2).
   const auto mesh = geometry::build_shear_cell(
       unit_drop_cell(6.0, equator_nodes, 2.5 * h0, false, 0.3 * 24 / equator_nodes));
   physics::StokesSystem system(mesh, settings);
-  physics::StokesProblem problem;
-  problem.viscosity = {1.0, lambda};
-  problem.interfacial_tension = {gamma};
-  problem.boundary_velocity = [&](const Vector3d& x) { return exact.velocity(x, false); };
-  problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
-  problem.pressure_gauge_value = exact.pressure(mesh.nodes[problem.pressure_gauge_node], false);
-  const auto result = system.solve(problem);
-  const auto errors = fem::stokes_errors(
-      mesh, system.dofs(), result.solution,
-      [&](const Vector3d& x, int region) { return exact.velocity(x, region == 1); },
-      [&](const Vector3d& x, int region) { return exact.pressure(x, region == 1); });
-  const auto measures = analysis::object_measures(mesh, system.dofs(), result.solution);
-  DropSolveResult r;
-  r.equator_nodes = equator_nodes;
-  r.h0 = h0;
-  r.unknowns = system.dofs().n_dofs();
-  r.velocity_l2 = errors.velocity_l2;
-  r.pressure_l2 = errors.pressure_l2_mean_free;
-  r.pressure_jump = measures[0].pressure_jump;
-  r.exact_pressure_jump = 2 * gamma;  // the outer pressure averages to zero over the sphere
-  r.max_velocity = analysis::max_velocity(system.dofs(), result.solution);
-  r.solution = result.solution;
-  r.iterations = result.solve.iterations;
-  return r;
+  std::vector<DropSolveResult> out;
+  for (double lambda : lambdas) {
+    const auto exact =
+        DropInLinearFlow::simple_shear(DropInLinearFlow::Kind::instantaneous, lambda, 1.0, gamma);
+    physics::StokesProblem problem;
+    problem.viscosity = {1.0, lambda};
+    problem.interfacial_tension = {gamma};
+    problem.boundary_velocity = [&](const Vector3d& x) { return exact.velocity(x, false); };
+    problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
+    problem.pressure_gauge_value = exact.pressure(mesh.nodes[problem.pressure_gauge_node], false);
+    const auto result = system.solve(problem);
+    const auto errors = fem::stokes_errors(
+        mesh, system.dofs(), result.solution,
+        [&](const Vector3d& x, int region) { return exact.velocity(x, region == 1); },
+        [&](const Vector3d& x, int region) { return exact.pressure(x, region == 1); });
+    const auto measures = analysis::object_measures(mesh, system.dofs(), result.solution);
+    DropSolveResult r;
+    r.equator_nodes = equator_nodes;
+    r.h0 = h0;
+    r.unknowns = system.dofs().n_dofs();
+    r.velocity_l2 = errors.velocity_l2;
+    r.pressure_l2 = errors.pressure_l2_mean_free;
+    r.pressure_jump = measures[0].pressure_jump;
+    r.exact_pressure_jump = 2 * gamma;  // the outer pressure averages to zero over the sphere
+    r.max_velocity = analysis::max_velocity(system.dofs(), result.solution);
+    r.solution = result.solution;
+    r.iterations = result.solve.iterations;
+    r.reused_preconditioner = result.solve.reused_preconditioner;
+    r.preconditioner_builds = system.n_factorizations();
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 DropSolveResult static_drop(int equator_nodes) {

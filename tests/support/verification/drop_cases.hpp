@@ -19,6 +19,8 @@ struct DropSolveResult {
   double max_velocity = 0.0;
   std::vector<double> solution;   ///< every unknown (velocity, pressure), global numbering
   int iterations = 0;             ///< of the Stokes solve
+  bool reused_preconditioner = false;
+  int preconditioner_builds = 0;  ///< by the system so far
 };
 
 /// Unit drop (viscosity ratio lambda, tension gamma) in a box [-3,3]^3 in
@@ -26,6 +28,12 @@ struct DropSolveResult {
 /// refined uniformly in shape (far size 2.5 h0, growth 0.3 * 24 / N).
 DropSolveResult drop_in_shear(double lambda, double gamma, int equator_nodes,
                               const la::SaddlePointSettings& settings = {});
+/// The same drop solved once per viscosity ratio in `lambdas`, in order, by
+/// one Stokes system (as a time loop does: each solve starts from the
+/// previous solution and may keep the previous preconditioner).
+std::vector<DropSolveResult> drop_in_shear_sequence(const std::vector<double>& lambdas,
+                                                    double gamma, int equator_nodes,
+                                                    const la::SaddlePointSettings& settings = {});
 
 /// Unit drop with Gamma = 1 at rest in a periodic 8^3 cell with walls at
 /// rest (far size 2): the exact solution is u = 0 and a jump 2 Gamma / R = 2.

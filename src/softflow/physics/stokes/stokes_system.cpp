@@ -379,7 +379,6 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
 }
 
 void StokesSystem::record_factorization(const StokesProblem& problem) {
-  if (settings_.method != la::SaddlePointMethod::direct) return;
   MatrixRecord r{mesh_.nodes, {}, {}, false};
   r.problem.viscosity = problem.viscosity;
   r.problem.interfacial_tension = problem.interfacial_tension;
@@ -561,6 +560,7 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
   out.set(prefix + "initial_guess", previous_solution_);
   out.set(prefix + "refactor_next", solver_->refactor_next());
   out.set(prefix + "n_factorizations", solver_->n_setups());
+  out.set(prefix + "fewest_iterations", solver_->fewest_iterations());
   out.set(prefix + "has_factors", factors_.has_value());
   if (!factors_) return;
   for (const auto& [name, record] : {std::pair{"analysis/", &*analysis_}, {"factors/", &*factors_}}) {
@@ -579,7 +579,10 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
       throw InputError(fmt::format("the saved state's {}initial_guess has {} values for {} unknowns",
                                    prefix, previous_solution_.size(), dofs_.n_dofs()));
   }
-  if (in.get_bool(prefix + "has_factors") && settings_.method == la::SaddlePointMethod::direct) {
+  // Either method rebuilds the preconditioner an uninterrupted run would
+  // still be using (the direct method's factors, the iterative method's
+  // sub-matrices and AMG hierarchy).
+  if (in.get_bool(prefix + "has_factors")) {
     auto read = [&](const std::string& p) {
       MatrixRecord r{in.get_points(p + "nodes"), {}, {}, false};
       if (static_cast<int>(r.nodes.size()) != mesh_.n_nodes())
@@ -608,16 +611,20 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
     // later numeric ones of the same pattern: factor that matrix first.
     analysis_ = read(prefix + "analysis/");
     factors_ = read(prefix + "factors/");
-    factor(*analysis_);
-    if (factors_->nodes != analysis_->nodes ||
+    if (settings_.method == la::SaddlePointMethod::direct) factor(*analysis_);
+    if (settings_.method != la::SaddlePointMethod::direct || factors_->nodes != analysis_->nodes ||
         factors_->problem.semi_implicit_tension.theta_dt !=
             analysis_->problem.semi_implicit_tension.theta_dt ||
         factors_->conformation != analysis_->conformation || factors_->devss != analysis_->devss ||
         factors_->problem.slip.coefficient != analysis_->problem.slip.coefficient)
       factor(*factors_);
   }
+  // Checkpoints from before the iterative method kept its preconditioner: none kept.
   solver_->restore_reuse_state(in.get_bool(prefix + "refactor_next"),
-                               in.get_int(prefix + "n_factorizations"));
+                               in.get_int(prefix + "n_factorizations"),
+                               in.contains(prefix + "fewest_iterations")
+                                   ? in.get_int(prefix + "fewest_iterations")
+                                   : 0);
 }
 
 std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face, int region) const {

@@ -92,9 +92,8 @@ class StokesSystem {
   /// restore_state() assembles and factors those matrices again, in the
   /// same order, so a restarted run keeps the very same factors and its
   /// later solves agree with an uninterrupted run's to round-off (fresh
-  /// factors would change every later solve at the solver tolerance).
-  /// Nothing is saved for the iterative method, which rebuilds its
-  /// preconditioner at every solve.
+  /// factors would change every later solve at the solver tolerance). The
+  /// iterative method's kept preconditioner is rebuilt the same way.
   [[nodiscard]] StatePart state_part();
 
  private:
@@ -189,7 +188,7 @@ class StokesSystem {
   /// never change (the mesh moves, it is not remeshed), and a step changes
   /// the solution by O(dt): a few Krylov iterations fewer per step.
   std::vector<double> previous_solution_;
-  std::optional<MatrixRecord> analysis_, factors_;  // direct method only
+  std::optional<MatrixRecord> analysis_, factors_;  // analysis_: the direct method's
 };
 
 /// The matrix vertex on the bottom wall nearest its centre: where the
