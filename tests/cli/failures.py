@@ -102,9 +102,13 @@ def main(softflow, case_source, work):
     if 'type = "direct"' in message:
         fail(f"lu_failed: advises the direct solver to a direct run: {message}")
 
-    # An absurd interfacial tension (Ca = 1e-300) blows the interface up in one step.
+    # An absurd interfacial tension (Ca = 1e-300) blows the interface up in one
+    # step. Which check stops it first (a non-finite position, or a volume
+    # change of ~1e11 %) depends on round-off in sums of ~1e300 terms, e.g.
+    # the element order of the assembly; either message names the object
+    # and gives advice.
     text = base.replace("capillary_number = 0.1", "capillary_number = 1e-300")
-    expect_stop(softflow, work, "blow_up", text, 6, [r"step 1 \(t = ", "object 1", "try"])
+    expect_stop(softflow, work, "blow_up", text, 6, [r"step 1 \(t = ", "object 1", "[Tt]ry"])
 
     # An initial mesh below time.min_quality: refused before the run, naming
     # the mesh keys, exit 2, and nothing written (it used to stop at step 1

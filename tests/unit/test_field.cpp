@@ -200,3 +200,18 @@ TEST(L2Projection, ConvergesAtTheOrderOfTheSpace) {
   EXPECT_GT(std::log2(error(8, 2) / error(16, 2)), 2.7);
 }
 
+
+TEST(StokesAssembly, NoMatrixRowCrossesRanks) {
+  // Each rank assembles its own rows of every element with one (cut
+  // elements on both sides), so the operator and the iterative method's
+  // Schur matrix never route rows through PETSc: on 2 ranks (mpi_fem_layer)
+  // the curved box is cut through its elements. Before, an element went to
+  // the rank of its first vertex and sent its other rows.
+  const auto mesh = curved_box(4);
+  for (const bool slip : {false, true}) {
+    la::SaddlePointSettings settings;
+    settings.method = la::SaddlePointMethod::iterative;
+    physics::StokesSystem system(mesh, settings, slip);
+    EXPECT_FALSE(system.assembly_crosses_ranks()) << "slip " << slip;
+  }
+}

@@ -79,20 +79,13 @@ std::vector<int> DofMap::field_dofs(int f) const {
   return out;
 }
 
-std::pair<int, int> balanced_node_range(std::span<const int> offsets, int rank, int n_ranks) {
-  const int n_nodes = static_cast<int>(offsets.size()) - 1;
-  const long total = offsets.back();
-  auto first_node_reaching = [&](long target) {
-    return static_cast<int>(std::lower_bound(offsets.begin(), offsets.end(), target) -
-                            offsets.begin());
-  };
-  const int first = rank == 0 ? 0 : first_node_reaching(total * rank / n_ranks);
-  const int last = rank + 1 == n_ranks ? n_nodes : first_node_reaching(total * (rank + 1) / n_ranks);
-  return {first, last};
+std::pair<int, int> rank_node_range(int n_nodes, int rank, int n_ranks) {
+  const long n = n_nodes;
+  return {static_cast<int>(n * rank / n_ranks), static_cast<int>(n * (rank + 1) / n_ranks)};
 }
 
 DofRange DofMap::ownership(int rank, int n_ranks) const {
-  const auto [first, last] = balanced_node_range(node_offset_, rank, n_ranks);
+  const auto [first, last] = rank_node_range(static_cast<int>(node_offset_.size()) - 1, rank, n_ranks);
   return {node_offset_[first], rank + 1 == n_ranks ? n_dofs_ : node_offset_[last]};
 }
 

@@ -15,15 +15,26 @@ namespace softflow::fem {
 using la::check;
 
 std::vector<int> owned_elements(const mesh::Mesh& mesh) {
-  const long n = mesh.n_nodes();
-  const int rank = la::mpi_rank(), size = la::mpi_size();
-  const long begin = n * rank / size, end = n * (rank + 1) / size;
+  const auto [begin, end] = rank_node_range(mesh.n_nodes(), la::mpi_rank(), la::mpi_size());
   std::vector<int> owned;
   for (int t = 0; t < mesh.n_tets(); ++t) {
     const long node = mesh.master(mesh.tets[t][0]);
     if (node >= begin && node < end) owned.push_back(t);
   }
   return owned;
+}
+
+std::vector<int> elements_touching(const mesh::Mesh& mesh, int first_node, int last_node) {
+  std::vector<int> touching;
+  for (int t = 0; t < mesh.n_tets(); ++t)
+    for (int node : mesh.tets[t]) {
+      const int rep = mesh.master(node);
+      if (rep >= first_node && rep < last_node) {
+        touching.push_back(t);
+        break;
+      }
+    }
+  return touching;
 }
 
 std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const TetTabulation& tab,
@@ -46,17 +57,14 @@ std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const Tet
 Field::Field(const mesh::Mesh& mesh, std::string name, std::shared_ptr<const Space> space,
              int components)
     : mesh_(mesh), name_(std::move(name)), dofs_(mesh, {{name_, std::move(space), components}}) {
-  // Node ranges balanced by the space's dofs, not by dofs x components: every
-  // field on one space then has the same node ranges, so a scalar operator
-  // of the space can be solved once and copied into each component locally.
-  const int n_nodes = mesh_.n_nodes();
-  std::vector<int> scalar_offsets(n_nodes + 1);
-  for (int n = 0; n <= n_nodes; ++n) scalar_offsets[n] = dofs_.dof_offset_of_node(n) / components;
-  const auto [first, last] = balanced_node_range(scalar_offsets, la::mpi_rank(), la::mpi_size());
+  // The node range every dof map uses: every field then has the same node
+  // ranges, so a scalar operator of the space can be solved once and copied
+  // into each component locally, and its elements are this rank's own.
+  const auto [first, last] = rank_node_range(mesh_.n_nodes(), la::mpi_rank(), la::mpi_size());
   range_ = {dofs_.dof_offset_of_node(first), dofs_.dof_offset_of_node(last)};
   owned_elements_ = fem::owned_elements(mesh_);
   std::vector<int> ghosts;
-  for (int t : owned_elements_)
+  for (int t : elements_touching(mesh_, first, last))
     for (int dof : dofs_.element_dofs(t))
       if (!range_.owns(dof)) ghosts.push_back(dof);
   std::sort(ghosts.begin(), ghosts.end());

@@ -36,6 +36,12 @@ struct QuadraturePoint {
 /// node ranges of about equal size, the order the dof maps number in).
 std::vector<int> owned_elements(const mesh::Mesh& mesh);
 
+/// Every element with a node (representative) in [first_node, last_node):
+/// those whose matrix rows a rank with that node range assembles (a
+/// superset of owned_elements for the rank's own range; elements cut by a
+/// partition boundary belong to both sides). Fields are ghosted for them.
+std::vector<int> elements_touching(const mesh::Mesh& mesh, int first_node, int last_node);
+
 /// The quadrature points of tetrahedron `tet` on the current mesh.
 std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const TetTabulation& tab,
                                                int tet);
@@ -46,10 +52,11 @@ std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const Tet
 ///
 /// Storage is a ghosted PETSc vector in the field's own numbering (a
 /// one-field fem::DofMap): each rank owns a contiguous range of dofs and
-/// keeps as ghosts the other dofs of its elements (fem::owned_elements,
-/// common to all fields). After update_ghosts() every field's values on
-/// this rank's elements are readable without communication; evaluation is
-/// only allowed there. (Every rank still holds the whole mesh and dof map;
+/// keeps as ghosts the other dofs of every element touching its node range
+/// (fem::elements_touching, common to all fields). After update_ghosts()
+/// every field's values there are readable without communication:
+/// integrals loop over fem::owned_elements (each element once), assembly
+/// may loop over every element with a row here. (Every rank still holds the whole mesh and dof map;
 /// issue 12 makes those rank-local.)
 class Field {
  public:

@@ -98,6 +98,9 @@ class CsrMatrix {
   Matrix release();
   /// Nonzeros of this rank's rows.
   [[nodiscard]] std::size_t n_local_nonzeros() const { return n_local_nonzeros_; }
+  /// Whether any rank declared rows another rank owns (summed through
+  /// PETSc at each assembly); false when every rank assembles only its own.
+  [[nodiscard]] bool rows_cross_ranks() const { return any_remote_; }
 
  private:
   struct BlockLayout {

@@ -96,9 +96,8 @@ void AleMeshMotion::partition(const mesh::Mesh& mesh) {
     if (kind[i] == kInterface) interface_index_[i] = interface_before[i];
   }
 
-  // This rank's node range, balanced by free unknowns (as every dof map).
-  const auto [node_begin, node_end] =
-      fem::balanced_node_range(free_before, la::mpi_rank(), la::mpi_size());
+  // This rank's node range, as every dof map's (fem::rank_node_range).
+  const auto [node_begin, node_end] = fem::rank_node_range(n, la::mpi_rank(), la::mpi_size());
   free_range_ = {free_before[node_begin], free_before[node_end]};
   interface_range_ = {interface_before[node_begin], interface_before[node_end]};
 

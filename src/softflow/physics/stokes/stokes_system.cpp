@@ -85,12 +85,27 @@ StokesSystem::~StokesSystem() = default;
 void StokesSystem::partition() {
   const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
   range_ = {owned.begin, owned.end};
-  // The elements every field works on (fem::owned_elements), so that the
-  // assembly can read the viscoelastic fields' values without communication.
-  owned_tets_ = fem::owned_elements(mesh_);
+  // Every element with a row here is assembled here, its other rows
+  // dropped (row_dofs): an element cut by a partition boundary is computed
+  // on each side, and no matrix or vector entry crosses ranks. (Sending
+  // those rows to their owner instead moved a tenth of the matrix entries
+  // through PETSc's stash at 152k unknowns on 2 ranks: the cut runs
+  // through the finely meshed drop.) The fields the assembly reads are
+  // ghosted for these elements (fem::elements_touching).
+  const auto [first_node, last_node] =
+      fem::rank_node_range(mesh_.n_nodes(), la::mpi_rank(), la::mpi_size());
+  assembled_tets_ = fem::elements_touching(mesh_, first_node, last_node);
+  // In node order (the nodes follow a space-filling curve): consecutive
+  // elements then add into nearby matrix rows, which the assembly's
+  // scattered adds into PETSc's value arrays need to stay in cache
+  // (measured: assembly 1.61 -> 0.94 s at 374k unknowns).
+  std::stable_sort(assembled_tets_.begin(), assembled_tets_.end(), [&](int a, int b) {
+    return mesh_.master(mesh_.tets[a][0]) < mesh_.master(mesh_.tets[b][0]);
+  });
   for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) {
-    const int node = mesh_.interface_faces[f][0];
-    if (range_.owns(dofs_.dof(kVelocityField, node, 0))) owned_interface_faces_.push_back(f);
+    const auto rows = interface_velocity_dofs(f, tension_region(f));
+    if (std::any_of(rows.begin(), rows.end(), [&](PetscInt d) { return range_.owns(d); }))
+      assembled_faces_.push_back(f);
   }
   if (slip_) {
     std::vector<char> seen(mesh_.n_nodes(), 0);
@@ -127,25 +142,27 @@ void StokesSystem::create_matrices() {
   const int n = dofs_.n_dofs();
   const bool iterative = settings_.method == la::SaddlePointMethod::iterative;
   auto declare = [&](la::CsrMatrix& m, bool record) {
-    for (int t : owned_tets_) {
-      const auto d = dofs_.element_dofs(t);
-      const auto b = m.add_block(d, d);
+    for (int t : assembled_tets_) {
+      const auto rows = tet_row_dofs(t);
+      const auto b = m.add_block(std::span<const PetscInt>(rows), dofs_.element_dofs(t));
       if (record) tet_blocks_.push_back(b);
     }
-    for (int f : owned_interface_faces_) {
+    for (int f : assembled_faces_) {
       const auto d = interface_velocity_dofs(f, tension_region(f));
-      const auto b = m.add_block(std::span<const PetscInt>(d), std::span<const PetscInt>(d));
+      const auto rows = row_dofs(d);
+      const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(d));
       if (record) interface_blocks_.push_back(b);
     }
     if (slip_) {
       // Velocity rows of both copies x the face's multipliers.
-      for (int f : owned_interface_faces_) {
+      for (int f : assembled_faces_) {
         const int object = mesh_.interface_object[f];
         std::array<PetscInt, 36> rows;
         std::array<PetscInt, 18> columns;
         const auto outside = interface_velocity_dofs(f, 0), inside = interface_velocity_dofs(f, object);
         std::copy(outside.begin(), outside.end(), rows.begin());
         std::copy(inside.begin(), inside.end(), rows.begin() + 18);
+        rows = row_dofs(rows);
         for (int k = 0; k < 6; ++k)
           for (int c = 0; c < 3; ++c)
             columns[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[f][k], object, c);
@@ -211,22 +228,29 @@ void StokesSystem::create_schur_matrix() {
   if (first_owned < 0) first_owned = n_pressure;  // this rank owns no pressure
   const la::OwnershipRange range{first_owned, first_owned + owned};
   schur_ = std::make_unique<la::CsrMatrix>(range, n_pressure, range, n_pressure);
-  for (int t : owned_tets_) {
+  for (int t : assembled_tets_) {
     const auto d = dofs_.element_dofs(t);
-    std::array<PetscInt, kTetPressureDofs> p;  // the element's last dofs (stokes_kernels.hpp)
-    for (int k = 0; k < kTetPressureDofs; ++k) p[k] = pressure_position_[d[kTetVelocityDofs + k]];
-    schur_blocks_.push_back(schur_->add_block(std::span<const PetscInt>(p), std::span<const PetscInt>(p)));
+    std::array<PetscInt, kTetPressureDofs> p, rows;  // the element's last dofs (stokes_kernels.hpp)
+    for (int k = 0; k < kTetPressureDofs; ++k) {
+      const int dof = d[kTetVelocityDofs + k];
+      p[k] = pressure_position_[dof];
+      rows[k] = range_.owns(dof) ? p[k] : -1;
+    }
+    schur_blocks_.push_back(
+        schur_->add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(p)));
   }
   schur_->create();
 }
 
 void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& problem, Vec rhs) {
   const bool iterative = pmat_ || schur_;
+  // Rows of other ranks come as -1 (row_dofs).
+  check(VecSetOption(rhs, VEC_IGNORE_NEGATIVE_INDICES, PETSC_TRUE), "VecSetOption");
   TetMatrix ke;
   TetVector fe;
   const auto& viscoelastic = problem.viscoelastic;
-  for (std::size_t e = 0; e < owned_tets_.size(); ++e) {
-    const int t = owned_tets_[e];
+  for (std::size_t e = 0; e < assembled_tets_.size(); ++e) {
+    const int t = assembled_tets_[e];
     const int region = mesh_.tet_region[t];
     const bool has_stress =
         viscoelastic.active() && viscoelastic.models.at(region).has_conformation();
@@ -252,12 +276,14 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
     if (problem.body_force)
       add_body_force(x, tabulation_, [&](const Vec3& xq) { return problem.body_force(xq, region); },
                      fe);
-    if (problem.body_force || has_stress)
-      check(VecSetValues(rhs, 30, d.data(), fe.data(), ADD_VALUES), "VecSetValues(f)");
+    if (problem.body_force || has_stress) {
+      const auto rows = tet_row_dofs(t);  // the other rows are their owner's
+      check(VecSetValues(rhs, 30, rows.data(), fe.data(), ADD_VALUES), "VecSetValues(f)");
+    }
   }
   const auto& implicit = problem.semi_implicit_tension;
-  for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i) {
-    const int f = owned_interface_faces_[i];
+  for (std::size_t i = 0; i < assembled_faces_.size(); ++i) {
+    const int f = assembled_faces_[i];
     const int object = mesh_.interface_object[f];
     const double gamma = object - 1 < static_cast<int>(problem.interfacial_tension.size())
                              ? problem.interfacial_tension[object - 1]
@@ -284,7 +310,8 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
           fs.segment<3>(3 * a) += (scale * load) * na;
         }
       }
-      const auto rows = interface_velocity_dofs(f, tension_region(f));
+      const auto d = interface_velocity_dofs(f, tension_region(f));
+      const auto rows = row_dofs(d);  // the other rows are their owner's
       check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
     }
     a_->set_block(interface_blocks_[i], block);
@@ -408,8 +435,8 @@ Eigen::Matrix<double, 3, 9> StokesSystem::slip_constraint_block(int node, const 
 void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem,
                                  const SlipNodes& nodes) {
   const bool iterative = static_cast<bool>(pmat_);  // with slip, the only preconditioning matrix
-  for (std::size_t i = 0; i < owned_interface_faces_.size(); ++i) {
-    const int f = owned_interface_faces_[i];
+  for (std::size_t i = 0; i < assembled_faces_.size(); ++i) {
+    const int f = assembled_faces_[i];
     const auto m = surface_mass(fem::triangle_nodes(geometry, mesh_.interface_faces[f]));
     Eigen::Matrix<double, 36, 18> block = Eigen::Matrix<double, 36, 18>::Zero();
     for (int a = 0; a < 6; ++a)
@@ -625,6 +652,13 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
                                in.contains(prefix + "fewest_iterations")
                                    ? in.get_int(prefix + "fewest_iterations")
                                    : 0);
+}
+
+std::array<PetscInt, kTetVelocityDofs + kTetPressureDofs> StokesSystem::tet_row_dofs(int t) const {
+  const auto d = dofs_.element_dofs(t);
+  std::array<PetscInt, kTetVelocityDofs + kTetPressureDofs> rows;
+  for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = range_.owns(d[k]) ? d[k] : -1;
+  return rows;
 }
 
 std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face, int region) const {

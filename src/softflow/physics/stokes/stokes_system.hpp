@@ -16,6 +16,7 @@
 #include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
+#include "softflow/physics/stokes/stokes_kernels.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
 
 namespace softflow::physics {
@@ -48,8 +49,8 @@ struct StokesResult {
 ///   (4) - sum_r (q, div u)_r                                          = 0
 ///
 /// with u = g on the walls and pressure fixed at one matrix vertex. Mesh and
-/// dof map are replicated on every rank; each rank assembles the elements
-/// whose first unknown it owns (la::CsrMatrix).
+/// dof map are replicated on every rank; each rank assembles its own rows of
+/// every element that has one (la::CsrMatrix): nothing crosses ranks.
 ///
 /// The block system and the preconditioner of the iterative method:
 ///
@@ -81,6 +82,12 @@ class StokesSystem {
 
   /// Assembles the problem on the current mesh and solves it.
   StokesResult solve(const StokesProblem& problem);
+  /// Whether assembling sends matrix rows to other ranks (it does not:
+  /// each rank assembles its own rows of every element it shares).
+  [[nodiscard]] bool assembly_crosses_ranks() const {
+    return a_->rows_cross_ranks() || (pmat_ && pmat_->rows_cross_ranks()) ||
+           (schur_ && schur_->rows_cross_ranks());
+  }
   /// The solver settings in use (solver.type "auto" resolved).
   [[nodiscard]] const la::SaddlePointSettings& settings() const { return settings_; }
 
@@ -146,6 +153,16 @@ class StokesSystem {
       return Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
     }
   };
+  /// `dofs` with those of other ranks replaced by -1 (dropped): the rows
+  /// this rank assembles of an element it shares.
+  template <std::size_t N>
+  [[nodiscard]] std::array<PetscInt, N> row_dofs(const std::array<PetscInt, N>& dofs) const {
+    std::array<PetscInt, N> rows;
+    for (std::size_t k = 0; k < N; ++k) rows[k] = range_.owns(dofs[k]) ? dofs[k] : -1;
+    return rows;
+  }
+  /// Tetrahedron t's dofs (fem::DofMap::element_dofs) as row_dofs.
+  [[nodiscard]] std::array<PetscInt, kTetVelocityDofs + kTetPressureDofs> tet_row_dofs(int t) const;
   /// The object (1-based) of an interface node: its multipliers' region.
   [[nodiscard]] int interface_object_of(int node) const;
   /// Constraint rows of `node` over (u_m, u_d, lambda): s_i [I, -I, -lambda_block].
@@ -168,8 +185,9 @@ class StokesSystem {
   fem::DofMap dofs_;
   fem::TetTabulation tabulation_;
   la::OwnershipRange range_;
-  std::vector<int> owned_tets_;
-  std::vector<int> owned_interface_faces_;
+  /// Elements and interface faces with at least one row on this rank (partition()).
+  std::vector<int> assembled_tets_;
+  std::vector<int> assembled_faces_;
   using InterfaceMatrix = Eigen::Matrix<double, 18, 18>;
   std::unique_ptr<la::CsrMatrix> a_;
   // The iterative method's preconditioning: with slip a whole matrix pmat_

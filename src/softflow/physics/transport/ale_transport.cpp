@@ -119,21 +119,20 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
   check(MatZeroRows(operator_.matrix->get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
                     nullptr, nullptr),
         "MatZeroRows");
-  if (!rows.empty()) {
-    std::vector<std::vector<PetscScalar>> values(n_c, std::vector<PetscScalar>(rows.size()));
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const int d = static_cast<int>(rows[i]);
-      const Eigen::VectorXd g = boundary_values_(mesh.nodes[scalar_.dofs().node_of(d)],
-                                                 scalar_.dofs().region_of(d), t_new);
-      for (int comp = 0; comp < n_c; ++comp) values[comp][i] = g(comp);
-    }
-    for (int comp = 0; comp < n_c; ++comp) {
-      check(VecSetValues(rhs[comp].get(), static_cast<PetscInt>(rows.size()), rows.data(),
-                         values[comp].data(), INSERT_VALUES),
-            "VecSetValues");
-      check(VecAssemblyBegin(rhs[comp].get()), "VecAssemblyBegin");
-      check(VecAssemblyEnd(rhs[comp].get()), "VecAssemblyEnd");
-    }
+  // Every rank assembles (collective), also one that owns no constrained row.
+  std::vector<std::vector<PetscScalar>> values(n_c, std::vector<PetscScalar>(rows.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int d = static_cast<int>(rows[i]);
+    const Eigen::VectorXd g = boundary_values_(mesh.nodes[scalar_.dofs().node_of(d)],
+                                               scalar_.dofs().region_of(d), t_new);
+    for (int comp = 0; comp < n_c; ++comp) values[comp][i] = g(comp);
+  }
+  for (int comp = 0; comp < n_c; ++comp) {
+    check(VecSetValues(rhs[comp].get(), static_cast<PetscInt>(rows.size()), rows.data(),
+                       values[comp].data(), INSERT_VALUES),
+          "VecSetValues");
+    check(VecAssemblyBegin(rhs[comp].get()), "VecAssemblyBegin");
+    check(VecAssemblyEnd(rhs[comp].get()), "VecAssemblyEnd");
   }
 
   // One factorisation, one solve per component.
