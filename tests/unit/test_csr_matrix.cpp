@@ -85,7 +85,7 @@ TEST(CsrMatrix, SumsBlocksAcrossRanksAndEachAssemblyReplacesTheLast) {
   std::uniform_real_distribution<double> value(-1.0, 1.0);
   struct Declared {
     std::vector<PetscInt> rows, columns;
-    la::CsrMatrix::Block block;
+    la::CsrMatrix::Block block = 0;
   };
   std::vector<Declared> mine;
   std::vector<Declared> all;

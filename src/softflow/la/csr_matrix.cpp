@@ -86,16 +86,7 @@ void CsrMatrix::build_pattern(std::vector<PetscInt>& row_start, std::vector<Pets
   // Visits every (owned local row, valid column) pair with repeats: the
   // blocks declared here and the rows other ranks declared for us.
   auto for_each_entry = [&](auto&& visit) {
-    for (const BlockLayout& block : blocks_) {
-      const PetscInt* rows = indices_.data() + block.indices;
-      const PetscInt* block_columns = rows + block.n_rows;
-      for (std::uint32_t i = 0; i < block.n_rows; ++i) {
-        if (!row_range_.owns(rows[i])) continue;
-        const auto local = static_cast<std::size_t>(rows[i] - row_range_.begin);
-        for (std::uint32_t j = 0; j < block.n_columns; ++j)
-          if (block_columns[j] >= 0) visit(local, block_columns[j]);
-      }
-    }
+    for_each_owned_entry(visit);
     for (std::size_t at = 0; at < received_.size(); at += 2 + received_[at + 1]) {
       const auto local = static_cast<std::size_t>(received_[at] - row_range_.begin);
       for (PetscInt k = 0; k < received_[at + 1]; ++k) visit(local, received_[at + 2 + k]);
@@ -176,19 +167,11 @@ void CsrMatrix::create() {
   }
   offsets_.resize(n_offsets);
   std::size_t k = 0;
-  for (const BlockLayout& block : blocks_) {
-    const PetscInt* rows = indices_.data() + block.indices;
-    const PetscInt* block_columns = rows + block.n_rows;
-    for (std::uint32_t i = 0; i < block.n_rows; ++i) {
-      if (!row_range_.owns(rows[i])) continue;
-      const auto local = static_cast<std::size_t>(rows[i] - row_range_.begin);
-      const PetscInt* first = columns.data() + row_start[local];
-      const PetscInt* last = columns.data() + row_start[local + 1];
-      for (std::uint32_t j = 0; j < block.n_columns; ++j)
-        if (block_columns[j] >= 0)
-          offsets_[k++] = static_cast<std::uint16_t>(std::lower_bound(first, last, block_columns[j]) - first);
-    }
-  }
+  for_each_owned_entry([&](std::size_t local, PetscInt column) {
+    const PetscInt* first = columns.data() + row_start[local];
+    const PetscInt* last = columns.data() + row_start[local + 1];
+    offsets_[k++] = static_cast<std::uint16_t>(std::lower_bound(first, last, column) - first);
+  });
   remote_values_.assign(n_remote_values, 0.0);
 }
 

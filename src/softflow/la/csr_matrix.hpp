@@ -130,6 +130,21 @@ class CsrMatrix {
   }
   /// Starts an assembly: takes PETSc's value arrays and zeros them.
   void open();
+  /// Calls visit(local row, column) for every declared entry in an owned
+  /// row and a valid column, in declaration order (offsets_'s order).
+  template <class Visit>
+  void for_each_owned_entry(Visit&& visit) const {
+    for (const BlockLayout& block : blocks_) {
+      const PetscInt* rows = indices_.data() + block.indices;
+      const PetscInt* columns = rows + block.n_rows;
+      for (std::uint32_t i = 0; i < block.n_rows; ++i) {
+        if (!row_range_.owns(rows[i])) continue;
+        const auto local = static_cast<std::size_t>(rows[i] - row_range_.begin);
+        for (std::uint32_t j = 0; j < block.n_columns; ++j)
+          if (columns[j] >= 0) visit(local, columns[j]);
+      }
+    }
+  }
   /// Sends the columns of rows declared here but owned by other ranks to
   /// their owners (received_), who need them in their pattern. Collective.
   void exchange_remote_rows();
