@@ -119,6 +119,11 @@ SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings,
   check(PetscOptionsGetInt(nullptr, settings_.prefix.c_str(), "-lu_reuse_max_its", &reuse, &set),
         "PetscOptionsGetInt");
   if (set) settings_.max_reuse_iterations = static_cast<int>(reuse);
+  // -<prefix>pc_reuse_growth G overrides the iterative method's threshold.
+  PetscReal growth = settings_.max_reuse_growth;
+  check(PetscOptionsGetReal(nullptr, settings_.prefix.c_str(), "-pc_reuse_growth", &growth, &set),
+        "PetscOptionsGetReal");
+  if (set) settings_.max_reuse_growth = static_cast<double>(growth);
 }
 
 void SaddlePointSolver::set_operators(Mat a, Mat pmat, Mat schur) {

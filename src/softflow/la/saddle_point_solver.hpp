@@ -40,7 +40,7 @@ struct SaddlePointSettings {
   /// fieldsplit's sub-matrices, the AMG hierarchy) of an earlier matrix and
   /// rebuild it once a solve needs more than this factor times the fewest
   /// iterations any solve needed since the last rebuild, or fails. 0
-  /// rebuilds at every solve.
+  /// rebuilds at every solve. -<prefix>pc_reuse_growth overrides it.
   double max_reuse_growth = 1.3;
   /// Options prefix: every choice can be overridden from the command line,
   /// e.g. -stokes_ksp_type gmres or -stokes_fieldsplit_velocity_pc_type gamg.
