@@ -72,10 +72,11 @@ double ale_tet_matrix(const element::TetNodes& x, const fem::TetTabulation& tab,
 /// A node on both an interface and the outer boundary (objects never touch
 /// the box, so in principle none) follows the interface.
 ///
-/// Parallel layout as fem::DofMap/StokesSystem: the mesh is
-/// replicated, each rank owns a contiguous range of representative nodes
-/// (balanced by free unknowns) and assembles the tetrahedra whose first
-/// node's representative it owns (la::CsrMatrix, as every operator).
+/// Parallel layout as fem::DofMap: the mesh is replicated, each rank owns
+/// the free unknowns of its node range (fem::rank_node_range) and assembles
+/// the tetrahedra whose first node's representative is in it; their rows of
+/// other ranks reach their owner through la::CsrMatrix (once per rebuild of
+/// the operator).
 class AleMeshMotion {
  public:
   explicit AleMeshMotion(const mesh::Mesh& reference, const AleSettings& settings = {});
