@@ -149,7 +149,7 @@ void StokesSystem::create_matrices() {
     }
     for (int f : assembled_faces_) {
       const auto d = interface_velocity_dofs(f, tension_region(f));
-      const auto rows = row_dofs(d);
+      const auto rows = row_dofs<18>(d);
       const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(d));
       if (record) interface_blocks_.push_back(b);
     }
@@ -162,7 +162,7 @@ void StokesSystem::create_matrices() {
         const auto outside = interface_velocity_dofs(f, 0), inside = interface_velocity_dofs(f, object);
         std::copy(outside.begin(), outside.end(), rows.begin());
         std::copy(inside.begin(), inside.end(), rows.begin() + 18);
-        rows = row_dofs(rows);
+        rows = row_dofs<36>(rows);
         for (int k = 0; k < 6; ++k)
           for (int c = 0; c < 3; ++c)
             columns[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[f][k], object, c);
@@ -258,7 +258,6 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
     const double eta =
         problem.viscosity.at(region) + (has_stress ? viscoelastic.devss_theta(region) : 0.0);
     const auto x = fem::tet_nodes(geometry, t);
-    const auto d = dofs_.element_dofs(t);
     ke.setZero();
     fe.setZero();
     PressureMass mass = PressureMass::Zero();
@@ -311,7 +310,7 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
         }
       }
       const auto d = interface_velocity_dofs(f, tension_region(f));
-      const auto rows = row_dofs(d);  // the other rows are their owner's
+      const auto rows = row_dofs<18>(d);  // the other rows are their owner's
       check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
     }
     a_->set_block(interface_blocks_[i], block);
@@ -652,13 +651,6 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
                                in.contains(prefix + "fewest_iterations")
                                    ? in.get_int(prefix + "fewest_iterations")
                                    : 0);
-}
-
-std::array<PetscInt, kTetVelocityDofs + kTetPressureDofs> StokesSystem::tet_row_dofs(int t) const {
-  const auto d = dofs_.element_dofs(t);
-  std::array<PetscInt, kTetVelocityDofs + kTetPressureDofs> rows;
-  for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = range_.owns(d[k]) ? d[k] : -1;
-  return rows;
 }
 
 std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face, int region) const {

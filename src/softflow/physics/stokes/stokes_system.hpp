@@ -153,16 +153,18 @@ class StokesSystem {
       return Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
     }
   };
-  /// `dofs` with those of other ranks replaced by -1 (dropped): the rows
-  /// this rank assembles of an element it shares.
-  template <std::size_t N>
-  [[nodiscard]] std::array<PetscInt, N> row_dofs(const std::array<PetscInt, N>& dofs) const {
+  /// The N `dofs` with those of other ranks replaced by -1 (dropped): the
+  /// rows this rank assembles of an element it shares.
+  template <std::size_t N, class Dofs>
+  [[nodiscard]] std::array<PetscInt, N> row_dofs(const Dofs& dofs) const {
     std::array<PetscInt, N> rows;
     for (std::size_t k = 0; k < N; ++k) rows[k] = range_.owns(dofs[k]) ? dofs[k] : -1;
     return rows;
   }
   /// Tetrahedron t's dofs (fem::DofMap::element_dofs) as row_dofs.
-  [[nodiscard]] std::array<PetscInt, kTetVelocityDofs + kTetPressureDofs> tet_row_dofs(int t) const;
+  [[nodiscard]] std::array<PetscInt, kTetVelocityDofs + kTetPressureDofs> tet_row_dofs(int t) const {
+    return row_dofs<kTetVelocityDofs + kTetPressureDofs>(dofs_.element_dofs(t));
+  }
   /// The object (1-based) of an interface node: its multipliers' region.
   [[nodiscard]] int interface_object_of(int node) const;
   /// Constraint rows of `node` over (u_m, u_d, lambda): s_i [I, -I, -lambda_block].
