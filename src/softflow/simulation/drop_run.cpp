@@ -521,9 +521,11 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
     const auto begin = Clock::now();
     RunLedger saved = ledger;
     saved.wall_seconds = earlier_wall_seconds + seconds_since(session_start);
+    // Saving is collective (distributed fields gather their values), so every
+    // rank saves; only rank 0 writes.
+    io::Checkpoint c;
+    sim.save(c);
     on_root_sharing_failure([&] {
-      io::Checkpoint c;
-      sim.save(c);
       c.softflow_version = SOFTFLOW_VERSION;
       c.case_toml = io::to_toml(config);
       c.run_json = to_json(saved).dump();
