@@ -9,6 +9,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/element/shape_functions.hpp"
 #include "softflow/la/csr_matrix.hpp"
+#include "softflow/la/vector_values.hpp"
 
 namespace softflow::fem {
 
@@ -113,17 +114,46 @@ void Field::interpolate(
   update_ghosts();
 }
 
-void Field::assign_from(const DofMap& source, int field, std::span<const double> values) {
+void Field::check_source(const DofMap& source, int field) const {
   if (source.field(field).components != components() ||
       source.field(field).space->n_dofs() != space().n_dofs())
     throw SolverError(fmt::format("Field '{}': source field '{}' has another space", name_,
                                   source.field(field).name));
+}
+
+void Field::assign_from(const DofMap& source, int field, std::span<const double> values) {
+  check_source(source, field);
   PetscScalar* a = nullptr;
   check(VecGetArray(vector_.get(), &a), "VecGetArray");
   for (int d = range_.begin; d < range_.end; ++d)
     a[d - range_.begin] = values[source.dof(field, dofs_.node_of(d), dofs_.region_of(d),
                                             dofs_.component_of(d))];
   check(VecRestoreArray(vector_.get(), &a), "VecRestoreArray");
+  update_ghosts();
+}
+
+void Field::assign_from(const DofMap& source, int field, Vec values) {
+  check_source(source, field);
+  PetscInt begin = 0, end = 0;
+  check(VecGetOwnershipRange(values, &begin, &end), "VecGetOwnershipRange");
+  const PetscScalar* from = nullptr;
+  PetscScalar* a = nullptr;
+  check(VecGetArrayRead(values, &from), "VecGetArrayRead");
+  check(VecGetArray(vector_.get(), &a), "VecGetArray");
+  // Both maps number node range by node range (fem::rank_node_range): the
+  // source dof of an owned dof is owned here too, and no value crosses ranks.
+  int misplaced = -1;
+  for (int d = range_.begin; d < range_.end && misplaced < 0; ++d) {
+    const int s = source.dof(field, dofs_.node_of(d), dofs_.region_of(d), dofs_.component_of(d));
+    if (s < begin || s >= end) misplaced = d;
+    else a[d - range_.begin] = from[s - begin];
+  }
+  check(VecRestoreArray(vector_.get(), &a), "VecRestoreArray");
+  check(VecRestoreArrayRead(values, &from), "VecRestoreArrayRead");
+  if (misplaced >= 0)
+    throw SolverError(fmt::format("Field '{}': the source's value of dof {} (node {}) is on "
+                                  "another rank: the two dof maps split the nodes differently",
+                                  name_, misplaced, dofs_.node_of(misplaced)));
   update_ghosts();
 }
 

@@ -83,7 +83,11 @@ class Field {
   /// (e.g. the velocity out of a Stokes solution, every dof on every rank)
   /// and updates ghosts. The space must be the one `source` uses for `field`.
   void assign_from(const DofMap& source, int field, std::span<const double> values);
-  /// Every value, gathered on every rank (checkpoints, small problems). Collective.
+  /// The same from a distributed vector over `source` (e.g. the Stokes
+  /// solution as solved): every value read is this rank's own. Collective.
+  void assign_from(const DofMap& source, int field, Vec values);
+  /// Every value, gathered on every rank (output, checkpoints, small
+  /// problems: counted by la::full_gathers). Collective.
   [[nodiscard]] std::vector<double> gather() const;
   /// Sets every owned value from a full vector (as gather() returns) and updates ghosts.
   void scatter(std::span<const double> all);
@@ -112,6 +116,7 @@ class Field {
 
  private:
   [[nodiscard]] int local_index(int dof) const { return local_index_[dof]; }
+  void check_source(const DofMap& source, int field) const;
 
   const mesh::Mesh& mesh_;
   std::string name_;

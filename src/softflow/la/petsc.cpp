@@ -33,23 +33,6 @@ Vector make_vector(PetscInt n_local, PetscInt n_global) {
   return v;
 }
 
-std::vector<double> gather_to_all(Vec v) {
-  VecScatter scatter = nullptr;
-  Vec all = nullptr;
-  check(VecScatterCreateToAll(v, &scatter, &all), "VecScatterCreateToAll");
-  check(VecScatterBegin(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
-  check(VecScatterEnd(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
-  PetscInt n = 0;
-  check(VecGetSize(all, &n), "VecGetSize");
-  const PetscScalar* a = nullptr;
-  check(VecGetArrayRead(all, &a), "VecGetArrayRead");
-  std::vector<double> out(a, a + n);
-  check(VecRestoreArrayRead(all, &a), "VecRestoreArrayRead");
-  VecScatterDestroy(&scatter);
-  VecDestroy(&all);
-  return out;
-}
-
 IndexSet make_index_set(std::span<const PetscInt> owned_indices, PetscInt block_size) {
   IndexSet is;
   check(ISCreateGeneral(PETSC_COMM_WORLD, static_cast<PetscInt>(owned_indices.size()),

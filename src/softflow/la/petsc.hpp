@@ -65,9 +65,6 @@ int mpi_size(MPI_Comm comm = PETSC_COMM_WORLD);
 /// A distributed vector with the given local size.
 Vector make_vector(PetscInt n_local, PetscInt n_global);
 
-/// Copies a distributed vector to a full std::vector on every rank.
-std::vector<double> gather_to_all(Vec v);
-
 /// An index set of this rank's global indices (sorted, owned).
 IndexSet make_index_set(std::span<const PetscInt> owned_indices, PetscInt block_size = 1);
 

@@ -96,7 +96,7 @@ StepReport DropSimulation::step(double dt) {
   check_solution_finite();
   lap();
   if (viscoelastic_) {
-    viscoelastic_->advance(stokes_->dofs(), solution_, dt, time_, steps_ + 1);
+    viscoelastic_->advance(stokes_->dofs(), solution_.get(), dt, time_, steps_ + 1);
     r.stages.conformation = lap();
   }
   // BDF1's predictor x_hat = x_n (the first step, a step after a jump) estimates nothing.
@@ -182,10 +182,9 @@ StepReport DropSimulation::current_report() const {
 }
 
 void DropSimulation::check_solution_finite() const {
-  const auto bad = std::find_if(solution_.begin(), solution_.end(),
-                                [](double v) { return !std::isfinite(v); });
-  if (bad == solution_.end()) return;
-  const int dof = static_cast<int>(bad - solution_.begin());
+  const auto bad = la::first_non_finite(solution_.get());
+  if (!bad) return;
+  const int dof = static_cast<int>(bad->first);
   const auto& dofs = stokes_->dofs();
   const int node = dofs.node_of(dof);
   const int region = dofs.region_of(dof);
@@ -197,7 +196,7 @@ void DropSimulation::check_solution_finite() const {
       "[solver] and the PETSc options), a time step too large for the surface tension (with "
       "interface.semi_implicit_tension = false) or a tangled mesh: try the default solver, a "
       "smaller time.step or a finer mesh",
-      steps_ + 1, time_, *bad, field, node,
+      steps_ + 1, time_, bad->second, field, node,
       region == 0 ? std::string("in the matrix") : fmt::format("in object {}", region), x.x(),
       x.y(), x.z()));
 }
@@ -275,7 +274,7 @@ void DropSimulation::add_field(fem::Field& field) {
 }
 
 std::vector<io::FieldData> DropSimulation::output_fields() const {
-  std::vector<io::FieldData> out{{&stokes_->dofs(), solution_}};
+  std::vector<io::FieldData> out{{&stokes_->dofs(), solution()}};
   for (const fem::Field* f : added_fields_) out.push_back({&f->dofs(), f->gather()});
   return out;
 }
@@ -289,7 +288,7 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   r.set(p + "nodes", mesh_.nodes);
   r.set(p + "previous_nodes", previous_nodes_);
   r.set(p + "mesh_velocity", mesh_velocity_);
-  r.set(p + "solution", solution_);
+  r.set(p + "solution", solution());
   r.set(p + "ale_reference_nodes", reference_nodes_);
   r.set(p + "ale_rebuilt_at_quality", ale_rebuilt_at_quality_);
   r.set(p + "ale_rebuilds", ale_rebuilds_);
@@ -319,7 +318,13 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
   previous_nodes_ = std::move(previous);
   mesh_velocity_ = velocity.empty() ? std::vector<mesh::Point>(n, mesh::Point::Zero())
                                     : std::move(velocity);
-  solution_ = solution;
+  if (solution.empty()) {
+    solution_.reset();
+  } else {
+    la::Vector restored = la::make_vector(stokes_->ownership().size(), stokes_->dofs().n_dofs());
+    la::scatter_from_all(restored.get(), solution);
+    set_solution(std::move(restored));
+  }
   last_quality_ = mesh::min_quality(mesh_);
   ale_rebuilt_at_quality_ = r.get_double(p + "ale_rebuilt_at_quality");
   ale_rebuilds_ = r.get_int(p + "ale_rebuilds");
@@ -466,8 +471,37 @@ Vec3 DropSimulation::interface_velocity(int node, int object) const {
   const auto& dofs = stokes_->dofs();
   const int m = dofs.dof(physics::kVelocityField, node, 0);
   const int d = dofs.dof(physics::kVelocityField, node, object);
-  return 0.5 * (Vec3(solution_[m], solution_[m + 1], solution_[m + 2]) +
-                Vec3(solution_[d], solution_[d + 1], solution_[d + 2]));
+  const auto& u = interface_values_;
+  return 0.5 * (Vec3(u[m], u[m + 1], u[m + 2]) + Vec3(u[d], u[d + 1], u[d + 2]));
+}
+
+std::vector<PetscInt> DropSimulation::interface_dofs() const {
+  const auto& dofs = stokes_->dofs();
+  std::vector<PetscInt> out;
+  for (std::size_t f = 0; f < mesh_.interface_faces.size(); ++f) {
+    const int object = mesh_.interface_object[f];
+    for (int node : mesh_.interface_faces[f])
+      for (int c = 0; c < 3; ++c) {
+        out.push_back(dofs.dof(physics::kVelocityField, node, 0, c));
+        out.push_back(dofs.dof(physics::kVelocityField, node, object, c));
+        if (stokes_->interface_slip())
+          out.push_back(dofs.dof(physics::kMultiplierField, node, object, c));
+      }
+  }
+  return out;
+}
+
+void DropSimulation::set_solution(la::Vector solution) {
+  solution_ = std::move(solution);
+  if (mesh_.interface_faces.empty()) return;  // no objects: nothing reads it
+  // Built once: the dofs never change (the mesh moves, it is not remeshed).
+  if (interface_values_.empty())
+    interface_values_ = la::SelectedEntries(solution_.get(), interface_dofs());
+  interface_values_.read(solution_.get());
+}
+
+std::vector<double> DropSimulation::solution() const {
+  return solution_ ? la::gather_to_all(solution_.get()) : std::vector<double>{};
 }
 
 physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
@@ -504,8 +538,8 @@ int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, do
   physics::StokesProblem problem = stokes_problem(config_, mesh_, time_);
   problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
   if (viscoelastic_) problem.viscoelastic = viscoelastic_->coupling(mesh_velocity_, dt);
-  auto result = stokes_->solve(problem);
-  solution_ = std::move(result.solution);
+  auto result = stokes_->solve(problem, physics::SolutionLayout::distributed);
+  set_solution(std::move(result.distributed));
   stages.stokes_assembly = result.assembly_seconds;
   stages.stokes_solve = result.solve.seconds;
   return result.solve.iterations;
@@ -548,8 +582,9 @@ ObjectState DropSimulation::measure(int k, const Vec3& centre_velocity) const {
 
 std::vector<physics::SlipMeasures> DropSimulation::measure_slips() const {
   if (!stokes_->interface_slip()) return {};
-  if (solution_.empty()) return std::vector<physics::SlipMeasures>(mesh_.n_objects);  // t = 0
-  return physics::slip_measures(mesh_, stokes_->dofs(), solution_);
+  if (!solution_) return std::vector<physics::SlipMeasures>(mesh_.n_objects);  // t = 0
+  return physics::slip_measures(mesh_, stokes_->dofs(),
+                                [this](int dof) { return interface_values_[dof]; });
 }
 
 std::vector<RegionStress> DropSimulation::measure_stresses() const {

@@ -13,6 +13,7 @@
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/io/vtu_writer.hpp"
+#include "softflow/la/vector_values.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/mesh/node_relocation.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
@@ -139,7 +140,11 @@ class DropSimulation {
 
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   [[nodiscard]] const physics::StokesSystem& stokes() const { return *stokes_; }
-  [[nodiscard]] const std::vector<double>& solution() const { return solution_; }
+  /// The last Stokes solution as solved: this rank's rows (null before the first step).
+  [[nodiscard]] Vec distributed_solution() const { return solution_.get(); }
+  /// The same, every dof on every rank (empty before the first step).
+  /// Collective; for analysis and tests: no stage of a step needs it.
+  [[nodiscard]] std::vector<double> solution() const;
   /// u_m at every geometry node over the last step (BDF1, then BDF2; zero before any step).
   [[nodiscard]] const std::vector<mesh::Point>& mesh_velocity() const { return mesh_velocity_; }
   [[nodiscard]] double time() const { return time_; }
@@ -188,6 +193,11 @@ class DropSimulation {
   [[nodiscard]] std::vector<physics::SlipMeasures> measure_slips() const;
   [[nodiscard]] std::vector<RegionStress> measure_stresses() const;
   void check_solution_finite() const;
+  /// The global Stokes dofs the interface stages read (interface_values_):
+  /// both velocity copies, and with slip the multipliers, of every interface node.
+  [[nodiscard]] std::vector<PetscInt> interface_dofs() const;
+  /// Takes `solution` as the current one and copies its interface dofs here. Collective.
+  void set_solution(la::Vector solution);
   void register_state();
   void save_time_loop(StateRecord& record, const std::string& prefix) const;
   void restore_time_loop(const StateRecord& record, const std::string& prefix);
@@ -206,7 +216,11 @@ class DropSimulation {
   std::unique_ptr<physics::AleMeshMotion> ale_;
   std::vector<physics::InterfaceTracker> trackers_;
   std::unique_ptr<ViscoelasticPhases> viscoelastic_;
-  std::vector<double> solution_;
+  // The Stokes solution stays distributed; the trackers, the semi-implicit
+  // tension and the slip measures read the interface dofs, copied to every
+  // rank after each solve (interface_values_).
+  la::Vector solution_;
+  la::SelectedEntries interface_values_;
   std::vector<physics::Vec3> last_centre_velocity_;
   std::vector<double> initial_volumes_;
   double last_quality_ = 1.0;  // minimum element quality of the current mesh

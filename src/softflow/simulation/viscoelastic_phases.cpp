@@ -83,7 +83,7 @@ physics::ViscoelasticCoupling ViscoelasticPhases::coupling(
   return coupling;
 }
 
-void ViscoelasticPhases::advance(const fem::DofMap& stokes_dofs, std::span<const double> solution,
+void ViscoelasticPhases::advance(const fem::DofMap& stokes_dofs, Vec solution,
                                  double dt, double t_new, int step) {
   velocity_.assign_from(stokes_dofs, physics::kVelocityField, solution);
   // s_n too: a restored state may carry what a run never would, and the

@@ -66,10 +66,10 @@ class ViscoelasticPhases {
   [[nodiscard]] physics::ViscoelasticCoupling coupling(std::span<const mesh::Point> mesh_velocity,
                                                        double dt);
   /// After the Stokes solve of step `step` to time t_new: transports s with
-  /// the new velocity (`solution` over `stokes_dofs`) and updates c, tau
+  /// the new velocity (`solution`, distributed over `stokes_dofs`) and updates c, tau
   /// and G. Throws SolverError naming the step, time, region, node and
   /// position if s is not finite. Collective.
-  void advance(const fem::DofMap& stokes_dofs, std::span<const double> solution, double dt,
+  void advance(const fem::DofMap& stokes_dofs, Vec solution, double dt,
                double t_new, int step);
 
   /// After a jump of the flow at t_n (physics::WallMotion::jumps_at): the

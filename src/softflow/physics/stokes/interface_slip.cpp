@@ -32,6 +32,11 @@ std::vector<double> interface_node_scale(const mesh::Mesh& geometry) {
 
 std::vector<SlipMeasures> slip_measures(const mesh::Mesh& geometry, const fem::DofMap& dofs,
                                         std::span<const double> solution) {
+  return slip_measures(geometry, dofs, [solution](int dof) { return solution[dof]; });
+}
+
+std::vector<SlipMeasures> slip_measures(const mesh::Mesh& geometry, const fem::DofMap& dofs,
+                                        const std::function<double(int dof)>& value) {
   std::vector<SlipMeasures> out(geometry.n_objects);
   std::vector<double> max_nodal(geometry.n_objects, 0.0);
   static const element::QuadratureRule rule = element::triangle_rule(5);
@@ -43,9 +48,9 @@ std::vector<SlipMeasures> slip_measures(const mesh::Mesh& geometry, const fem::D
     Eigen::Matrix<double, 3, 6> jump, lambda;
     for (int a = 0; a < 6; ++a)
       for (int c = 0; c < 3; ++c) {
-        jump(c, a) = solution[dofs.dof(kVelocityField, tri[a], 0, c)] -
-                     solution[dofs.dof(kVelocityField, tri[a], object, c)];
-        lambda(c, a) = solution[dofs.dof(kMultiplierField, tri[a], object, c)];
+        jump(c, a) = value(dofs.dof(kVelocityField, tri[a], 0, c)) -
+                     value(dofs.dof(kVelocityField, tri[a], object, c));
+        lambda(c, a) = value(dofs.dof(kMultiplierField, tri[a], object, c));
       }
     const auto x = fem::triangle_nodes(geometry, tri);
     for (int q = 0; q < rule.size(); ++q) {

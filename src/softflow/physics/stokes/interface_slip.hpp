@@ -2,6 +2,7 @@
 // collocated Lagrange multipliers (thesis §2.3.1, eqs. 2.17-2.18).
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -63,5 +64,10 @@ struct SlipMeasures {
 /// multipliers).
 std::vector<SlipMeasures> slip_measures(const mesh::Mesh& geometry, const fem::DofMap& dofs,
                                         std::span<const double> solution);
+/// The same reading only the interface dofs through `value(dof)`: the
+/// velocity copies and multipliers of interface nodes (e.g. a
+/// la::SelectedEntries of a distributed solution).
+std::vector<SlipMeasures> slip_measures(const mesh::Mesh& geometry, const fem::DofMap& dofs,
+                                        const std::function<double(int dof)>& value);
 
 }  // namespace softflow::physics

@@ -10,6 +10,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/common/state.hpp"
 #include "softflow/fem/field.hpp"
+#include "softflow/la/vector_values.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
 #include "softflow/physics/stokes/viscoelastic_terms.hpp"
@@ -378,7 +379,7 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
   }
 }
 
-StokesResult StokesSystem::solve(const StokesProblem& problem) {
+StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout layout) {
   if (problem.semi_implicit_tension.active() &&
       (static_cast<int>(problem.semi_implicit_tension.node_normal.size()) < mesh_.n_nodes() ||
        static_cast<int>(problem.semi_implicit_tension.predicted_normal_velocity.size()) <
@@ -392,15 +393,17 @@ StokesResult StokesSystem::solve(const StokesProblem& problem) {
     throw SolverError(fmt::format("StokesProblem: {} viscosities for {} regions",
                                   problem.viscosity.size(), mesh_.n_objects + 1));
   const auto start = std::chrono::steady_clock::now();
-  auto [rhs, x] = assemble_system(mesh_, problem, previous_solution_);
+  auto [rhs, x] = assemble_system(mesh_, problem, previous_solution_.get());
   StokesResult result;
   result.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const int setups = solver_->n_setups();
-  result.solve = solver_->solve(rhs.get(), x.get(), !previous_solution_.empty());
+  result.solve = solver_->solve(rhs.get(), x.get(), static_cast<bool>(previous_solution_));
   if (solver_->n_setups() > setups) record_factorization(problem);
-  result.solution = la::gather_to_all(x.get());
-  previous_solution_ = result.solution;
+  if (!previous_solution_) check(VecDuplicate(x.get(), previous_solution_.out()), "VecDuplicate");
+  check(VecCopy(x.get(), previous_solution_.get()), "VecCopy");
+  if (layout == SolutionLayout::gathered) result.solution = la::gather_to_all(x.get());
+  result.distributed = std::move(x);
   return result;
 }
 
@@ -416,7 +419,7 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   if (const auto& ve = problem.viscoelastic; ve.active()) {
     r.problem.viscoelastic.models = ve.models;
     r.problem.viscoelastic.dt = ve.dt;
-    r.conformation = ve.conformation->gather();
+    r.conformation = la::owned_values(ve.conformation->vector());
     r.devss = ve.velocity_gradient != nullptr;
   }
   if (!analysis_) analysis_ = r;
@@ -508,18 +511,13 @@ void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
 }
 
 std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(
-    const mesh::Mesh& geometry, const StokesProblem& problem, const std::vector<double>& guess) {
+    const mesh::Mesh& geometry, const StokesProblem& problem, Vec guess) {
   la::Vector rhs = la::make_vector(range_.size(), dofs_.n_dofs());
   la::Vector x = la::make_vector(range_.size(), dofs_.n_dofs());
   check(VecSet(rhs.get(), 0.0), "VecSet");
-  if (guess.empty()) {
-    check(VecSet(x.get(), 0.0), "VecSet");
-  } else {  // the owned part; apply_dirichlet then puts the boundary values in
-    PetscScalar* values = nullptr;
-    check(VecGetArray(x.get(), &values), "VecGetArray");
-    std::copy(guess.begin() + range_.begin, guess.begin() + range_.end, values);
-    check(VecRestoreArray(x.get(), &values), "VecRestoreArray");
-  }
+  // apply_dirichlet then puts the boundary values in.
+  if (guess) check(VecCopy(guess, x.get()), "VecCopy");
+  else check(VecSet(x.get(), 0.0), "VecSet");
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
   solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr,
@@ -537,19 +535,27 @@ void StokesSystem::factor(const MatrixRecord& record) {
   // (its theta); the loads (u_m, G_n) do not matter here: zero fields.
   std::optional<fem::Field> conformation, velocity_gradient;
   if (!record.conformation.empty()) {
-    // The space of every conformation field: P1, one copy per region.
-    const auto space = std::make_shared<fem::Space>(mesh_, 1, fem::Continuity::per_region);
-    conformation.emplace(mesh_, "conformation", space, 6);
-    conformation->scatter(record.conformation);
+    conformation.emplace(conformation_field(record.conformation));
     problem.viscoelastic.conformation = &*conformation;
     if (record.devss) {
-      velocity_gradient.emplace(mesh_, "velocity_gradient", space,
+      velocity_gradient.emplace(mesh_, "velocity_gradient", conformation->dofs().field(0).space,
                                 kVelocityGradientComponents);
       problem.viscoelastic.velocity_gradient = &*velocity_gradient;
     }
   }
   assemble_system(geometry, problem);  // the matrix is what counts; the vectors go
   solver_->set_up();
+}
+
+fem::Field StokesSystem::conformation_field(const std::vector<double>& owned_values) const {
+  // The space of every conformation field: P1, one copy per region.
+  const auto space = std::make_shared<fem::Space>(mesh_, 1, fem::Continuity::per_region);
+  fem::Field conformation(mesh_, "conformation", space, 6);
+  if (!owned_values.empty()) {  // else zero
+    la::set_owned_values(conformation.vector(), owned_values);
+    conformation.update_ghosts();
+  }
+  return conformation;
 }
 
 StatePart StokesSystem::state_part() {
@@ -583,7 +589,8 @@ void save_matrix_record(StateRecord& out, const std::string& prefix,
 void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const {
   // The next solve's initial guess: a restarted run iterates from the same
   // vector as an uninterrupted one.
-  out.set(prefix + "initial_guess", previous_solution_);
+  out.set(prefix + "initial_guess", previous_solution_ ? la::gather_to_all(previous_solution_.get())
+                                                      : std::vector<double>{});
   out.set(prefix + "refactor_next", solver_->refactor_next());
   out.set(prefix + "n_factorizations", solver_->n_setups());
   out.set(prefix + "fewest_iterations", solver_->fewest_iterations());
@@ -591,19 +598,28 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
   if (!factors_) return;
   for (const auto& [name, record] : {std::pair{"analysis/", &*analysis_}, {"factors/", &*factors_}}) {
     save_matrix_record(out, prefix + name, record->nodes, record->problem);
-    out.set(prefix + name + "conformation", record->conformation);
+    // Every rank's values, in the field's global numbering, whatever the
+    // number of ranks of the run that restarts.
+    out.set(prefix + name + "conformation",
+            record->conformation.empty()
+                ? std::vector<double>{}
+                : conformation_field(record->conformation).gather());
     out.set(prefix + name + "devss", record->devss);
   }
 }
 
 void StokesSystem::restore_state(const StateRecord& in, const std::string& prefix) {
   // Checkpoints from before the guess was kept: the next solve starts from zero.
-  previous_solution_.clear();
+  previous_solution_.reset();
   if (in.contains(prefix + "initial_guess")) {
-    previous_solution_ = in.get_array(prefix + "initial_guess");
-    if (!previous_solution_.empty() && static_cast<PetscInt>(previous_solution_.size()) != dofs_.n_dofs())
+    const auto& guess = in.get_array(prefix + "initial_guess");
+    if (!guess.empty() && static_cast<PetscInt>(guess.size()) != dofs_.n_dofs())
       throw InputError(fmt::format("the saved state's {}initial_guess has {} values for {} unknowns",
-                                   prefix, previous_solution_.size(), dofs_.n_dofs()));
+                                   prefix, guess.size(), dofs_.n_dofs()));
+    if (!guess.empty()) {
+      previous_solution_ = la::make_vector(range_.size(), dofs_.n_dofs());
+      la::scatter_from_all(previous_solution_.get(), guess);
+    }
   }
   // Either method rebuilds the preconditioner an uninterrupted run would
   // still be using (the direct method's factors, the iterative method's
@@ -629,7 +645,14 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
             static_cast<viscoelastic::ConstitutiveModel>(std::lround(models[i])), models[i + 1],
             models[i + 2], models[i + 3], models[i + 4]));
       r.problem.viscoelastic.dt = in.get_double(p + "viscoelastic_dt");
-      r.conformation = in.get_array(p + "conformation");
+      const auto& conformation = in.get_array(p + "conformation");
+      if (!conformation.empty()) {
+        fem::Field field = conformation_field({});
+        if (static_cast<int>(conformation.size()) != field.dofs().n_dofs())
+          throw InputError(fmt::format("the saved state's {}conformation does not fit the mesh", p));
+        field.scatter(conformation);
+        r.conformation = la::owned_values(field.vector());
+      }
       r.devss = in.get_bool(p + "devss");
       return r;
     };
@@ -638,10 +661,14 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
     analysis_ = read(prefix + "analysis/");
     factors_ = read(prefix + "factors/");
     if (settings_.method == la::SaddlePointMethod::direct) factor(*analysis_);
+    // Each rank holds its own part of the conformation: whether the two
+    // differ anywhere is agreed on, so that every rank factors or none.
+    int conformation_differs = factors_->conformation != analysis_->conformation ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &conformation_differs, 1, MPI_INT, MPI_LOR, PETSC_COMM_WORLD);
     if (settings_.method != la::SaddlePointMethod::direct || factors_->nodes != analysis_->nodes ||
         factors_->problem.semi_implicit_tension.theta_dt !=
             analysis_->problem.semi_implicit_tension.theta_dt ||
-        factors_->conformation != analysis_->conformation || factors_->devss != analysis_->devss ||
+        conformation_differs || factors_->devss != analysis_->devss ||
         factors_->problem.slip.coefficient != analysis_->problem.slip.coefficient)
       factor(*factors_);
   }

@@ -33,8 +33,15 @@ inline constexpr int kPressureField = 1;
 /// (kVelocityField) and "pressure" (kPressureField).
 fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool interface_slip);
 
+/// Where a solve leaves its solution: distributed only (a time loop, whose
+/// stages read what they need of it), or also gathered on every rank (one
+/// solve's analysis and output, tests).
+enum class SolutionLayout { distributed, gathered };
+
 struct StokesResult {
-  /// Every dof of the Stokes dof map, gathered on every rank.
+  /// This rank's rows of the Stokes dof map (its ownership()), as solved.
+  la::Vector distributed;
+  /// Every dof, on every rank: with SolutionLayout::gathered only, else empty.
   std::vector<double> solution;
   la::SolveReport solve;
   double assembly_seconds = 0.0;
@@ -81,7 +88,8 @@ class StokesSystem {
   [[nodiscard]] la::SaddlePointSolver& solver() { return *solver_; }
 
   /// Assembles the problem on the current mesh and solves it.
-  StokesResult solve(const StokesProblem& problem);
+  StokesResult solve(const StokesProblem& problem,
+                     SolutionLayout layout = SolutionLayout::gathered);
   /// Whether assembling sends matrix rows to other ranks (it does not:
   /// each rank assembles its own rows of every element it shares).
   [[nodiscard]] bool assembly_crosses_ranks() const {
@@ -108,8 +116,9 @@ class StokesSystem {
   struct MatrixRecord {
     std::vector<mesh::Point> nodes;
     StokesProblem problem;  ///< without loads: body force, boundary values, w unused
-    /// The viscoelastic coupling's conformation c_n (gathered; empty if
-    /// inactive) and whether its DEVSS-G term was on: the matrix reads both.
+    /// The viscoelastic coupling's conformation c_n (this rank's values of
+    /// the field; empty if inactive) and whether its DEVSS-G term was on:
+    /// the matrix reads both.
     std::vector<double> conformation;
     bool devss = false;
   };
@@ -133,10 +142,13 @@ class StokesSystem {
   /// Assembly, Dirichlet elimination and operators handed to the solver:
   /// the system ready to solve, as (right-hand side, initial guess with the
   /// boundary values).
-  /// `guess` (global, may be empty = zero) fills x's free entries.
+  /// `guess` (distributed like x; null = zero) fills x's free entries.
   std::pair<la::Vector, la::Vector> assemble_system(const mesh::Mesh& geometry,
                                                     const StokesProblem& problem,
-                                                    const std::vector<double>& guess = {});
+                                                    Vec guess = nullptr);
+  /// The conformation's record (MatrixRecord::conformation) as a field of
+  /// this mesh, for assembling the matrix it was part of.
+  [[nodiscard]] fem::Field conformation_field(const std::vector<double>& owned_values) const;
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
   /// The 18 velocity unknowns of interface triangle `face` on the side of
   /// `region` (the same for both with a continuous velocity).
@@ -204,10 +216,11 @@ class StokesSystem {
   std::vector<la::CsrMatrix::Block> slip_penalty_blocks_;  // pmat_ only
   std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
-  /// The last solution (global): the next solve's initial guess. The dofs
-  /// never change (the mesh moves, it is not remeshed), and a step changes
-  /// the solution by O(dt): a few Krylov iterations fewer per step.
-  std::vector<double> previous_solution_;
+  /// The last solution (distributed; null before the first solve): the
+  /// next solve's initial guess. The dofs never change (the mesh moves, it
+  /// is not remeshed), and a step changes the solution by O(dt): a few
+  /// Krylov iterations fewer per step.
+  la::Vector previous_solution_;
   std::optional<MatrixRecord> analysis_, factors_;  // analysis_: the direct method's
 };
 
