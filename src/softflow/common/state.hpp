@@ -17,6 +17,14 @@ namespace softflow {
 /// writes every entry, whatever its owner, without per-entry code.
 class StateRecord {
  public:
+  /// Whose values the record holds. A checkpoint's are the whole run's:
+  /// distributed data is gathered, so a run on any number of ranks reads it
+  /// back. A snapshot that never leaves the process (a step taken back) holds
+  /// this rank's own part of distributed data: nothing crosses ranks.
+  enum class Scope { whole_run, this_rank };
+  explicit StateRecord(Scope scope = Scope::whole_run) : scope_(scope) {}
+  [[nodiscard]] Scope scope() const { return scope_; }
+
   enum class Kind { integer, real, array };
   struct Entry {
     Kind kind = Kind::real;
@@ -46,6 +54,7 @@ class StateRecord {
  private:
   [[nodiscard]] const Entry& find(const std::string& key, Kind kind) const;
   std::map<std::string, Entry> entries_;
+  Scope scope_ = Scope::whole_run;
 };
 
 /// One part of a run that saves and restores its own state under a prefix

@@ -270,16 +270,19 @@ ElementMatrix element_matrix(const Field& field) {
   return m;
 }
 
+void Field::save(StateRecord& record, const std::string& key, int columns) const {
+  la::save_vector(record, key, vector_.get(), columns);
+}
+
+void Field::restore(const StateRecord& record, const std::string& key, int columns) {
+  la::restore_vector(record, key, vector_.get(), fmt::format("field '{}'", name_), columns);
+  update_ghosts();
+}
+
 StatePart state_part(Field& field) {
   return {"fields/" + field.name(),
-          [&field](StateRecord& r, const std::string& p) { r.set(p + "values", field.gather()); },
-          [&field](const StateRecord& r, const std::string& p) {
-            const auto& values = r.get_array(p + "values");
-            if (static_cast<int>(values.size()) != field.dofs().n_dofs())
-              throw InputError(fmt::format("the saved field '{}' has {} values, the field {}",
-                                           field.name(), values.size(), field.dofs().n_dofs()));
-            field.scatter(values);
-          }};
+          [&field](StateRecord& r, const std::string& p) { field.save(r, p + "values"); },
+          [&field](const StateRecord& r, const std::string& p) { field.restore(r, p + "values"); }};
 }
 
 void l2_project(const std::function<Eigen::VectorXd(const QuadraturePoint&)>& f, Field& target,

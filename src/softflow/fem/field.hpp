@@ -91,6 +91,11 @@ class Field {
   [[nodiscard]] std::vector<double> gather() const;
   /// Sets every owned value from a full vector (as gather() returns) and updates ghosts.
   void scatter(std::span<const double> all);
+  /// The values as one record entry (la::save_vector: gathered for a
+  /// checkpoint, this rank's for a step snapshot), and back; `columns`
+  /// only shapes the entry. Collective.
+  void save(StateRecord& record, const std::string& key, int columns = 1) const;
+  void restore(const StateRecord& record, const std::string& key, int columns = 1);
 
   /// Coefficients of element `tet` (n_element_nodes x components, node-major).
   [[nodiscard]] Eigen::VectorXd element_coefficients(int tet) const;
@@ -138,8 +143,8 @@ struct ElementMatrix {
 };
 [[nodiscard]] ElementMatrix element_matrix(const Field& field);
 
-/// The field as a part of a run's state ("fields/<name>"): every value,
-/// gathered; restored by scatter() after checking the size. Collective.
+/// The field as a part of a run's state ("fields/<name>"): Field::save and
+/// Field::restore. Collective.
 StatePart state_part(Field& field);
 
 /// Solves `ksp` (an operator on `scalar`'s dofs: target's space, one

@@ -69,6 +69,26 @@ void set_owned_values(Vec v, std::span<const double> values) {
   check(VecRestoreArray(v, &a), "VecRestoreArray");
 }
 
+void save_vector(StateRecord& record, const std::string& key, Vec v, int columns) {
+  record.set(key,
+             record.scope() == StateRecord::Scope::whole_run ? gather_to_all(v) : owned_values(v),
+             columns);
+}
+
+void restore_vector(const StateRecord& record, const std::string& key, Vec v,
+                    const std::string& what, int columns) {
+  const auto& values = record.get_array(key, columns);
+  PetscInt n = 0;
+  const bool whole = record.scope() == StateRecord::Scope::whole_run;
+  check(whole ? VecGetSize(v, &n) : VecGetLocalSize(v, &n), "VecGetSize");
+  if (static_cast<PetscInt>(values.size()) != n)
+    throw InputError(fmt::format("the saved {} has {} values, {} expected", what, values.size(), n));
+  if (whole)
+    scatter_from_all(v, values);
+  else
+    set_owned_values(v, values);
+}
+
 SelectedEntries::SelectedEntries(Vec layout, std::vector<PetscInt> indices)
     : indices_(std::move(indices)) {
   std::sort(indices_.begin(), indices_.end());

@@ -4,9 +4,11 @@
 
 #include <optional>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "softflow/common/state.hpp"
 #include "softflow/la/petsc.hpp"
 
 namespace softflow::la {
@@ -27,6 +29,15 @@ void scatter_from_all(Vec v, std::span<const double> all);
 /// a copy of a vector's state that never leaves the rank.
 std::vector<double> owned_values(Vec v);
 void set_owned_values(Vec v, std::span<const double> values);
+
+/// A distributed vector as a record entry: every entry (gathered, in global
+/// order) in a whole-run record, this rank's entries in a this-rank one
+/// (StateRecord::Scope). Collective for a whole-run record.
+void save_vector(StateRecord& record, const std::string& key, Vec v, int columns = 1);
+/// Reads it back into `v` (laid out as when saved, for a this-rank record);
+/// throws InputError naming `what` if the sizes differ.
+void restore_vector(const StateRecord& record, const std::string& key, Vec v,
+                    const std::string& what, int columns = 1);
 
 /// The entries of chosen global indices of distributed vectors of one
 /// layout, copied to this rank: e.g. the interface velocities the trackers

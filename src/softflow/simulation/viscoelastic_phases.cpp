@@ -211,15 +211,12 @@ std::vector<fem::Field*> ViscoelasticPhases::output_fields() {
 StatePart ViscoelasticPhases::state_part() {
   auto save = [this](StateRecord& r, const std::string& p) {
     transport_->state_part().save(r, p + "transport/");
-    r.set(p + "velocity_gradient", gradient_.gather(), gradient_.components());
+    gradient_.save(r, p + "velocity_gradient", gradient_.components());
     r.set(p + "gradient_steps", gradient_steps_);
   };
   auto restore = [this](const StateRecord& r, const std::string& p) {
     transport_->state_part().restore(r, p + "transport/");
-    const auto& values = r.get_array(p + "velocity_gradient", gradient_.components());
-    if (static_cast<int>(values.size()) != gradient_.dofs().n_dofs())
-      throw InputError("the saved velocity_gradient does not fit the mesh");
-    gradient_.scatter(values);
+    gradient_.restore(r, p + "velocity_gradient", gradient_.components());
     gradient_steps_ = r.get_int(p + "gradient_steps");
   };
   return {"viscoelastic", save, restore};

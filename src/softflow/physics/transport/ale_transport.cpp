@@ -151,14 +151,10 @@ StatePart AleTransport::state_part() {
           [this](StateRecord& r, const std::string& p) {
             r.set(p + "steps", steps_);
             r.set(p + "last_step", last_dt_);
-            r.set(p + "previous", previous_.gather());
+            previous_.save(r, p + "previous");
           },
           [this](const StateRecord& r, const std::string& p) {
-            const auto& values = r.get_array(p + "previous");
-            if (static_cast<int>(values.size()) != previous_.dofs().n_dofs())
-              throw InputError(fmt::format("the saved transport history of '{}' does not fit",
-                                           s_.name()));
-            previous_.scatter(values);
+            previous_.restore(r, p + "previous");
             steps_ = r.get_int(p + "steps");
             // Checkpoints from before variable steps: unknown (0), taken as
             // the next step's size (step()).
