@@ -63,7 +63,7 @@ TEST(InterfaceSlip, WithTensionTheBalanceIncludesTheTensionWork) {
 }
 
 TEST(InterfaceSlip, IterativeSolverAgreesWithTheDirectOne) {
-  // FGMRES + Schur fieldsplit with the multipliers beside the pressure
+  // GMRES + Schur fieldsplit with the multipliers beside the pressure
   // (their Schur complement estimated from A's diagonal): the same solution.
   for (double lambda : {0.1, 10.0}) {
     const auto direct = slip_drop_in_shear(lambda, 1.0, 0.5, 16);

@@ -242,7 +242,7 @@ Table<CaseConfig> solver_table() {
                     "direct up to 150000 unknowns, iterative above (LU memory: 3.5 GB at 124k, "
                     "19 GB at 366k unknowns)"},
                    {"direct", SolverType::direct, "LU (MUMPS)"},
-                   {"iterative", SolverType::iterative, "FGMRES with a Schur-complement fieldsplit"}},
+                   {"iterative", SolverType::iterative, "GMRES with a Schur-complement fieldsplit"}},
                   "how the saddle-point system is solved"),
            number("rtol", field(&CaseConfig::rtol), 1e-8, Range::open(0, 1),
                   "relative residual tolerance of the iterative solver"),

@@ -39,7 +39,15 @@ void configure_iterative(const SaddlePointSettings& s, KSP ksp,
   // Schur factorisation, Schur complement approximated by the scaled
   // pressure mass matrix (the A11 block of the preconditioning matrix),
   // BoomerAMG tuned for 3D P2 velocity blocks, Jacobi on the pressure mass.
-  check(KSPSetType(ksp, KSPFGMRES), "KSPSetType");
+  // GMRES preconditioned on the right: the preconditioner (preonly blocks,
+  // one AMG V-cycle) is a fixed linear operator, so flexible GMRES's second
+  // basis is not needed; same iterations, one vector per iteration instead
+  // of two (measured at 152k: 60 iterations either way, 937 -> 864 MB).
+  // An inner Krylov solver set from the command line makes it nonlinear:
+  // then -stokes_ksp_type fgmres. No restart below 200 iterations (at 30,
+  // 60 iterations became 82).
+  check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+  check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");
   check(KSPGMRESSetRestart(ksp, 200), "KSPGMRESSetRestart");
   PC pc = nullptr;
   check(KSPGetPC(ksp, &pc), "KSPGetPC");

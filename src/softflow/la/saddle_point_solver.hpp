@@ -14,7 +14,7 @@ enum class SaddlePointMethod {
   /// is made, since only it knows the size.
   automatic,
   direct,     ///< MUMPS LU (exact; practical up to ~150k unknowns, PLATFORM.md)
-  iterative,  ///< FGMRES + lower Schur fieldsplit, BoomerAMG on velocity
+  iterative,  ///< GMRES (right) + lower Schur fieldsplit, BoomerAMG on velocity
 };
 
 /// Above this many unknowns SaddlePointMethod::automatic solves iteratively:

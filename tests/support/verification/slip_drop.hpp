@@ -30,7 +30,7 @@ struct SlipDropResult {
 /// gamma) in a box [-3, 3]^3 in simple shear, the exact instantaneous slip
 /// field on every box face; mesh as verification::drop_in_shear.
 /// `interface_slip = false` solves the no-slip system (alpha must be 0).
-/// `iterative`: FGMRES with the Schur fieldsplit (rtol 1e-10) instead of LU.
+/// `iterative`: GMRES with the Schur fieldsplit (rtol 1e-10) instead of LU.
 SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int equator_nodes,
                                   bool interface_slip = true, bool iterative = false);
 

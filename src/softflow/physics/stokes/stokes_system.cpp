@@ -64,6 +64,7 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
   settings_.method = la::resolve_method(settings_.method, dofs_.n_dofs());
   partition();
   create_matrices();
+  if (gauge_after_solve()) attach_pressure_nullspace();
   // The iterative method splits velocity from the constraints: pressure,
   // and with slip the multipliers too (one Schur complement, see
   // assemble_slip_schur_estimate).
@@ -82,6 +83,63 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
 }
 
 StokesSystem::~StokesSystem() = default;
+
+bool StokesSystem::gauge_after_solve() const {
+  return settings_.method == la::SaddlePointMethod::iterative && !slip_;
+}
+
+void StokesSystem::attach_pressure_nullspace() {
+  // Walls and periodic faces leave the pressure free up to one constant,
+  // the same in every region (the jumps are what the interfaces set).
+  pressure_constant_ = la::make_vector(range_.size(), dofs_.n_dofs());
+  PetscScalar* a = nullptr;
+  check(VecGetArray(pressure_constant_.get(), &a), "VecGetArray");
+  for (PetscInt d = range_.begin; d < range_.end; ++d)
+    a[d - range_.begin] = dofs_.field_of(static_cast<int>(d)) == kPressureField ? 1.0 : 0.0;
+  check(VecRestoreArray(pressure_constant_.get(), &a), "VecRestoreArray");
+  la::Vector unit;
+  check(VecDuplicate(pressure_constant_.get(), unit.out()), "VecDuplicate");
+  check(VecCopy(pressure_constant_.get(), unit.get()), "VecCopy");
+  check(VecNormalize(unit.get(), nullptr), "VecNormalize");
+  la::NullSpace constant;
+  Vec basis = unit.get();
+  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, 1, &basis, constant.out()),
+        "MatNullSpaceCreate");
+  // The operator is symmetric: the constant is in both null spaces, and
+  // KSPSolve projects it out of the right-hand side (round-off only).
+  check(MatSetNullSpace(a_->get(), constant.get()), "MatSetNullSpace");
+  check(MatSetTransposeNullSpace(a_->get(), constant.get()), "MatSetTransposeNullSpace");
+}
+
+void StokesSystem::move_flux_defect_to_gauge(const StokesProblem& problem, Vec rhs) const {
+  // The continuity rows sum to the net boundary flux of the Dirichlet data:
+  // zero for walls and periodic faces, round-off or an interpolation error
+  // for data like an exact far field on a closed box. A pinned gauge drops
+  // its own row and so puts that defect at the gauge; the same here keeps
+  // the system consistent and its solution that of the pinned system
+  // (the direct method's) instead of a least-squares compromise.
+  if (problem.pressure_gauge_node < 0) return;
+  PetscScalar defect = 0.0;
+  check(VecDot(rhs, pressure_constant_.get(), &defect), "VecDot");
+  const PetscInt p = dofs_.dof(kPressureField, problem.pressure_gauge_node, 0);
+  if (range_.owns(p)) check(VecSetValue(rhs, p, -defect, ADD_VALUES), "VecSetValue");
+  check(VecAssemblyBegin(rhs), "VecAssemblyBegin");
+  check(VecAssemblyEnd(rhs), "VecAssemblyEnd");
+}
+
+void StokesSystem::apply_gauge(const StokesProblem& problem, Vec x) const {
+  if (problem.pressure_gauge_node < 0) return;
+  const PetscInt p = dofs_.dof(kPressureField, problem.pressure_gauge_node, 0);
+  double at_gauge = 0.0;
+  if (range_.owns(p)) {
+    const PetscScalar* a = nullptr;
+    check(VecGetArrayRead(x, &a), "VecGetArrayRead");
+    at_gauge = a[p - range_.begin];
+    check(VecRestoreArrayRead(x, &a), "VecRestoreArrayRead");
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &at_gauge, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  check(VecAXPY(x, problem.pressure_gauge_value - at_gauge, pressure_constant_.get()), "VecAXPY");
+}
 
 void StokesSystem::partition() {
   const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
@@ -355,7 +413,7 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
   if (problem.pressure_gauge_node >= 0) {
     const int p = dofs_.dof(kPressureField, problem.pressure_gauge_node, 0);
     if (p < 0) throw SolverError("pressure gauge node is not a matrix vertex");
-    constrain(p, problem.pressure_gauge_value);
+    if (!gauge_after_solve()) constrain(p, problem.pressure_gauge_value);
   }
   check(VecSetValues(x, static_cast<PetscInt>(rows.size()), rows.data(), values.data(),
                      INSERT_VALUES),
@@ -400,6 +458,7 @@ StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout la
   const int setups = solver_->n_setups();
   result.solve = solver_->solve(rhs.get(), x.get(), static_cast<bool>(previous_solution_));
   if (solver_->n_setups() > setups) record_factorization(problem);
+  if (gauge_after_solve()) apply_gauge(problem, x.get());
   if (!previous_solution_) check(VecDuplicate(x.get(), previous_solution_.out()), "VecDuplicate");
   check(VecCopy(x.get(), previous_solution_.get()), "VecCopy");
   if (layout == SolutionLayout::gathered) result.solution = la::gather_to_all(x.get());
@@ -520,6 +579,7 @@ std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(
   else check(VecSet(x.get(), 0.0), "VecSet");
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
+  if (gauge_after_solve()) move_flux_defect_to_gauge(problem, rhs.get());
   solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr,
                          schur_ ? schur_->get() : nullptr);
   return {std::move(rhs), std::move(x)};
