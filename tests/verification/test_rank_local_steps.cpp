@@ -66,23 +66,21 @@ Counts count_gathers(const std::string& objects, const std::string& name,
   return counts;
 }
 
+const std::string kTwoDrops =
+    "[[objects]]\ncentre = [0.0, 1.6, 0.0]\nviscosity_ratio = 1.0\ncapillary_number = 0.2\n"
+    "[[objects]]\ncentre = [0.0, -1.6, 0.0]\nviscosity_ratio = 1.0\ncapillary_number = 0.2\n";
+
 }  // namespace
 
 TEST(RankLocalSteps, TwoDropsGatherNothingWhole) {
-  const auto counts = count_gathers(
-      "[[objects]]\ncentre = [0.0, 1.6, 0.0]\nviscosity_ratio = 1.0\ncapillary_number = 0.2\n"
-      "[[objects]]\ncentre = [0.0, -1.6, 0.0]\nviscosity_ratio = 1.0\ncapillary_number = 0.2\n",
-      "two_drops");
+  const auto counts = count_gathers(kTwoDrops, "two_drops");
   EXPECT_EQ(counts.steps, 0);
   EXPECT_GT(counts.output, 0);  // the counter sees gathers: output writes the whole solution
 }
 
 TEST(RankLocalSteps, TwoDropsWithTheIterativeSolverGatherNothingWhole) {
   // The iterative path sets the pressure level after the solve (one reduction).
-  const auto counts = count_gathers(
-      "[[objects]]\ncentre = [0.0, 1.6, 0.0]\nviscosity_ratio = 1.0\ncapillary_number = 0.2\n"
-      "[[objects]]\ncentre = [0.0, -1.6, 0.0]\nviscosity_ratio = 1.0\ncapillary_number = 0.2\n",
-      "two_drops_iterative", "iterative");
+  const auto counts = count_gathers(kTwoDrops, "two_drops_iterative", "iterative");
   EXPECT_EQ(counts.steps, 0);
   EXPECT_GT(counts.output, 0);
 }

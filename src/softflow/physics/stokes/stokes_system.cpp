@@ -481,7 +481,8 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
     r.conformation = la::owned_values(ve.conformation->vector());
     r.devss = ve.velocity_gradient != nullptr;
   }
-  if (!analysis_) analysis_ = r;
+  // MUMPS's symbolic analysis: the direct method's only.
+  if (!analysis_ && settings_.method == la::SaddlePointMethod::direct) analysis_ = r;
   factors_ = std::move(r);
 }
 
@@ -656,7 +657,9 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
   out.set(prefix + "fewest_iterations", solver_->fewest_iterations());
   out.set(prefix + "has_factors", factors_.has_value());
   if (!factors_) return;
-  for (const auto& [name, record] : {std::pair{"analysis/", &*analysis_}, {"factors/", &*factors_}}) {
+  std::vector<std::pair<std::string, const MatrixRecord*>> records{{"factors/", &*factors_}};
+  if (analysis_) records.emplace_back("analysis/", &*analysis_);
+  for (const auto& [name, record] : records) {
     save_matrix_record(out, prefix + name, record->nodes, record->problem);
     // Every rank's values, in the field's global numbering, whatever the
     // number of ranks of the run that restarts.
@@ -716,21 +719,26 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
       r.devss = in.get_bool(p + "devss");
       return r;
     };
-    // MUMPS keeps the symbolic analysis of its first factorisation for
-    // later numeric ones of the same pattern: factor that matrix first.
-    analysis_ = read(prefix + "analysis/");
     factors_ = read(prefix + "factors/");
-    if (settings_.method == la::SaddlePointMethod::direct) factor(*analysis_);
-    // Each rank holds its own part of the conformation: whether the two
-    // differ anywhere is agreed on, so that every rank factors or none.
-    int conformation_differs = factors_->conformation != analysis_->conformation ? 1 : 0;
-    MPI_Allreduce(MPI_IN_PLACE, &conformation_differs, 1, MPI_INT, MPI_LOR, PETSC_COMM_WORLD);
-    if (settings_.method != la::SaddlePointMethod::direct || factors_->nodes != analysis_->nodes ||
-        factors_->problem.semi_implicit_tension.theta_dt !=
-            analysis_->problem.semi_implicit_tension.theta_dt ||
-        conformation_differs || factors_->devss != analysis_->devss ||
-        factors_->problem.slip.coefficient != analysis_->problem.slip.coefficient)
+    analysis_.reset();
+    if (settings_.method != la::SaddlePointMethod::direct) {
       factor(*factors_);
+    } else {
+      // MUMPS keeps the symbolic analysis of its first factorisation for
+      // later numeric ones of the same pattern: factor that matrix first.
+      analysis_ = read(prefix + "analysis/");
+      factor(*analysis_);
+      // Each rank holds its own part of the conformation: whether the two
+      // differ anywhere is agreed on, so that every rank factors or none.
+      int conformation_differs = factors_->conformation != analysis_->conformation ? 1 : 0;
+      MPI_Allreduce(MPI_IN_PLACE, &conformation_differs, 1, MPI_INT, MPI_LOR, PETSC_COMM_WORLD);
+      if (factors_->nodes != analysis_->nodes ||
+          factors_->problem.semi_implicit_tension.theta_dt !=
+              analysis_->problem.semi_implicit_tension.theta_dt ||
+          conformation_differs || factors_->devss != analysis_->devss ||
+          factors_->problem.slip.coefficient != analysis_->problem.slip.coefficient)
+        factor(*factors_);
+    }
   }
   // Checkpoints from before the iterative method kept its preconditioner: none kept.
   solver_->restore_reuse_state(in.get_bool(prefix + "refactor_next"),
