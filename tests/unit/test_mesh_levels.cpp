@@ -70,7 +70,7 @@ TEST(MeshLevels, ExplicitEquatorNodesAreTheLevelsWithEverySizeScaled) {
 }
 
 TEST(MeshLevels, ExplicitEquatorNodesMustBeThreeToEightAscendingCounts) {
-  for (const std::vector<int> bad : {std::vector<int>{20, 25}, {20, 25, 25}, {30, 25, 40}, {6, 20, 25},
+  for (const std::vector<int>& bad : {std::vector<int>{20, 25}, {20, 25, 25}, {30, 25, 40}, {6, 20, 25},
                                      {10, 11, 12, 13, 14, 15, 16, 17, 18}}) {
     simulation::ConvergeOptions options;
     options.equator_nodes = bad;

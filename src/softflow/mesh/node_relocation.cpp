@@ -129,7 +129,7 @@ NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double
     // Vertices first (they move the element), then the edge nodes (they
     // bend its edges: the tangent of edge (a, b) at a is 4 x_ab - 3 x_a - x_b,
     // so an edge node turns the element's corner where it folds).
-    for (const auto [first, last] : {std::pair{0, 4}, std::pair{4, 10}})
+    for (const auto& [first, last] : {std::pair{0, 4}, std::pair{4, 10}})
       for (int t : bad)
         for (int k = first; k < last; ++k) {
           const int node = tets_[t][k];
