@@ -1,6 +1,6 @@
 // la/vector_values: what crosses ranks. A whole vector (counted), this
-// rank's part (never leaves it), chosen entries (one scatter), and the first
-// entry that is not finite.
+// rank's part (never leaves it), chosen entries (one scatter), one entry
+// (one reduction), and the first entry that is not finite.
 //
 // Runs on 1 rank and, as part of mpi_fem_layer, on 2.
 #include <cmath>
@@ -68,6 +68,11 @@ TEST(VectorValues, SelectedEntriesCopyOnlyWhatEachRankAsksFor) {
   entries.read(v.get());
   EXPECT_EQ(entries[kSize - 1], 2.0 * (10.0 * (kSize - 1) + 1.0));
   EXPECT_THROW(la::SelectedEntries(v.get(), {kSize}), SolverError);
+}
+
+TEST(VectorValues, EntryIsReadOnEveryRankWhoeverOwnsIt) {
+  const la::Vector v = numbered_vector();
+  for (PetscInt i = 0; i < kSize; ++i) EXPECT_EQ(la::entry(v.get(), i), 10.0 * static_cast<double>(i) + 1.0);
 }
 
 TEST(VectorValues, FirstNonFiniteFindsTheLowestBadEntryOnAnyRank) {

@@ -163,10 +163,7 @@ void Field::scatter(std::span<const double> all) {
   if (static_cast<int>(all.size()) != dofs_.n_dofs())
     throw SolverError(fmt::format("Field '{}': {} values for {} dofs", name_, all.size(),
                                   dofs_.n_dofs()));
-  PetscScalar* a = nullptr;
-  check(VecGetArray(vector_.get(), &a), "VecGetArray");
-  std::copy(all.begin() + range_.begin, all.begin() + range_.end, a);
-  check(VecRestoreArray(vector_.get(), &a), "VecRestoreArray");
+  la::scatter_from_all(vector_.get(), all);
   update_ghosts();
 }
 

@@ -127,6 +127,28 @@ double SelectedEntries::operator[](PetscInt i) const {
   return values_[static_cast<std::size_t>(it - indices_.begin())];
 }
 
+namespace {
+MPI_Comm communicator(Vec v) {
+  MPI_Comm comm = PETSC_COMM_WORLD;
+  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(v), &comm), "PetscObjectGetComm");
+  return comm;
+}
+}  // namespace
+
+double entry(Vec v, PetscInt i) {
+  PetscInt begin = 0, end = 0;
+  check(VecGetOwnershipRange(v, &begin, &end), "VecGetOwnershipRange");
+  double value = 0.0;  // a NaN or Inf of the owner survives the sum
+  if (i >= begin && i < end) {
+    const PetscScalar* a = nullptr;
+    check(VecGetArrayRead(v, &a), "VecGetArrayRead");
+    value = a[i - begin];
+    check(VecRestoreArrayRead(v, &a), "VecRestoreArrayRead");
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_SUM, communicator(v));
+  return value;
+}
+
 std::optional<std::pair<PetscInt, double>> first_non_finite(Vec v) {
   PetscInt begin = 0, end = 0;
   check(VecGetOwnershipRange(v, &begin, &end), "VecGetOwnershipRange");
@@ -140,13 +162,9 @@ std::optional<std::pair<PetscInt, double>> first_non_finite(Vec v) {
     }
   check(VecRestoreArrayRead(v, &a), "VecRestoreArrayRead");
   PetscInt first = 0;
-  MPI_Comm comm = PETSC_COMM_WORLD;
-  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(v), &comm), "PetscObjectGetComm");
-  MPI_Allreduce(&local, &first, 1, MPIU_INT, MPI_MIN, comm);
+  MPI_Allreduce(&local, &first, 1, MPIU_INT, MPI_MIN, communicator(v));
   if (first == std::numeric_limits<PetscInt>::max()) return std::nullopt;
-  SelectedEntries entry(v, {first});
-  entry.read(v);
-  return std::pair{first, entry[first]};
+  return std::pair{first, entry(v, first)};
 }
 
 }  // namespace softflow::la

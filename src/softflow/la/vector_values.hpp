@@ -63,8 +63,12 @@ class SelectedEntries {
   Owned<VecScatter, VecScatterDestroy> scatter_;
 };
 
+/// Entry `i` of a distributed vector, on every rank. Collective (one
+/// reduction: its owner contributes it, the others zero).
+double entry(Vec v, PetscInt i);
+
 /// The lowest global index whose entry is not finite, and that entry, or
-/// nothing if every entry is finite. Collective (one reduction, one entry moved).
+/// nothing if every entry is finite. Collective (two reductions).
 std::optional<std::pair<PetscInt, double>> first_non_finite(Vec v);
 
 }  // namespace softflow::la

@@ -129,15 +129,7 @@ void StokesSystem::move_flux_defect_to_gauge(const StokesProblem& problem, Vec r
 
 void StokesSystem::apply_gauge(const StokesProblem& problem, Vec x) const {
   if (problem.pressure_gauge_node < 0) return;
-  const PetscInt p = dofs_.dof(kPressureField, problem.pressure_gauge_node, 0);
-  double at_gauge = 0.0;
-  if (range_.owns(p)) {
-    const PetscScalar* a = nullptr;
-    check(VecGetArrayRead(x, &a), "VecGetArrayRead");
-    at_gauge = a[p - range_.begin];
-    check(VecRestoreArrayRead(x, &a), "VecRestoreArrayRead");
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &at_gauge, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  const double at_gauge = la::entry(x, dofs_.dof(kPressureField, problem.pressure_gauge_node, 0));
   check(VecAXPY(x, problem.pressure_gauge_value - at_gauge, pressure_constant_.get()), "VecAXPY");
 }
 
