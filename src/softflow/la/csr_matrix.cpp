@@ -29,6 +29,13 @@ CsrMatrix::~CsrMatrix() {
   if (open_) {
     MatSeqAIJRestoreArray(diagonal_, &diagonal_values_);
     if (off_diagonal_) MatSeqAIJRestoreArray(off_diagonal_, &off_diagonal_values_);
+    PetscInt n = 0;
+    const PetscInt* start = nullptr;
+    PetscBool done = PETSC_FALSE;
+    MatRestoreRowIJ(diagonal_, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &diagonal_columns_, &done);
+    if (off_diagonal_)
+      MatRestoreRowIJ(off_diagonal_, 0, PETSC_FALSE, PETSC_FALSE, &n, &start,
+                      &off_diagonal_columns_, &done);
   }
 }
 
@@ -131,6 +138,7 @@ void CsrMatrix::create() {
   check(MatCreate(PETSC_COMM_WORLD, matrix_.out()), "MatCreate");
   check(MatSetSizes(matrix_.get(), row_range_.size(), column_range_.size(), n_rows_, n_columns_),
         "MatSetSizes");
+  check(MatSetBlockSizes(matrix_.get(), row_block_size_, column_block_size_), "MatSetBlockSizes");
   check(MatSetType(matrix_.get(), MATAIJ), "MatSetType");
   // Exactly our pattern, zeros; only the call for the matrix's type acts.
   check(MatSeqAIJSetPreallocationCSR(matrix_.get(), row_start.data(), columns.data(), nullptr),
@@ -138,40 +146,25 @@ void CsrMatrix::create() {
   check(MatMPIAIJSetPreallocationCSR(matrix_.get(), row_start.data(), columns.data(), nullptr),
         "MatMPIAIJSetPreallocationCSR");
   // Dirichlet rows are zeroed between assemblies (MatZeroRows); the pattern
-  // must survive that, or the offsets would point at the wrong entries.
+  // must survive that: each assembly walks it.
   check(MatSetOption(matrix_.get(), MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE), "MatSetOption");
   check(MatSetOption(matrix_.get(), MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
   check(MatSetOption(matrix_.get(), MAT_NO_OFF_PROC_ENTRIES, any_remote_ ? PETSC_FALSE : PETSC_TRUE),
         "MatSetOption");
   read_row_layout(row_start, columns);
 
-  // Each block entry's offset within its row; the remote rows' buffers.
-  std::size_t n_offsets = 0, n_remote_values = 0;
+  // The remote rows' buffers.
+  std::size_t n_remote_values = 0;
   for (Block b = 0; b < blocks_.size(); ++b) {
     BlockLayout& block = blocks_[b];
     const PetscInt* rows = indices_.data() + block.indices;
-    const PetscInt* block_columns = rows + block.n_rows;
-    const auto n_valid = static_cast<std::size_t>(
-        std::count_if(block_columns, block_columns + block.n_columns, [](PetscInt c) { return c >= 0; }));
-    block.offsets = n_offsets;
     block.remote = remote_rows_.size();
     for (std::uint32_t i = 0; i < block.n_rows; ++i) {
-      if (rows[i] < 0) continue;
-      if (row_range_.owns(rows[i])) {
-        n_offsets += n_valid;
-      } else {
-        remote_rows_.push_back({b, i, n_remote_values});
-        n_remote_values += block.n_columns;
-      }
+      if (rows[i] < 0 || row_range_.owns(rows[i])) continue;
+      remote_rows_.push_back({b, i, n_remote_values});
+      n_remote_values += block.n_columns;
     }
   }
-  offsets_.resize(n_offsets);
-  std::size_t k = 0;
-  for_each_owned_entry([&](std::size_t local, PetscInt column) {
-    const PetscInt* first = columns.data() + row_start[local];
-    const PetscInt* last = columns.data() + row_start[local + 1];
-    offsets_[k++] = static_cast<std::uint16_t>(std::lower_bound(first, last, column) - first);
-  });
   remote_values_.assign(n_remote_values, 0.0);
 }
 
@@ -184,6 +177,7 @@ void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
   if (distributed) {
     check(MatMPIAIJGetSeqAIJ(matrix_.get(), &diagonal_, &off_diagonal_, &global_of_off_diagonal),
           "MatMPIAIJGetSeqAIJ");
+    global_of_off_diagonal_ = global_of_off_diagonal;
   } else {
     diagonal_ = matrix_.get();
     off_diagonal_ = nullptr;
@@ -198,25 +192,19 @@ void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
   structure(diagonal_, &d_start, &d_index);
   if (off_diagonal_) structure(off_diagonal_, &o_start, &o_index);
 
-  // PETSc must hold exactly our pattern, split as RowLayout says: the
-  // offsets address its arrays through it. A mismatch is a bug, not input.
+  // PETSc must hold exactly our pattern: set_block walks its arrays
+  // assuming every declared entry is there. A mismatch is a bug, not input.
   const auto n_local = static_cast<std::size_t>(row_range_.size());
   row_layout_.assign(n_local, {});
   bool same = true;
   for (std::size_t r = 0; r < n_local && same; ++r) {
     const PetscInt* first = columns.data() + row_start[r];
     const PetscInt length = row_start[r + 1] - row_start[r];
-    if (length > std::numeric_limits<std::uint16_t>::max())
-      throw SolverError(fmt::format("CsrMatrix: row {} has {} nonzeros (at most {} supported)",
-                                    row_range_.begin + static_cast<PetscInt>(r), length,
-                                    std::numeric_limits<std::uint16_t>::max()));
     const auto low = static_cast<PetscInt>(std::lower_bound(first, first + length, column_range_.begin) - first);
     const auto high = static_cast<PetscInt>(std::lower_bound(first, first + length, column_range_.end) - first);
     RowLayout& row = row_layout_[r];
     row.diagonal = d_start[r];
     row.off_diagonal = off_diagonal_ ? o_start[r] : 0;
-    row.n_low = static_cast<std::uint16_t>(low);
-    row.n_diagonal = static_cast<std::uint16_t>(high - low);
     same = d_start[r + 1] - d_start[r] == high - low;
     for (PetscInt k = low; k < high && same; ++k)
       same = d_index[d_start[r] + k - low] + column_range_.begin == first[k];
@@ -241,7 +229,27 @@ void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
   if (!same) throw SolverError("CsrMatrix: PETSc stored a pattern other than the one declared");
 }
 
+namespace {
+const PetscInt* column_indices(Mat m) {
+  PetscInt n = 0;
+  const PetscInt *start = nullptr, *index = nullptr;
+  PetscBool done = PETSC_FALSE;
+  check(MatGetRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &index, &done), "MatGetRowIJ");
+  if (!done) throw SolverError("CsrMatrix: PETSc gave no row structure");
+  return index;
+}
+void release_column_indices(Mat m, const PetscInt* index) {
+  PetscInt n = 0;
+  const PetscInt* start = nullptr;
+  PetscBool done = PETSC_FALSE;
+  check(MatRestoreRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &index, &done),
+        "MatRestoreRowIJ");
+}
+}  // namespace
+
 void CsrMatrix::open() {
+  diagonal_columns_ = column_indices(diagonal_);
+  if (off_diagonal_) off_diagonal_columns_ = column_indices(off_diagonal_);
   check(MatSeqAIJGetArray(diagonal_, &diagonal_values_), "MatSeqAIJGetArray");
   std::fill_n(diagonal_values_, n_diagonal_nonzeros_, 0.0);
   if (off_diagonal_) {
@@ -258,6 +266,9 @@ void CsrMatrix::assemble() {
   check(MatSeqAIJRestoreArray(diagonal_, &diagonal_values_), "MatSeqAIJRestoreArray");
   if (off_diagonal_)
     check(MatSeqAIJRestoreArray(off_diagonal_, &off_diagonal_values_), "MatSeqAIJRestoreArray");
+  release_column_indices(diagonal_, diagonal_columns_);
+  if (off_diagonal_) release_column_indices(off_diagonal_, off_diagonal_columns_);
+  diagonal_columns_ = off_diagonal_columns_ = nullptr;
   for (const RemoteRow& remote : remote_rows_) {
     const BlockLayout& block = blocks_[remote.block];
     const PetscInt* row = indices_.data() + block.indices + remote.row;

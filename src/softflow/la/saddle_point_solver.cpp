@@ -90,6 +90,48 @@ void configure_iterative(const SaddlePointSettings& s, KSP ksp,
   }
 }
 
+/// Keeps (or frees to rebuild) the preconditioner of the fieldsplit's first
+/// split (the velocity AMG) along with the outer one. KSPSetReusePreconditioner
+/// on the outer solver alone skips PCFIELDSPLIT's setup, but a split whose
+/// matrix is the operator's own block (la::NestedSaddlePoint: a reference,
+/// not a copy frozen at setup) sees that block change and would rebuild its
+/// AMG at every solve. The other splits (Jacobi on the pressure mass) stay
+/// as they were: rebuilt whenever their matrix changes, which costs nothing.
+/// Calls visit(KSP) for each split's solver of a fieldsplit preconditioner
+/// that has been set up (the velocity's first); nothing for another type.
+template <class Visit>
+void for_each_split(KSP ksp, Visit&& visit) {
+  PC pc = nullptr;
+  check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  PetscBool fieldsplit = PETSC_FALSE;
+  check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &fieldsplit),
+        "PetscObjectTypeCompare");
+  if (!fieldsplit) return;  // the user chose another preconditioner
+  PCCompositeType type;
+  check(PCFieldSplitGetType(pc, &type), "PCFieldSplitGetType");
+  PetscInt n = 0;
+  KSP* splits = nullptr;
+  if (type == PC_COMPOSITE_SCHUR) check(PCFieldSplitSchurGetSubKSP(pc, &n, &splits), "PCFieldSplitSchurGetSubKSP");
+  else check(PCFieldSplitGetSubKSP(pc, &n, &splits), "PCFieldSplitGetSubKSP");
+  for (PetscInt k = 0; k < n; ++k) visit(splits[k], k);
+  check(PetscFree(splits), "PetscFree");
+}
+
+/// Keeps (or frees to rebuild) the preconditioner of the fieldsplit's first
+/// split (the velocity AMG) along with the outer one. KSPSetReusePreconditioner
+/// on the outer solver alone skips PCFIELDSPLIT's setup, but a split whose
+/// matrix is the operator's own block (la::NestedSaddlePoint: a reference,
+/// not a copy frozen at setup) sees that block change and would rebuild its
+/// AMG at every solve. The other splits (Jacobi on the pressure mass) stay
+/// as they were: rebuilt whenever their matrix changes, which costs nothing.
+void keep_primal_split(KSP ksp, bool keep) {
+  for_each_split(ksp, [&](KSP split, PetscInt k) {
+    if (k == 0)
+      check(KSPSetReusePreconditioner(split, keep ? PETSC_TRUE : PETSC_FALSE),
+            "KSPSetReusePreconditioner");
+  });
+}
+
 }  // namespace
 
 SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns) {
@@ -148,6 +190,10 @@ void SaddlePointSolver::set_up() {
   PC pc = nullptr;
   check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
   check(PCSetUp(pc), "PCSetUp");
+  // The splits' preconditioners too, now: PCFIELDSPLIT builds them at their
+  // first solve, and a split's matrix may be the operator's own block,
+  // which holds another matrix by then (a restart's first step).
+  for_each_split(ksp_.get(), [](KSP split, PetscInt) { check(KSPSetUp(split), "KSPSetUp(split)"); });
   ++n_setups_;
   have_preconditioner_ = true;
 }
@@ -239,6 +285,9 @@ SolveReport SaddlePointSolver::solve_once(Vec b, Vec x, bool reuse, bool x_is_gu
         "KSPSetInitialGuessNonzero");
   check(KSPSetReusePreconditioner(ksp_.get(), reuse ? PETSC_TRUE : PETSC_FALSE),
         "KSPSetReusePreconditioner");
+  // The splits exist once the preconditioner was built.
+  if (settings_.method == SaddlePointMethod::iterative && have_preconditioner_)
+    keep_primal_split(ksp_.get(), reuse);
   if (!reuse) ++n_setups_;
   have_preconditioner_ = true;
   check(KSPSolve(ksp_.get(), b, x), "KSPSolve");

@@ -107,8 +107,8 @@ void StokesSystem::attach_pressure_nullspace() {
         "MatNullSpaceCreate");
   // The operator is symmetric: the constant is in both null spaces, and
   // KSPSolve projects it out of the right-hand side (round-off only).
-  check(MatSetNullSpace(a_->get(), constant.get()), "MatSetNullSpace");
-  check(MatSetTransposeNullSpace(a_->get(), constant.get()), "MatSetTransposeNullSpace");
+  check(MatSetNullSpace(operator_matrix(), constant.get()), "MatSetNullSpace");
+  check(MatSetTransposeNullSpace(operator_matrix(), constant.get()), "MatSetTransposeNullSpace");
 }
 
 void StokesSystem::move_flux_defect_to_gauge(const StokesProblem& problem, Vec rhs) const {
@@ -236,12 +236,15 @@ void StokesSystem::create_matrices() {
       }
     }
   };
+  if (iterative && !slip_) {
+    create_nested_matrices();
+    create_schur_matrix();
+    return;
+  }
   a_ = std::make_unique<la::CsrMatrix>(range_, n, range_, n);
   declare(*a_, true);
   a_->create();
-  if (iterative && !slip_) {
-    create_schur_matrix();
-  } else if (iterative) {
+  if (iterative) {
     // With slip the velocity block of the preconditioner differs from A's
     // (the jump penalty), so it gets a matrix of its own.
     pmat_ = std::make_unique<la::CsrMatrix>(range_, n, range_, n);
@@ -261,6 +264,50 @@ void StokesSystem::create_matrices() {
     pmat_->create();
   }
 }
+
+void StokesSystem::create_nested_matrices() {
+  const int n = dofs_.n_dofs();
+  velocity_position_.assign(n, -1);
+  int n_velocity = 0;
+  for (int i = 0; i < n; ++i)
+    if (dofs_.field_of(i) == kVelocityField) velocity_position_[i] = n_velocity++;
+  pressure_position_.assign(n, -1);
+  int n_pressure = 0;
+  for (int i = 0; i < n; ++i)
+    if (dofs_.field_of(i) == kPressureField) pressure_position_[i] = n_pressure++;
+  nested_ = std::make_unique<la::NestedSaddlePoint>(range_, n,
+                                                    field_index_sets_[kVelocityField].get(),
+                                                    field_index_sets_[kPressureField].get());
+  // Whole-system dofs (-1 = dropped) to their positions within a field.
+  auto to = [](const std::vector<int>& position, auto first, auto last, PetscInt* out) {
+    for (; first != last; ++first) *out++ = *first < 0 ? -1 : position[*first];
+  };
+  for (int t : assembled_tets_) {
+    const auto rows = tet_row_dofs(t);
+    const auto d = dofs_.element_dofs(t);
+    std::array<PetscInt, kTetVelocityDofs> u_rows, u_columns;
+    std::array<PetscInt, kTetPressureDofs> p_columns;
+    to(velocity_position_, rows.begin(), rows.begin() + kTetVelocityDofs, u_rows.data());
+    to(velocity_position_, d.begin(), d.begin() + kTetVelocityDofs, u_columns.data());
+    to(pressure_position_, d.begin() + kTetVelocityDofs, d.end(), p_columns.data());
+    tet_blocks_.push_back(nested_->primal().add_block(std::span<const PetscInt>(u_rows),
+                                                      std::span<const PetscInt>(u_columns)));
+    coupling_blocks_.push_back(nested_->coupling().add_block(std::span<const PetscInt>(u_rows),
+                                                             std::span<const PetscInt>(p_columns)));
+  }
+  for (int f : assembled_faces_) {
+    const auto d = interface_velocity_dofs(f, tension_region(f));
+    const auto rows = row_dofs<18>(d);
+    std::array<PetscInt, 18> u_rows, u_columns;
+    to(velocity_position_, rows.begin(), rows.end(), u_rows.data());
+    to(velocity_position_, d.begin(), d.end(), u_columns.data());
+    interface_blocks_.push_back(nested_->primal().add_block(std::span<const PetscInt>(u_rows),
+                                                            std::span<const PetscInt>(u_columns)));
+  }
+  nested_->create();
+}
+
+Mat StokesSystem::operator_matrix() const { return nested_ ? nested_->op() : a_->get(); }
 
 void StokesSystem::create_schur_matrix() {
   // The pressure unknowns' positions within the pressure field, which is
@@ -317,7 +364,14 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
     if (has_stress)
       add_viscoelastic_tet_terms(viscoelastic, fem::quadrature_points(geometry, tabulation_, t), ke,
                                  fe);
-    a_->set_block(tet_blocks_[e], ke);
+    if (nested_) {
+      nested_->primal().set_block(tet_blocks_[e],
+                                  ke.topLeftCorner<kTetVelocityDofs, kTetVelocityDofs>());
+      nested_->coupling().set_block(coupling_blocks_[e],
+                                    ke.topRightCorner<kTetVelocityDofs, kTetPressureDofs>());
+    } else {
+      a_->set_block(tet_blocks_[e], ke);
+    }
     if (schur_) schur_->set_block(schur_blocks_[e], mass);
     if (pmat_) {
       ke.bottomRightCorner<4, 4>() = mass;
@@ -364,7 +418,7 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
       const auto rows = row_dofs<18>(d);  // the other rows are their owner's
       check(VecSetValues(rhs, 18, rows.data(), fs.data(), ADD_VALUES), "VecSetValues(tension)");
     }
-    a_->set_block(interface_blocks_[i], block);
+    (nested_ ? nested_->primal() : *a_).set_block(interface_blocks_[i], block);
     if (pmat_) pmat_->set_block(interface_blocks_[i], block);
   }
   if (slip_) {
@@ -374,6 +428,8 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
     assemble_slip(geometry, problem, nodes);
     a_->assemble();
     if (pmat_) assemble_slip_schur_estimate(problem, nodes);
+  } else if (nested_) {
+    nested_->assemble();
   } else {
     a_->assemble();
   }
@@ -407,17 +463,22 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
     if (p < 0) throw SolverError("pressure gauge node is not a matrix vertex");
     if (!gauge_after_solve()) constrain(p, problem.pressure_gauge_value);
   }
-  check(VecSetValues(x, static_cast<PetscInt>(rows.size()), rows.data(), values.data(),
-                     INSERT_VALUES),
-        "VecSetValues(x)");
-  check(VecAssemblyBegin(x), "VecAssemblyBegin");
-  check(VecAssemblyEnd(x), "VecAssemblyEnd");
-  for (Mat m : {a_->get(), pmat_ ? pmat_->get() : Mat{}}) {
-    if (!m) continue;
-    const bool is_operator = m == a_->get();
-    check(MatZeroRowsColumns(m, static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
-                             is_operator ? x : nullptr, is_operator ? rhs : nullptr),
-          "MatZeroRowsColumns");
+  if (nested_) {
+    // Velocity rows only: this path never pins the gauge (gauge_after_solve).
+    nested_->eliminate_primal(rows, values, rhs, x);
+  } else {
+    check(VecSetValues(x, static_cast<PetscInt>(rows.size()), rows.data(), values.data(),
+                       INSERT_VALUES),
+          "VecSetValues(x)");
+    check(VecAssemblyBegin(x), "VecAssemblyBegin");
+    check(VecAssemblyEnd(x), "VecAssemblyEnd");
+    for (Mat m : {a_->get(), pmat_ ? pmat_->get() : Mat{}}) {
+      if (!m) continue;
+      const bool is_operator = m == a_->get();
+      check(MatZeroRowsColumns(m, static_cast<PetscInt>(rows.size()), rows.data(), 1.0,
+                               is_operator ? x : nullptr, is_operator ? rhs : nullptr),
+            "MatZeroRowsColumns");
+    }
   }
   if (schur_) {  // the gauge's row and column, as in the operator's pressure block
     std::vector<PetscInt> gauge;
@@ -573,7 +634,8 @@ std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
   if (gauge_after_solve()) move_flux_defect_to_gauge(problem, rhs.get());
-  solver_->set_operators(a_->get(), pmat_ ? pmat_->get() : nullptr,
+  solver_->set_operators(operator_matrix(),
+                         nested_ ? nested_->preconditioning() : pmat_ ? pmat_->get() : nullptr,
                          schur_ ? schur_->get() : nullptr);
   return {std::move(rhs), std::move(x)};
 }

@@ -12,6 +12,7 @@
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/tabulation.hpp"
 #include "softflow/la/csr_matrix.hpp"
+#include "softflow/la/nested_saddle_point.hpp"
 #include "softflow/la/petsc.hpp"
 #include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/mesh/mesh.hpp"
@@ -93,7 +94,8 @@ class StokesSystem {
   /// Whether assembling sends matrix rows to other ranks (it does not:
   /// each rank assembles its own rows of every element it shares).
   [[nodiscard]] bool assembly_crosses_ranks() const {
-    return a_->rows_cross_ranks() || (pmat_ && pmat_->rows_cross_ranks()) ||
+    return (a_ && a_->rows_cross_ranks()) || (nested_ && nested_->rows_cross_ranks()) ||
+           (pmat_ && pmat_->rows_cross_ranks()) ||
            (schur_ && schur_->rows_cross_ranks());
   }
   /// The solver settings in use (solver.type "auto" resolved).
@@ -134,6 +136,13 @@ class StokesSystem {
   /// velocity block is A's own), instead of a second copy of the whole
   /// system.
   void create_schur_matrix();
+  /// The iterative method without slip: the operator as its velocity block
+  /// A and gradient block G (la::NestedSaddlePoint), numbered by
+  /// velocity_position_ and pressure_position_, instead of a_: the
+  /// fieldsplit preconditioner then takes A, G and G^T by reference.
+  void create_nested_matrices();
+  /// The operator the Krylov method multiplies with.
+  [[nodiscard]] Mat operator_matrix() const;
   /// Rigid-body modes of the owned velocity dofs: the near-nullspace AMG
   /// needs to coarsen a 3D elasticity-like velocity block well.
   la::NullSpace velocity_near_nullspace() const;
@@ -219,7 +228,12 @@ class StokesSystem {
   std::vector<int> assembled_tets_;
   std::vector<int> assembled_faces_;
   using InterfaceMatrix = Eigen::Matrix<double, 18, 18>;
+  // The operator: one matrix a_ (direct method, slip), or its two blocks
+  // (nested_: iterative without slip).
   std::unique_ptr<la::CsrMatrix> a_;
+  std::unique_ptr<la::NestedSaddlePoint> nested_;
+  std::vector<la::CsrMatrix::Block> coupling_blocks_;  // nested_'s G, one per tet
+  std::vector<int> velocity_position_;  // dof -> index among the velocity unknowns, or -1
   // The iterative method's preconditioning: with slip a whole matrix pmat_
   // (penalised velocity block, constraint estimates); without, only the
   // pressure block -M/eta (schur_), numbered by pressure_position_.
