@@ -267,10 +267,10 @@ void StokesSystem::create_matrices() {
 
 void StokesSystem::create_nested_matrices() {
   const int n = dofs_.n_dofs();
-  velocity_position_.assign(n, -1);
+  std::vector<int> velocity_position(n, -1);
   int n_velocity = 0;
   for (int i = 0; i < n; ++i)
-    if (dofs_.field_of(i) == kVelocityField) velocity_position_[i] = n_velocity++;
+    if (dofs_.field_of(i) == kVelocityField) velocity_position[i] = n_velocity++;
   pressure_position_.assign(n, -1);
   int n_pressure = 0;
   for (int i = 0; i < n; ++i)
@@ -287,8 +287,8 @@ void StokesSystem::create_nested_matrices() {
     const auto d = dofs_.element_dofs(t);
     std::array<PetscInt, kTetVelocityDofs> u_rows, u_columns;
     std::array<PetscInt, kTetPressureDofs> p_columns;
-    to(velocity_position_, rows.begin(), rows.begin() + kTetVelocityDofs, u_rows.data());
-    to(velocity_position_, d.begin(), d.begin() + kTetVelocityDofs, u_columns.data());
+    to(velocity_position, rows.begin(), rows.begin() + kTetVelocityDofs, u_rows.data());
+    to(velocity_position, d.begin(), d.begin() + kTetVelocityDofs, u_columns.data());
     to(pressure_position_, d.begin() + kTetVelocityDofs, d.end(), p_columns.data());
     tet_blocks_.push_back(nested_->primal().add_block(std::span<const PetscInt>(u_rows),
                                                       std::span<const PetscInt>(u_columns)));
@@ -299,8 +299,8 @@ void StokesSystem::create_nested_matrices() {
     const auto d = interface_velocity_dofs(f, tension_region(f));
     const auto rows = row_dofs<18>(d);
     std::array<PetscInt, 18> u_rows, u_columns;
-    to(velocity_position_, rows.begin(), rows.end(), u_rows.data());
-    to(velocity_position_, d.begin(), d.end(), u_columns.data());
+    to(velocity_position, rows.begin(), rows.end(), u_rows.data());
+    to(velocity_position, d.begin(), d.end(), u_columns.data());
     interface_blocks_.push_back(nested_->primal().add_block(std::span<const PetscInt>(u_rows),
                                                             std::span<const PetscInt>(u_columns)));
   }

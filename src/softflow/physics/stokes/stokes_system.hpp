@@ -137,8 +137,8 @@ class StokesSystem {
   /// system.
   void create_schur_matrix();
   /// The iterative method without slip: the operator as its velocity block
-  /// A and gradient block G (la::NestedSaddlePoint), numbered by
-  /// velocity_position_ and pressure_position_, instead of a_: the
+  /// A and gradient block G (la::NestedSaddlePoint), each numbered by its
+  /// field's unknowns in global order, instead of a_: the
   /// fieldsplit preconditioner then takes A, G and G^T by reference.
   void create_nested_matrices();
   /// The operator the Krylov method multiplies with.
@@ -233,7 +233,6 @@ class StokesSystem {
   std::unique_ptr<la::CsrMatrix> a_;
   std::unique_ptr<la::NestedSaddlePoint> nested_;
   std::vector<la::CsrMatrix::Block> coupling_blocks_;  // nested_'s G, one per tet
-  std::vector<int> velocity_position_;  // dof -> index among the velocity unknowns, or -1
   // The iterative method's preconditioning: with slip a whole matrix pmat_
   // (penalised velocity block, constraint estimates); without, only the
   // pressure block -M/eta (schur_), numbered by pressure_position_.
