@@ -290,6 +290,7 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   r.set(p + "mesh_velocity", mesh_velocity_);
   if (solution_) la::save_vector(r, p + "solution", solution_.get());
   else r.set(p + "solution", std::vector<double>{});
+  ale_->save_warm_start(r, p + "ale_");
   r.set(p + "ale_reference_nodes", reference_nodes_);
   r.set(p + "ale_rebuilt_at_quality", ale_rebuilt_at_quality_);
   r.set(p + "ale_rebuilds", ale_rebuilds_);
@@ -350,6 +351,7 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
     rebuilt.nodes = reference_nodes_;
     ale_ = std::make_unique<physics::AleMeshMotion>(rebuilt);
   }
+  ale_->restore_warm_start(r, p + "ale_");
 }
 
 void DropSimulation::save(io::Checkpoint& c) const {

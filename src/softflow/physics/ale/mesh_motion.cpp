@@ -9,6 +9,7 @@
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/la/csr_matrix.hpp"
 #include "softflow/la/saddle_point_solver.hpp"  // la::set_default_option
+#include "softflow/la/vector_values.hpp"
 
 namespace softflow::physics {
 
@@ -270,6 +271,19 @@ void AleMeshMotion::solve_direct(const std::vector<Eigen::Vector3d>& d_s) {
           "MatDenseRestoreColumnVecRead");
   }
   last_iterations_ = {1, 1, 1};
+}
+
+void AleMeshMotion::save_warm_start(StateRecord& record, const std::string& prefix) const {
+  if (method_ != AleMethod::iterative) return;
+  for (int c = 0; c < 3; ++c)
+    la::save_vector(record, fmt::format("{}warm_start_{}", prefix, c), solution_[c].get());
+}
+
+void AleMeshMotion::restore_warm_start(const StateRecord& record, const std::string& prefix) {
+  if (method_ != AleMethod::iterative || !record.contains(prefix + "warm_start_0")) return;
+  for (int c = 0; c < 3; ++c)
+    la::restore_vector(record, fmt::format("{}warm_start_{}", prefix, c), solution_[c].get(),
+                       "ALE warm start");
 }
 
 std::vector<Eigen::Vector3d> AleMeshMotion::solve(

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "softflow/common/state.hpp"
 #include "softflow/element/isoparametric.hpp"
 #include "softflow/fem/tabulation.hpp"
 #include "softflow/la/petsc.hpp"
@@ -99,6 +100,16 @@ class AleMeshMotion {
   [[nodiscard]] la::OwnershipRange ownership() const { return free_range_; }
   /// The method in use (never automatic).
   [[nodiscard]] AleMethod method() const { return method_; }
+
+  /// The iterative method's warm start (each component's last solution)
+  /// under `prefix`: a restarted run that restores it solves every later
+  /// step from the same start as an uninterrupted run, so their meshes
+  /// agree to round-off instead of to the CG tolerance. Nothing for the
+  /// direct method (its answer does not depend on a start). Collective.
+  void save_warm_start(StateRecord& record, const std::string& prefix) const;
+  /// Reads what save_warm_start wrote (nothing if the record has none, or
+  /// for the direct method). Collective.
+  void restore_warm_start(const StateRecord& record, const std::string& prefix);
 
   /// Assembly of the operator (seconds, this rank).
   [[nodiscard]] double assembly_seconds() const { return assembly_seconds_; }
