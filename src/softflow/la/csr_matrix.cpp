@@ -10,6 +10,19 @@
 namespace softflow::la {
 
 namespace {
+/// PETSc's own compressed-row arrays of a sequential AIJ part (row starts,
+/// column indices; no copy), lent until restore_structure.
+void get_structure(Mat m, const PetscInt** start, const PetscInt** index) {
+  PetscInt n = 0;
+  PetscBool done = PETSC_FALSE;
+  check(MatGetRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, start, index, &done), "MatGetRowIJ");
+  if (!done) throw SolverError("CsrMatrix: PETSc gave no row structure");
+}
+PetscErrorCode restore_structure(Mat m, const PetscInt* start, const PetscInt* index) {
+  PetscInt n = 0;
+  PetscBool done = PETSC_FALSE;
+  return MatRestoreRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &index, &done);
+}
 void check_mpi(int code, const char* what) {
   if (code != MPI_SUCCESS) throw SolverError(fmt::format("CsrMatrix: {} failed ({})", what, code));
 }
@@ -29,13 +42,8 @@ CsrMatrix::~CsrMatrix() {
   if (open_) {
     MatSeqAIJRestoreArray(diagonal_, &diagonal_values_);
     if (off_diagonal_) MatSeqAIJRestoreArray(off_diagonal_, &off_diagonal_values_);
-    PetscInt n = 0;
-    const PetscInt* start = nullptr;
-    PetscBool done = PETSC_FALSE;
-    MatRestoreRowIJ(diagonal_, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &diagonal_columns_, &done);
-    if (off_diagonal_)
-      MatRestoreRowIJ(off_diagonal_, 0, PETSC_FALSE, PETSC_FALSE, &n, &start,
-                      &off_diagonal_columns_, &done);
+    restore_structure(diagonal_, nullptr, diagonal_columns_);  // errors ignored: a destructor
+    if (off_diagonal_) restore_structure(off_diagonal_, nullptr, off_diagonal_columns_);
   }
 }
 
@@ -182,15 +190,9 @@ void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
     diagonal_ = matrix_.get();
     off_diagonal_ = nullptr;
   }
-  auto structure = [](Mat m, const PetscInt** start, const PetscInt** index) {
-    PetscInt n = 0;
-    PetscBool done = PETSC_FALSE;
-    check(MatGetRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, start, index, &done), "MatGetRowIJ");
-    if (!done) throw SolverError("CsrMatrix: PETSc gave no row structure");
-  };
   const PetscInt *d_start = nullptr, *d_index = nullptr, *o_start = nullptr, *o_index = nullptr;
-  structure(diagonal_, &d_start, &d_index);
-  if (off_diagonal_) structure(off_diagonal_, &o_start, &o_index);
+  get_structure(diagonal_, &d_start, &d_index);
+  if (off_diagonal_) get_structure(off_diagonal_, &o_start, &o_index);
 
   // PETSc must hold exactly our pattern: set_block walks its arrays
   // assuming every declared entry is there. A mismatch is a bug, not input.
@@ -219,37 +221,16 @@ void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
   }
   n_diagonal_nonzeros_ = static_cast<std::size_t>(d_start[n_local]);
   n_off_diagonal_nonzeros_ = off_diagonal_ ? static_cast<std::size_t>(o_start[n_local]) : 0;
-  auto release_structure = [](Mat m, const PetscInt** start, const PetscInt** index) {
-    PetscInt n = 0;
-    PetscBool done = PETSC_FALSE;
-    check(MatRestoreRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, start, index, &done), "MatRestoreRowIJ");
-  };
-  release_structure(diagonal_, &d_start, &d_index);
-  if (off_diagonal_) release_structure(off_diagonal_, &o_start, &o_index);
+  check(restore_structure(diagonal_, d_start, d_index), "MatRestoreRowIJ");
+  if (off_diagonal_) check(restore_structure(off_diagonal_, o_start, o_index), "MatRestoreRowIJ");
   if (!same) throw SolverError("CsrMatrix: PETSc stored a pattern other than the one declared");
 }
 
-namespace {
-const PetscInt* column_indices(Mat m) {
-  PetscInt n = 0;
-  const PetscInt *start = nullptr, *index = nullptr;
-  PetscBool done = PETSC_FALSE;
-  check(MatGetRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &index, &done), "MatGetRowIJ");
-  if (!done) throw SolverError("CsrMatrix: PETSc gave no row structure");
-  return index;
-}
-void release_column_indices(Mat m, const PetscInt* index) {
-  PetscInt n = 0;
-  const PetscInt* start = nullptr;
-  PetscBool done = PETSC_FALSE;
-  check(MatRestoreRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &index, &done),
-        "MatRestoreRowIJ");
-}
-}  // namespace
 
 void CsrMatrix::open() {
-  diagonal_columns_ = column_indices(diagonal_);
-  if (off_diagonal_) off_diagonal_columns_ = column_indices(off_diagonal_);
+  const PetscInt* start = nullptr;  // row_layout_ has each row's start
+  get_structure(diagonal_, &start, &diagonal_columns_);
+  if (off_diagonal_) get_structure(off_diagonal_, &start, &off_diagonal_columns_);
   check(MatSeqAIJGetArray(diagonal_, &diagonal_values_), "MatSeqAIJGetArray");
   std::fill_n(diagonal_values_, n_diagonal_nonzeros_, 0.0);
   if (off_diagonal_) {
@@ -266,8 +247,9 @@ void CsrMatrix::assemble() {
   check(MatSeqAIJRestoreArray(diagonal_, &diagonal_values_), "MatSeqAIJRestoreArray");
   if (off_diagonal_)
     check(MatSeqAIJRestoreArray(off_diagonal_, &off_diagonal_values_), "MatSeqAIJRestoreArray");
-  release_column_indices(diagonal_, diagonal_columns_);
-  if (off_diagonal_) release_column_indices(off_diagonal_, off_diagonal_columns_);
+  check(restore_structure(diagonal_, nullptr, diagonal_columns_), "MatRestoreRowIJ");
+  if (off_diagonal_)
+    check(restore_structure(off_diagonal_, nullptr, off_diagonal_columns_), "MatRestoreRowIJ");
   diagonal_columns_ = off_diagonal_columns_ = nullptr;
   for (const RemoteRow& remote : remote_rows_) {
     const BlockLayout& block = blocks_[remote.block];

@@ -44,10 +44,6 @@ class NestedSaddlePoint {
   NestedSaddlePoint(const NestedSaddlePoint&) = delete;
   NestedSaddlePoint& operator=(const NestedSaddlePoint&) = delete;
 
-  /// This rank's rows of each field in the field's own numbering.
-  [[nodiscard]] OwnershipRange primal_range() const { return primal_.range; }
-  [[nodiscard]] OwnershipRange constraint_range() const { return constraint_.range; }
-
   /// A (primal x primal) and G (primal x constraint), to declare and fill.
   CsrMatrix& primal() { return a_; }
   CsrMatrix& coupling() { return g_; }

@@ -90,14 +90,7 @@ void configure_iterative(const SaddlePointSettings& s, KSP ksp,
   }
 }
 
-/// Keeps (or frees to rebuild) the preconditioner of the fieldsplit's first
-/// split (the velocity AMG) along with the outer one. KSPSetReusePreconditioner
-/// on the outer solver alone skips PCFIELDSPLIT's setup, but a split whose
-/// matrix is the operator's own block (la::NestedSaddlePoint: a reference,
-/// not a copy frozen at setup) sees that block change and would rebuild its
-/// AMG at every solve. The other splits (Jacobi on the pressure mass) stay
-/// as they were: rebuilt whenever their matrix changes, which costs nothing.
-/// Calls visit(KSP) for each split's solver of a fieldsplit preconditioner
+/// Calls visit(KSP, index) for each split's solver of a fieldsplit preconditioner
 /// that has been set up (the velocity's first); nothing for another type.
 template <class Visit>
 void for_each_split(KSP ksp, Visit&& visit) {

@@ -237,8 +237,8 @@ void StokesSystem::create_matrices() {
     }
   };
   if (iterative && !slip_) {
+    create_schur_matrix();  // first: it numbers the pressure unknowns
     create_nested_matrices();
-    create_schur_matrix();
     return;
   }
   a_ = std::make_unique<la::CsrMatrix>(range_, n, range_, n);
@@ -271,10 +271,6 @@ void StokesSystem::create_nested_matrices() {
   int n_velocity = 0;
   for (int i = 0; i < n; ++i)
     if (dofs_.field_of(i) == kVelocityField) velocity_position[i] = n_velocity++;
-  pressure_position_.assign(n, -1);
-  int n_pressure = 0;
-  for (int i = 0; i < n; ++i)
-    if (dofs_.field_of(i) == kPressureField) pressure_position_[i] = n_pressure++;
   nested_ = std::make_unique<la::NestedSaddlePoint>(range_, n,
                                                     field_index_sets_[kVelocityField].get(),
                                                     field_index_sets_[kPressureField].get());

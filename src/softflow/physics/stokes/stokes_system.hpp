@@ -138,7 +138,8 @@ class StokesSystem {
   void create_schur_matrix();
   /// The iterative method without slip: the operator as its velocity block
   /// A and gradient block G (la::NestedSaddlePoint), each numbered by its
-  /// field's unknowns in global order, instead of a_: the
+  /// field's unknowns in global order (the pressure's by
+  /// create_schur_matrix, called before), instead of a_: the
   /// fieldsplit preconditioner then takes A, G and G^T by reference.
   void create_nested_matrices();
   /// The operator the Krylov method multiplies with.
