@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   petsc-dev            # PETSc 3.18 with MPI, MUMPS, hypre
+  libhypre-dev         # hypre's headers: the velocity block is stored in its format
   libopenblas0-serial  # optimized BLAS/LAPACK: ~4x faster MUMPS than reference BLAS
   libgmsh-dev gmsh     # gmsh C++ API (meshing)
   libeigen3-dev libhdf5-dev

@@ -12,7 +12,9 @@
 
 #include <petsc/private/petscimpl.h>  // PetscObjectStateGet: how solvers notice new values
 
+#include "softflow/common/error.hpp"
 #include "softflow/la/csr_matrix.hpp"
+#include "softflow/la/hypre_matrix.hpp"
 
 using namespace softflow;
 
@@ -158,5 +160,105 @@ TEST(CsrMatrix, KeepsItsPatternThroughDirichletRowsAndColumns) {
     ASSERT_EQ(MatZeroRowsColumns(m.get(), static_cast<PetscInt>(owned.size()), owned.data(), 1.0,
                                  nullptr, nullptr),
               0);
+  }
+}
+
+TEST(CsrMatrix, HypreFormatHoldsTheSameValuesWithEachRowsOwnEntryFirst) {
+  // The velocity block's format for BoomerAMG: random element-like blocks
+  // (one index list for rows and columns, rows of other ranks dropped as
+  // StokesSystem drops them) on 26 x 26. The values must be the same as
+  // the dense sum at every assembly; hypre's layout must be the documented
+  // one (own entry first in the diagonal part, the rest ascending); the
+  // Dirichlet elimination must keep the pattern for the next assembly.
+  const PetscInt n = 26;
+  const auto range = even_split(n);
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> index(-1, n - 1), shape(2, 6);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  std::vector<std::vector<PetscInt>> all;
+  for (int b = 0; b < 40; ++b) {
+    std::vector<PetscInt> d(shape(rng));
+    for (auto& i : d) i = index(rng);
+    all.push_back(d);
+  }
+  la::CsrMatrix m(range, n, range, n);
+  m.set_format(la::CsrMatrix::Format::hypre_parcsr);
+  std::vector<la::CsrMatrix::Block> blocks;
+  for (const auto& d : all) {
+    std::vector<PetscInt> rows = d;
+    for (auto& r : rows)
+      if (!range.owns(r)) r = -1;
+    blocks.push_back(m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(d)));
+  }
+  m.create();
+  PetscBool is_hypre = PETSC_FALSE;
+  ASSERT_EQ(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(m.get()), MATHYPRE, &is_hypre), 0);
+  EXPECT_TRUE(is_hypre);
+
+  const la::ParCsrArrays a = la::parcsr_arrays(m.get());
+  for (PetscInt r = 0; r < range.size(); ++r) {
+    const PetscInt first = a.diagonal_start[r], last = a.diagonal_start[r + 1];
+    bool own = false;
+    for (PetscInt k = first; k < last; ++k) own = own || a.diagonal_columns[k] == r;
+    if (own) EXPECT_EQ(a.diagonal_columns[first], r) << "row " << r;
+    for (PetscInt k = first + (own ? 2 : 1); k < last; ++k)
+      EXPECT_LT(a.diagonal_columns[k - 1], a.diagonal_columns[k]) << "row " << r;
+    for (PetscInt k = a.off_diagonal_start[r] + 1; k < a.off_diagonal_start[r + 1]; ++k)
+      EXPECT_LT(a.global_of_off_diagonal[a.off_diagonal_columns[k - 1]],
+                a.global_of_off_diagonal[a.off_diagonal_columns[k]]) << "row " << r;
+  }
+
+  // Owned rows 0 and n-1 and every fifth prescribed (sorted, as hypre wants).
+  std::vector<PetscInt> prescribed;
+  for (PetscInt r = range.begin; r < range.end; ++r)
+    if (r == 0 || r == n - 1 || r % 5 == 2) prescribed.push_back(r);
+  std::vector<char> is_prescribed(n, 0);
+  for (PetscInt r = 0; r < n; ++r) is_prescribed[r] = (r == 0 || r == n - 1 || r % 5 == 2);
+  PetscObjectState before = 0, after = 0;
+  for (int assembly = 0; assembly < 2; ++assembly) {
+    Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(n, n);
+    for (std::size_t b = 0; b < all.size(); ++b) {
+      const auto& d = all[b];
+      Eigen::MatrixXd block(d.size(), d.size());
+      for (Eigen::Index i = 0; i < block.rows(); ++i)
+        for (Eigen::Index j = 0; j < block.cols(); ++j) block(i, j) = value(rng);
+      for (std::size_t i = 0; i < d.size(); ++i)
+        for (std::size_t j = 0; j < d.size(); ++j)
+          if (d[i] >= 0 && d[j] >= 0) expected(d[i], d[j]) += block(i, j);
+      m.set_block(blocks[b], block);
+    }
+    ASSERT_EQ(PetscObjectStateGet(reinterpret_cast<PetscObject>(m.get()), &before), 0);
+    m.assemble();
+    ASSERT_EQ(PetscObjectStateGet(reinterpret_cast<PetscObject>(m.get()), &after), 0);
+    EXPECT_NE(before, after) << "a solver would not see the new values";
+    expect_equal(m.get(), range, expected);
+
+    ASSERT_EQ(MatZeroRowsColumns(m.get(), static_cast<PetscInt>(prescribed.size()),
+                                 prescribed.data(), 1.0, nullptr, nullptr),
+              0);
+    for (PetscInt r = 0; r < n; ++r)
+      if (is_prescribed[r]) {
+        expected.row(r).setZero();
+        expected.col(r).setZero();
+        expected(r, r) = 1.0;
+      }
+    expect_equal(m.get(), range, expected);
+  }
+}
+
+TEST(CsrMatrix, HypreFormatRefusesWhatItCannotHold) {
+  // Not square: refused on every rank.
+  const auto rows = even_split(6), columns = even_split(4);
+  la::CsrMatrix rectangular(rows, 6, columns, 4);
+  rectangular.set_format(la::CsrMatrix::Format::hypre_parcsr);
+  EXPECT_THROW(rectangular.create(), SolverError);
+  // Rows of another rank: refused on every rank (known to all at create).
+  if (la::mpi_size() > 1) {
+    const auto range = even_split(8);
+    la::CsrMatrix m(range, 8, range, 8);
+    m.set_format(la::CsrMatrix::Format::hypre_parcsr);
+    const std::array<PetscInt, 2> d{3, 4};  // row 4 on rank 1, row 3 on rank 0
+    if (la::mpi_rank() == 0) m.add_block(std::span<const PetscInt>(d), std::span<const PetscInt>(d));
+    EXPECT_THROW(m.create(), SolverError);
   }
 }

@@ -115,52 +115,58 @@ double max_difference(Vec a, Vec b) {
 /// each rank assembling every element (as StokesSystem does for the
 /// elements it shares).
 struct Systems {
+  explicit Systems(la::CsrMatrix::Format primal_format);
   Numbering n = numbering();
   la::IndexSet primal_is = la::make_index_set(n.primal, 1);
   la::IndexSet constraint_is = la::make_index_set(n.constraint, 1);
   la::CsrMatrix whole{n.range, kUnknowns, n.range, kUnknowns};
   la::NestedSaddlePoint nested{n.range, kUnknowns, primal_is.get(), constraint_is.get()};
-
-  Systems() {
-    const auto els = elements();
-    std::vector<std::array<la::CsrMatrix::Block, 3>> blocks;
-    for (const Element& el : els) {
-      std::vector<PetscInt> rows, u_rows, u_columns, p_columns;
-      for (PetscInt d : el.dofs) rows.push_back(n.range.owns(d) ? d : -1);
-      for (std::size_t k = 0; k < el.dofs.size(); ++k) {
-        const PetscInt d = el.dofs[k];
-        if (n.is_constraint[d]) {
-          p_columns.push_back(n.position[d]);
-        } else {
-          u_rows.push_back(rows[k] < 0 ? -1 : n.position[d]);
-          u_columns.push_back(n.position[d]);
-        }
-      }
-      blocks.push_back({whole.add_block(std::span<const PetscInt>(rows),
-                                        std::span<const PetscInt>(el.dofs)),
-                        nested.primal().add_block(std::span<const PetscInt>(u_rows),
-                                                  std::span<const PetscInt>(u_columns)),
-                        nested.coupling().add_block(std::span<const PetscInt>(u_rows),
-                                                    std::span<const PetscInt>(p_columns))});
-    }
-    whole.create();
-    nested.create();
-    for (std::size_t e = 0; e < els.size(); ++e) {
-      const auto& m = els[e].matrix;
-      const auto nu = static_cast<Eigen::Index>(12), np = m.rows() - nu;
-      whole.set_block(blocks[e][0], m);
-      nested.primal().set_block(blocks[e][1], m.topLeftCorner(nu, nu));
-      nested.coupling().set_block(blocks[e][2], m.topRightCorner(nu, np));
-    }
-    whole.assemble();
-    nested.assemble();
-  }
 };
+
+Systems::Systems(la::CsrMatrix::Format primal_format) {
+  nested.primal().set_format(primal_format);
+  const auto els = elements();
+  std::vector<std::array<la::CsrMatrix::Block, 3>> blocks;
+  for (const Element& el : els) {
+    std::vector<PetscInt> rows, u_rows, u_columns, p_columns;
+    for (PetscInt d : el.dofs) rows.push_back(n.range.owns(d) ? d : -1);
+    for (std::size_t k = 0; k < el.dofs.size(); ++k) {
+      const PetscInt d = el.dofs[k];
+      if (n.is_constraint[d]) {
+        p_columns.push_back(n.position[d]);
+      } else {
+        u_rows.push_back(rows[k] < 0 ? -1 : n.position[d]);
+        u_columns.push_back(n.position[d]);
+      }
+    }
+    blocks.push_back({whole.add_block(std::span<const PetscInt>(rows),
+                                      std::span<const PetscInt>(el.dofs)),
+                      nested.primal().add_block(std::span<const PetscInt>(u_rows),
+                                                std::span<const PetscInt>(u_columns)),
+                      nested.coupling().add_block(std::span<const PetscInt>(u_rows),
+                                                  std::span<const PetscInt>(p_columns))});
+  }
+  whole.create();
+  nested.create();
+  for (std::size_t e = 0; e < els.size(); ++e) {
+    const auto& m = els[e].matrix;
+    const auto nu = static_cast<Eigen::Index>(12), np = m.rows() - nu;
+    whole.set_block(blocks[e][0], m);
+    nested.primal().set_block(blocks[e][1], m.topLeftCorner(nu, nu));
+    nested.coupling().set_block(blocks[e][2], m.topRightCorner(nu, np));
+  }
+  whole.assemble();
+  nested.assemble();
+}
+
+/// Every test runs with A in PETSc's format and in hypre's (the default
+/// for the Stokes velocity block under BoomerAMG).
+class NestedSaddlePoint : public ::testing::TestWithParam<la::CsrMatrix::Format> {};
 
 }  // namespace
 
-TEST(NestedSaddlePoint, MultipliesAsTheSameSystemAssembledIntoOneMatrix) {
-  Systems s;
+TEST_P(NestedSaddlePoint, MultipliesAsTheSameSystemAssembledIntoOneMatrix) {
+  Systems s(GetParam());
   const la::Vector x = random_vector(s.n, 3);
   la::Vector y_whole = la::make_vector(s.n.range.size(), kUnknowns);
   la::Vector y_nested = la::make_vector(s.n.range.size(), kUnknowns);
@@ -172,8 +178,8 @@ TEST(NestedSaddlePoint, MultipliesAsTheSameSystemAssembledIntoOneMatrix) {
   EXPECT_LT(max_difference(y_whole.get(), y_nested.get()), 1e-13 * size);
 }
 
-TEST(NestedSaddlePoint, EliminatesDirichletDataAsMatZeroRowsColumnsDoes) {
-  Systems s;
+TEST_P(NestedSaddlePoint, EliminatesDirichletDataAsMatZeroRowsColumnsDoes) {
+  Systems s(GetParam());
   // Every third owned primal unknown is prescribed.
   std::vector<PetscInt> rows;
   std::vector<PetscScalar> values;
@@ -211,10 +217,10 @@ TEST(NestedSaddlePoint, EliminatesDirichletDataAsMatZeroRowsColumnsDoes) {
   }
 }
 
-TEST(NestedSaddlePoint, HandsItsBlocksToTheFieldsplitByReference) {
+TEST_P(NestedSaddlePoint, HandsItsBlocksToTheFieldsplitByReference) {
   // What the memory saving rests on: extracting a field's block from the
   // nest (MatCreateSubMatrix, as PCFIELDSPLIT does) returns the block itself.
-  Systems s;
+  Systems s(GetParam());
   Mat a = nullptr, g = nullptr;
   ASSERT_EQ(MatCreateSubMatrix(s.nested.preconditioning(), s.primal_is.get(), s.primal_is.get(),
                                MAT_INITIAL_MATRIX, &a),
@@ -227,3 +233,10 @@ TEST(NestedSaddlePoint, HandsItsBlocksToTheFieldsplitByReference) {
   MatDestroy(&a);
   MatDestroy(&g);
 }
+
+INSTANTIATE_TEST_SUITE_P(Formats, NestedSaddlePoint,
+                         ::testing::Values(la::CsrMatrix::Format::petsc_aij,
+                                           la::CsrMatrix::Format::hypre_parcsr),
+                         [](const auto& info) {
+                           return info.param == la::CsrMatrix::Format::petsc_aij ? "aij" : "hypre";
+                         });

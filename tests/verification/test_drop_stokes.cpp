@@ -134,12 +134,12 @@ INSTANTIATE_TEST_SUITE_P(ViscosityRatios, IterativeAgainstDirect, ::testing::Val
 
 TEST(IterativeReuse, AKeptPreconditionerSolvesTheChangedSystemAndIsRebuiltOnceItCostsTooMuch) {
   // One Stokes system solved for lambda = 1, 1.05, 1.1 (a slowly changing
-  // system, as in a time loop), then 30 (a jump). The iterative method keeps
+  // system, as in a time loop), then 1000 (a jump). The iterative method keeps
   // its fieldsplit/AMG preconditioner while it costs at most
   // max_reuse_growth times the fewest iterations since its build: the small
   // changes reuse it and still reach the direct solution of their own
   // system; at the jump the kept one is given up for a fresh one.
-  const std::vector<double> lambdas{1.0, 1.05, 1.1, 30.0, 30.0};
+  const std::vector<double> lambdas{1.0, 1.05, 1.1, 1000.0, 1000.0};
   la::SaddlePointSettings iterative;
   iterative.method = la::SaddlePointMethod::iterative;
   iterative.rtol = 1e-10;
@@ -152,10 +152,13 @@ TEST(IterativeReuse, AKeptPreconditionerSolvesTheChangedSystemAndIsRebuiltOnceIt
   EXPECT_TRUE(runs[1].reused_preconditioner);
   EXPECT_TRUE(runs[2].reused_preconditioner);
   EXPECT_EQ(runs[2].preconditioner_builds, 1);
-  // The jump: the kept preconditioner would need 365 iterations here
-  // (measured without the cap, with the pressure gauge pinned); it is given
-  // up after 2 x 1.3 x the fewest (42 -> 110) and the solve restarts with a
-  // fresh one (~65 more). The next solve keeps that one.
+  // The jump: the kept preconditioner would need 494 iterations here
+  // (measured without the cap); it is given up after 2 x 1.3 x the fewest
+  // (41 -> 106) and the solve restarts with a fresh one (~100 more). The
+  // next solve keeps that one. (The velocity block lives in hypre's format,
+  // so a kept AMG smooths with the current block on its finest level and
+  // only its coarse levels are old: a jump to lambda = 30 costs it 93
+  // iterations, within the allowance, where a frozen copy needed 365.)
   EXPECT_FALSE(runs[3].reused_preconditioner);
   EXPECT_EQ(runs[3].preconditioner_builds, 2);
   EXPECT_LT(runs[3].iterations, 300);

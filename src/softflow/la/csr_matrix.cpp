@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/la/hypre_matrix.hpp"
 
 namespace softflow::la {
 
@@ -39,7 +40,7 @@ CsrMatrix::CsrMatrix(OwnershipRange rows, PetscInt n_global_rows, OwnershipRange
 
 CsrMatrix::~CsrMatrix() {
   // An assembly interrupted by an exception still holds PETSc's arrays.
-  if (open_) {
+  if (open_ && format_ == Format::petsc_aij) {
     MatSeqAIJRestoreArray(diagonal_, &diagonal_values_);
     if (off_diagonal_) MatSeqAIJRestoreArray(off_diagonal_, &off_diagonal_values_);
     restore_structure(diagonal_, nullptr, diagonal_columns_);  // errors ignored: a destructor
@@ -142,23 +143,10 @@ void CsrMatrix::create() {
   build_pattern(row_start, columns);
   std::vector<PetscInt>().swap(received_);
   n_local_nonzeros_ = columns.size();
-
-  check(MatCreate(PETSC_COMM_WORLD, matrix_.out()), "MatCreate");
-  check(MatSetSizes(matrix_.get(), row_range_.size(), column_range_.size(), n_rows_, n_columns_),
-        "MatSetSizes");
-  check(MatSetBlockSizes(matrix_.get(), row_block_size_, column_block_size_), "MatSetBlockSizes");
-  check(MatSetType(matrix_.get(), MATAIJ), "MatSetType");
-  // Exactly our pattern, zeros; only the call for the matrix's type acts.
-  check(MatSeqAIJSetPreallocationCSR(matrix_.get(), row_start.data(), columns.data(), nullptr),
-        "MatSeqAIJSetPreallocationCSR");
-  check(MatMPIAIJSetPreallocationCSR(matrix_.get(), row_start.data(), columns.data(), nullptr),
-        "MatMPIAIJSetPreallocationCSR");
-  // Dirichlet rows are zeroed between assemblies (MatZeroRows); the pattern
-  // must survive that: each assembly walks it.
-  check(MatSetOption(matrix_.get(), MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE), "MatSetOption");
-  check(MatSetOption(matrix_.get(), MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
-  check(MatSetOption(matrix_.get(), MAT_NO_OFF_PROC_ENTRIES, any_remote_ ? PETSC_FALSE : PETSC_TRUE),
-        "MatSetOption");
+  if (format_ == Format::hypre_parcsr)
+    create_in_hypre(row_start, columns);
+  else
+    create_in_petsc(row_start, columns);
   read_row_layout(row_start, columns);
 
   // The remote rows' buffers.
@@ -176,67 +164,132 @@ void CsrMatrix::create() {
   remote_values_.assign(n_remote_values, 0.0);
 }
 
-void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
+void CsrMatrix::create_in_hypre(const std::vector<PetscInt>& row_start,
                                 const std::vector<PetscInt>& columns) {
+  if (row_range_.begin != column_range_.begin || row_range_.end != column_range_.end ||
+      n_rows_ != n_columns_)
+    throw SolverError("CsrMatrix: the hypre format needs a square matrix with rows and columns "
+                      "distributed alike");
+  if (any_remote_)
+    throw SolverError("CsrMatrix: the hypre format takes no rows of other ranks");
+  matrix_ = create_hypre_matrix(row_range_, n_rows_, row_start, columns);
+  global_of_off_diagonal_ = parcsr_arrays(matrix_.get()).global_of_off_diagonal;
+  check(MatSetBlockSizes(matrix_.get(), row_block_size_, column_block_size_), "MatSetBlockSizes");
+  check(MatSetOption(matrix_.get(), MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE), "MatSetOption");
+  diagonal_first_ = true;
+}
+
+void CsrMatrix::create_in_petsc(const std::vector<PetscInt>& row_start,
+                                const std::vector<PetscInt>& columns) {
+  check(MatCreate(PETSC_COMM_WORLD, matrix_.out()), "MatCreate");
+  check(MatSetSizes(matrix_.get(), row_range_.size(), column_range_.size(), n_rows_, n_columns_),
+        "MatSetSizes");
+  check(MatSetBlockSizes(matrix_.get(), row_block_size_, column_block_size_), "MatSetBlockSizes");
+  check(MatSetType(matrix_.get(), MATAIJ), "MatSetType");
+  // Exactly our pattern, zeros; only the call for the matrix's type acts.
+  check(MatSeqAIJSetPreallocationCSR(matrix_.get(), row_start.data(), columns.data(), nullptr),
+        "MatSeqAIJSetPreallocationCSR");
+  check(MatMPIAIJSetPreallocationCSR(matrix_.get(), row_start.data(), columns.data(), nullptr),
+        "MatMPIAIJSetPreallocationCSR");
+  // Dirichlet rows are zeroed between assemblies (MatZeroRows); the pattern
+  // must survive that: each assembly walks it.
+  check(MatSetOption(matrix_.get(), MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE), "MatSetOption");
+  check(MatSetOption(matrix_.get(), MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  check(MatSetOption(matrix_.get(), MAT_NO_OFF_PROC_ENTRIES, any_remote_ ? PETSC_FALSE : PETSC_TRUE),
+        "MatSetOption");
   PetscBool distributed = PETSC_FALSE;
   check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(matrix_.get()), MATMPIAIJ, &distributed),
         "PetscObjectTypeCompare");
-  const PetscInt* global_of_off_diagonal = nullptr;  // PETSc's garray
   if (distributed) {
-    check(MatMPIAIJGetSeqAIJ(matrix_.get(), &diagonal_, &off_diagonal_, &global_of_off_diagonal),
+    check(MatMPIAIJGetSeqAIJ(matrix_.get(), &diagonal_, &off_diagonal_, &global_of_off_diagonal_),
           "MatMPIAIJGetSeqAIJ");
-    global_of_off_diagonal_ = global_of_off_diagonal;
   } else {
     diagonal_ = matrix_.get();
     off_diagonal_ = nullptr;
   }
-  const PetscInt *d_start = nullptr, *d_index = nullptr, *o_start = nullptr, *o_index = nullptr;
-  get_structure(diagonal_, &d_start, &d_index);
-  if (off_diagonal_) get_structure(off_diagonal_, &o_start, &o_index);
+}
 
-  // PETSc must hold exactly our pattern: set_block walks its arrays
+CsrMatrix::Structure CsrMatrix::borrow_structure() const {
+  Structure s;
+  if (format_ == Format::hypre_parcsr) {
+    const ParCsrArrays a = parcsr_arrays(matrix_.get());
+    s = {a.diagonal_start, a.diagonal_columns, a.off_diagonal_start, a.off_diagonal_columns};
+    return s;
+  }
+  get_structure(diagonal_, &s.diagonal_start, &s.diagonal_columns);
+  if (off_diagonal_) get_structure(off_diagonal_, &s.off_diagonal_start, &s.off_diagonal_columns);
+  return s;
+}
+
+void CsrMatrix::release_structure(const Structure& s) const {
+  if (format_ == Format::hypre_parcsr) return;
+  check(restore_structure(diagonal_, s.diagonal_start, s.diagonal_columns), "MatRestoreRowIJ");
+  if (off_diagonal_)
+    check(restore_structure(off_diagonal_, s.off_diagonal_start, s.off_diagonal_columns),
+          "MatRestoreRowIJ");
+}
+
+void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
+                                const std::vector<PetscInt>& columns) {
+  const Structure stored = borrow_structure();
+  const bool has_off_diagonal = stored.off_diagonal_start != nullptr;
+  // The stored pattern must be exactly ours: set_block walks the arrays
   // assuming every declared entry is there. A mismatch is a bug, not input.
   const auto n_local = static_cast<std::size_t>(row_range_.size());
   row_layout_.assign(n_local, {});
+  std::vector<PetscInt> diagonal_part;  // one row's diagonal-part columns, ascending
   bool same = true;
   for (std::size_t r = 0; r < n_local && same; ++r) {
     const PetscInt* first = columns.data() + row_start[r];
     const PetscInt length = row_start[r + 1] - row_start[r];
     const auto low = static_cast<PetscInt>(std::lower_bound(first, first + length, column_range_.begin) - first);
     const auto high = static_cast<PetscInt>(std::lower_bound(first, first + length, column_range_.end) - first);
+    const PetscInt* d = stored.diagonal_columns + stored.diagonal_start[r];
+    diagonal_part.assign(d, stored.diagonal_columns + stored.diagonal_start[r + 1]);
     RowLayout& row = row_layout_[r];
-    row.diagonal = d_start[r];
-    row.off_diagonal = off_diagonal_ ? o_start[r] : 0;
-    same = d_start[r + 1] - d_start[r] == high - low;
+    row.diagonal = stored.diagonal_start[r];
+    if (diagonal_first_ && !diagonal_part.empty() && diagonal_part.front() == static_cast<PetscInt>(r)) {
+      ++row.diagonal;  // the row's own entry leads: move it to its sorted place
+      std::rotate(diagonal_part.begin(), diagonal_part.begin() + 1,
+                  std::upper_bound(diagonal_part.begin() + 1, diagonal_part.end(), diagonal_part.front()));
+    }
+    same = static_cast<PetscInt>(diagonal_part.size()) == high - low;
     for (PetscInt k = low; k < high && same; ++k)
-      same = d_index[d_start[r] + k - low] + column_range_.begin == first[k];
+      same = diagonal_part[k - low] + column_range_.begin == first[k];
     const PetscInt n_off = length - (high - low);
-    if (!off_diagonal_) {
+    if (!has_off_diagonal) {
       same = same && n_off == 0;
       continue;
     }
-    same = same && o_start[r + 1] - o_start[r] == n_off;
+    row.off_diagonal = stored.off_diagonal_start[r];
+    same = same && stored.off_diagonal_start[r + 1] - stored.off_diagonal_start[r] == n_off;
     for (PetscInt k = 0; k < n_off && same; ++k)
-      same = global_of_off_diagonal[o_index[o_start[r] + k]] == first[k < low ? k : k + (high - low)];
+      same = global_of_off_diagonal_[stored.off_diagonal_columns[row.off_diagonal + k]] ==
+             first[k < low ? k : k + (high - low)];
   }
-  n_diagonal_nonzeros_ = static_cast<std::size_t>(d_start[n_local]);
-  n_off_diagonal_nonzeros_ = off_diagonal_ ? static_cast<std::size_t>(o_start[n_local]) : 0;
-  check(restore_structure(diagonal_, d_start, d_index), "MatRestoreRowIJ");
-  if (off_diagonal_) check(restore_structure(off_diagonal_, o_start, o_index), "MatRestoreRowIJ");
-  if (!same) throw SolverError("CsrMatrix: PETSc stored a pattern other than the one declared");
+  n_diagonal_nonzeros_ = static_cast<std::size_t>(stored.diagonal_start[n_local]);
+  n_off_diagonal_nonzeros_ = has_off_diagonal ? static_cast<std::size_t>(stored.off_diagonal_start[n_local]) : 0;
+  release_structure(stored);
+  if (!same) throw SolverError("CsrMatrix: the matrix stored a pattern other than the one declared");
 }
 
-
 void CsrMatrix::open() {
-  const PetscInt* start = nullptr;  // row_layout_ has each row's start
-  get_structure(diagonal_, &start, &diagonal_columns_);
-  if (off_diagonal_) get_structure(off_diagonal_, &start, &off_diagonal_columns_);
-  check(MatSeqAIJGetArray(diagonal_, &diagonal_values_), "MatSeqAIJGetArray");
-  std::fill_n(diagonal_values_, n_diagonal_nonzeros_, 0.0);
-  if (off_diagonal_) {
-    check(MatSeqAIJGetArray(off_diagonal_, &off_diagonal_values_), "MatSeqAIJGetArray");
-    std::fill_n(off_diagonal_values_, n_off_diagonal_nonzeros_, 0.0);
+  if (format_ == Format::hypre_parcsr) {
+    const ParCsrArrays a = parcsr_arrays(matrix_.get());
+    diagonal_columns_ = a.diagonal_columns;
+    diagonal_values_ = a.diagonal_values;
+    off_diagonal_columns_ = a.off_diagonal_columns;
+    off_diagonal_values_ = a.off_diagonal_values;
+  } else {
+    const PetscInt* start = nullptr;  // row_layout_ has each row's start
+    get_structure(diagonal_, &start, &diagonal_columns_);
+    if (off_diagonal_) get_structure(off_diagonal_, &start, &off_diagonal_columns_);
+    check(MatSeqAIJGetArray(diagonal_, &diagonal_values_), "MatSeqAIJGetArray");
+    if (off_diagonal_)
+      check(MatSeqAIJGetArray(off_diagonal_, &off_diagonal_values_), "MatSeqAIJGetArray");
   }
+  std::fill_n(diagonal_values_, n_diagonal_nonzeros_, 0.0);
+  if (n_off_diagonal_nonzeros_ > 0) std::fill_n(off_diagonal_values_, n_off_diagonal_nonzeros_, 0.0);
   std::fill(remote_values_.begin(), remote_values_.end(), 0.0);
   open_ = true;
 }
@@ -244,12 +297,14 @@ void CsrMatrix::open() {
 void CsrMatrix::assemble() {
   if (!open_) open();
   open_ = false;
-  check(MatSeqAIJRestoreArray(diagonal_, &diagonal_values_), "MatSeqAIJRestoreArray");
-  if (off_diagonal_)
-    check(MatSeqAIJRestoreArray(off_diagonal_, &off_diagonal_values_), "MatSeqAIJRestoreArray");
-  check(restore_structure(diagonal_, nullptr, diagonal_columns_), "MatRestoreRowIJ");
-  if (off_diagonal_)
-    check(restore_structure(off_diagonal_, nullptr, off_diagonal_columns_), "MatRestoreRowIJ");
+  if (format_ == Format::petsc_aij) {
+    check(MatSeqAIJRestoreArray(diagonal_, &diagonal_values_), "MatSeqAIJRestoreArray");
+    if (off_diagonal_)
+      check(MatSeqAIJRestoreArray(off_diagonal_, &off_diagonal_values_), "MatSeqAIJRestoreArray");
+    check(restore_structure(diagonal_, nullptr, diagonal_columns_), "MatRestoreRowIJ");
+    if (off_diagonal_)
+      check(restore_structure(off_diagonal_, nullptr, off_diagonal_columns_), "MatRestoreRowIJ");
+  }
   diagonal_columns_ = off_diagonal_columns_ = nullptr;
   for (const RemoteRow& remote : remote_rows_) {
     const BlockLayout& block = blocks_[remote.block];
@@ -260,6 +315,8 @@ void CsrMatrix::assemble() {
                        remote_values_.data() + remote.values, ADD_VALUES),
           "MatSetValues");
   }
+  // hypre: the values are in place already; assembling moves the matrix's
+  // state (so preconditioners see the change) and does nothing else.
   check(MatAssemblyBegin(matrix_.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   check(MatAssemblyEnd(matrix_.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
 }

@@ -75,7 +75,16 @@ class CsrMatrix {
     row_block_size_ = rows;
     column_block_size_ = columns;
   }
-  /// Builds the PETSc matrix with the declared pattern (all zeros). Collective.
+  /// How the values are stored. petsc_aij: PETSc's AIJ. hypre_parcsr:
+  /// hypre's ParCSR inside a MATHYPRE, for a square matrix that BoomerAMG
+  /// preconditions: PCHYPRE takes it as it is, where from AIJ it builds a
+  /// copy as large as the matrix (the velocity block of P2/P1 Stokes: ~1 kB
+  /// per unknown, a third of the iterative solver's peak at 934k unknowns).
+  /// The matrix then multiplies through hypre and must not take rows of
+  /// other ranks. Before create().
+  enum class Format { petsc_aij, hypre_parcsr };
+  void set_format(Format format) { format_ = format; }
+  /// Builds the matrix with the declared pattern (all zeros). Collective.
   void create();
 
   /// Adds the values of block b. Any Eigen matrix of the block's shape, in
@@ -103,11 +112,17 @@ class CsrMatrix {
       const RowLayout& row = row_layout_[r - row_range_.begin];
       const PetscInt* diagonal = diagonal_columns_ + row.diagonal;
       PetscScalar* diagonal_value = diagonal_values_ + row.diagonal;
+      // hypre keeps the row's own entry first, before the sorted rest.
+      const PetscInt own = diagonal_first_ ? r - row_range_.begin : -1;
       const PetscInt* off_diagonal = off_diagonal_columns_ + row.off_diagonal;
       PetscScalar* off_diagonal_value = off_diagonal_values_ + row.off_diagonal;
       for (const auto& [column, j] : sorted_columns_) {
         if (column_range_.owns(column)) {
           const PetscInt local = column - column_range_.begin;
+          if (local == own) {
+            diagonal_values_[row.diagonal - 1] += values(i, j);
+            continue;
+          }
           while (*diagonal < local) ++diagonal, ++diagonal_value;
           assert(*diagonal == local);
           *diagonal_value += values(i, j);
@@ -142,7 +157,9 @@ class CsrMatrix {
   /// row's columns of this rank's column range ("diagonal" part) apart
   /// from the others, each part sorted by global column.
   struct RowLayout {
-    PetscInt diagonal = 0, off_diagonal = 0;  ///< first entry in each array
+    /// First entry in each array (hypre_parcsr: of the diagonal part after
+    /// the row's own entry, which sits just before).
+    PetscInt diagonal = 0, off_diagonal = 0;
   };
   struct RemoteRow {
     Block block;
@@ -183,8 +200,19 @@ class CsrMatrix {
   void exchange_remote_rows();
   /// The sorted, unique columns of every owned row (CSR, local row pointers).
   void build_pattern(std::vector<PetscInt>& row_start, std::vector<PetscInt>& columns) const;
-  /// Checks PETSc's stored pattern against ours and records each row's layout.
+  /// Checks the stored pattern against ours and records each row's layout.
   void read_row_layout(const std::vector<PetscInt>& row_start, const std::vector<PetscInt>& columns);
+  /// create() for each format: the matrix with the pattern, zeros.
+  void create_in_petsc(const std::vector<PetscInt>& row_start, const std::vector<PetscInt>& columns);
+  void create_in_hypre(const std::vector<PetscInt>& row_start, const std::vector<PetscInt>& columns);
+  /// The stored row structure (PETSc's arrays borrowed until the matching
+  /// release_structure; hypre's directly).
+  struct Structure {
+    const PetscInt *diagonal_start = nullptr, *diagonal_columns = nullptr;
+    const PetscInt *off_diagonal_start = nullptr, *off_diagonal_columns = nullptr;
+  };
+  Structure borrow_structure() const;
+  void release_structure(const Structure& s) const;
 
   OwnershipRange row_range_, column_range_;
   PetscInt n_rows_, n_columns_;
@@ -198,7 +226,7 @@ class CsrMatrix {
   std::vector<PetscInt> received_;  ///< until create(): [row, n, n columns] records
   bool any_remote_ = false;          ///< on any rank
   std::size_t n_local_nonzeros_ = 0, n_diagonal_nonzeros_ = 0, n_off_diagonal_nonzeros_ = 0;
-  Mat diagonal_ = nullptr, off_diagonal_ = nullptr;  // PETSc's parts (not owned)
+  Mat diagonal_ = nullptr, off_diagonal_ = nullptr;  // PETSc's AIJ parts (not owned)
   PetscScalar* diagonal_values_ = nullptr;
   PetscScalar* off_diagonal_values_ = nullptr;
   // PETSc's column indices (while open): local columns of the diagonal
@@ -207,6 +235,8 @@ class CsrMatrix {
   const PetscInt* off_diagonal_columns_ = nullptr;
   const PetscInt* global_of_off_diagonal_ = nullptr;  // PETSc's garray
   bool open_ = false;
+  Format format_ = Format::petsc_aij;
+  bool diagonal_first_ = false;  ///< each row's own entry leads its diagonal part (hypre)
   Matrix matrix_;
 };
 

@@ -1,5 +1,7 @@
 #include "softflow/la/nested_saddle_point.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
@@ -164,6 +166,8 @@ void NestedSaddlePoint::eliminate_primal(std::span<const PetscInt> rows,
       if (!field_of_[i]) position_of[i] = next++;
     for (PetscInt r : rows) positions.push_back(position_of[r - range_.begin]);
   }
+  // hypre's elimination (A in hypre's format) takes the rows sorted.
+  std::sort(positions.begin(), positions.end());
   const auto n = static_cast<PetscInt>(positions.size());
   check(MatZeroRowsColumns(a_.get(), n, positions.data(), 1.0, nullptr, nullptr),
         "MatZeroRowsColumns(A)");

@@ -127,6 +127,19 @@ void keep_primal_split(KSP ksp, bool keep) {
 
 }  // namespace
 
+bool primal_split_uses_hypre(const SaddlePointSettings& settings, const std::string& primal_name) {
+  if (settings.method != SaddlePointMethod::iterative) return false;
+  auto option_is = [](const std::string& name, const char* expected) {
+    char value[64] = "";
+    PetscBool set = PETSC_FALSE;
+    check(PetscOptionsGetString(nullptr, nullptr, name.c_str(), value, sizeof value, &set),
+          "PetscOptionsGetString");
+    return !set || std::string(value) == expected;
+  };
+  return option_is("-" + settings.prefix + "pc_type", "fieldsplit") &&
+         option_is("-" + settings.prefix + "fieldsplit_" + primal_name + "_pc_type", "hypre");
+}
+
 SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns) {
   if (method != SaddlePointMethod::automatic) return method;
   return unknowns <= kDirectSolverLimit ? SaddlePointMethod::direct : SaddlePointMethod::iterative;

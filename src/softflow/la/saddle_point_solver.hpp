@@ -47,6 +47,13 @@ struct SaddlePointSettings {
   std::string prefix = "stokes_";
 };
 
+/// Whether the iterative method's first split (field `primal_name`, the
+/// velocity) is preconditioned by hypre: the default, unless the options
+/// database says otherwise (-<prefix>pc_type, -<prefix>fieldsplit_<name>_pc_type).
+/// A matrix it takes is then best stored in hypre's format
+/// (CsrMatrix::Format::hypre_parcsr).
+bool primal_split_uses_hypre(const SaddlePointSettings& settings, const std::string& primal_name);
+
 struct SolveReport {
   int iterations = 0;
   double seconds = 0.0;

@@ -274,6 +274,10 @@ void StokesSystem::create_nested_matrices() {
   nested_ = std::make_unique<la::NestedSaddlePoint>(range_, n,
                                                     field_index_sets_[kVelocityField].get(),
                                                     field_index_sets_[kPressureField].get());
+  // BoomerAMG (the velocity split's default) takes A as it is when A is in
+  // hypre's format; from PETSc's AIJ it would copy it.
+  if (la::primal_split_uses_hypre(settings_, dofs_.field(kVelocityField).name))
+    nested_->primal().set_format(la::CsrMatrix::Format::hypre_parcsr);
   // Whole-system dofs (-1 = dropped) to their positions within a field.
   auto to = [](const std::vector<int>& position, auto first, auto last, PetscInt* out) {
     for (; first != last; ++first) *out++ = *first < 0 ? -1 : position[*first];
