@@ -321,6 +321,20 @@ void CsrMatrix::assemble() {
   check(MatAssemblyEnd(matrix_.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
 }
 
+void CsrMatrix::zero_rows_columns(std::span<const PetscInt> rows, PetscScalar diagonal) {
+  if (format_ == Format::hypre_parcsr) {
+    la::zero_rows_columns(matrix_.get(), rows, diagonal);
+    // The values changed in place; assembling (nothing to do for hypre)
+    // moves the state, so solvers see the change.
+    check(MatAssemblyBegin(matrix_.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(matrix_.get(), MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    return;
+  }
+  check(MatZeroRowsColumns(matrix_.get(), static_cast<PetscInt>(rows.size()), rows.data(), diagonal,
+                           nullptr, nullptr),
+        "MatZeroRowsColumns");
+}
+
 Matrix CsrMatrix::release() {
   diagonal_ = off_diagonal_ = nullptr;
   return std::move(matrix_);

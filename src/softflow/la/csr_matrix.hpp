@@ -138,6 +138,11 @@ class CsrMatrix {
   /// (replacing its entries; none added = a zero matrix). Collective.
   void assemble();
 
+  /// Replaces the owned rows and columns `rows` (global, sorted) by those
+  /// of the identity times `diagonal` (Dirichlet data eliminated
+  /// symmetrically); the pattern stays for the next assembly. Collective.
+  void zero_rows_columns(std::span<const PetscInt> rows, PetscScalar diagonal);
+
   [[nodiscard]] Mat get() const { return matrix_.get(); }
   /// Hands the assembled matrix over (for operators assembled once).
   Matrix release();

@@ -123,4 +123,51 @@ ParCsrArrays parcsr_arrays(Mat hypre_matrix) {
   return a;
 }
 
+void zero_rows_columns(Mat hypre_matrix, std::span<const PetscInt> rows, PetscScalar diagonal) {
+  hypre_ParCSRMatrix* parcsr = nullptr;
+  check(MatHYPREGetParCSR(hypre_matrix, &parcsr), "MatHYPREGetParCSR");
+  PetscInt first = 0, end = 0;
+  check(MatGetOwnershipRange(hypre_matrix, &first, &end), "MatGetOwnershipRange");
+  const auto n = static_cast<std::size_t>(end - first);
+  std::vector<HYPRE_Int> prescribed(n, 0);
+  for (PetscInt r : rows) {
+    if (r < first || r >= end)
+      throw SolverError(fmt::format("zero_rows_columns: row {} is not owned here", r));
+    prescribed[r - first] = 1;
+  }
+  // The diagonal part: this rank's rows and columns.
+  hypre_CSRMatrix* diagonal_part = hypre_ParCSRMatrixDiag(parcsr);
+  const HYPRE_Int* start = hypre_CSRMatrixI(diagonal_part);
+  const HYPRE_Int* column = hypre_CSRMatrixJ(diagonal_part);
+  HYPRE_Complex* value = hypre_CSRMatrixData(diagonal_part);
+  for (std::size_t r = 0; r < n; ++r)
+    for (HYPRE_Int k = start[r]; k < start[r + 1]; ++k)
+      if (prescribed[r]) value[k] = column[k] == static_cast<HYPRE_Int>(r) ? diagonal : 0.0;
+      else if (prescribed[column[k]]) value[k] = 0.0;
+  if (mpi_size() == 1) return;  // no off-diagonal part
+  // The off-diagonal part: its columns' owners say which are prescribed,
+  // through the matrix-vector product's communication pattern.
+  hypre_CSRMatrix* off_diagonal = hypre_ParCSRMatrixOffd(parcsr);
+  hypre_ParCSRCommPkg* pattern = hypre_ParCSRMatrixCommPkg(parcsr);
+  if (!pattern) {
+    check_hypre(hypre_MatvecCommPkgCreate(parcsr), "hypre_MatvecCommPkgCreate");
+    pattern = hypre_ParCSRMatrixCommPkg(parcsr);
+  }
+  const HYPRE_Int n_sends = hypre_ParCSRCommPkgNumSends(pattern);
+  std::vector<HYPRE_Int> sent(static_cast<std::size_t>(hypre_ParCSRCommPkgSendMapStart(pattern, n_sends)));
+  for (std::size_t k = 0; k < sent.size(); ++k)
+    sent[k] = prescribed[hypre_ParCSRCommPkgSendMapElmt(pattern, static_cast<HYPRE_Int>(k))];
+  std::vector<HYPRE_Int> column_prescribed(static_cast<std::size_t>(hypre_CSRMatrixNumCols(off_diagonal)) + 1, 0);
+  // Job 11: integers, forward (as the product sends x's entries).
+  hypre_ParCSRCommHandle* handle =
+      hypre_ParCSRCommHandleCreate(11, pattern, sent.data(), column_prescribed.data());
+  hypre_ParCSRCommHandleDestroy(handle);
+  start = hypre_CSRMatrixI(off_diagonal);
+  column = hypre_CSRMatrixJ(off_diagonal);
+  value = hypre_CSRMatrixData(off_diagonal);
+  for (std::size_t r = 0; r < n; ++r)
+    for (HYPRE_Int k = start[r]; k < start[r + 1]; ++k)
+      if (prescribed[r] || column_prescribed[column[k]]) value[k] = 0.0;
+}
+
 }  // namespace softflow::la

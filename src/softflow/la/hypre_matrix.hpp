@@ -1,6 +1,7 @@
 // A matrix stored in hypre's own format, for BoomerAMG to take as it is.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "softflow/la/petsc.hpp"
@@ -35,5 +36,13 @@ Matrix create_hypre_matrix(OwnershipRange rows, PetscInt n_global,
 
 /// The arrays of a matrix made by create_hypre_matrix.
 ParCsrArrays parcsr_arrays(Mat hypre_matrix);
+
+/// Replaces the rows and columns `rows` (global, owned here, sorted) by
+/// those of the identity times `diagonal`, keeping the pattern; what
+/// MatZeroRowsColumns does, in one pass over the entries (hypre's own
+/// elimination, behind MATHYPRE's MatZeroRowsColumns, searches the row list
+/// for every entry: +35 % on the Stokes assembly at 152k unknowns).
+/// Collective.
+void zero_rows_columns(Mat hypre_matrix, std::span<const PetscInt> rows, PetscScalar diagonal);
 
 }  // namespace softflow::la

@@ -166,12 +166,10 @@ void NestedSaddlePoint::eliminate_primal(std::span<const PetscInt> rows,
       if (!field_of_[i]) position_of[i] = next++;
     for (PetscInt r : rows) positions.push_back(position_of[r - range_.begin]);
   }
-  // hypre's elimination (A in hypre's format) takes the rows sorted.
   std::sort(positions.begin(), positions.end());
-  const auto n = static_cast<PetscInt>(positions.size());
-  check(MatZeroRowsColumns(a_.get(), n, positions.data(), 1.0, nullptr, nullptr),
-        "MatZeroRowsColumns(A)");
-  check(MatZeroRows(g_.get(), n, positions.data(), 0.0, nullptr, nullptr),
+  a_.zero_rows_columns(positions, 1.0);
+  check(MatZeroRows(g_.get(), static_cast<PetscInt>(positions.size()), positions.data(), 0.0,
+                    nullptr, nullptr),
         "MatZeroRows(G)");
   mark_changed();
 }
