@@ -14,14 +14,15 @@
 
 namespace softflow::la {
 
-/// A distributed AIJ matrix assembled from dense element blocks.
+/// A distributed sparse matrix assembled from dense element blocks.
 ///
 /// Every block's rows and columns are declared once (add_block); create()
 /// builds the compressed-row pattern of this rank's rows from them and
-/// hands it to PETSc. Each assembly then adds the blocks' values straight
-/// into PETSc's own value arrays: a block's columns are sorted once, and
-/// each of its rows is walked along PETSc's (sorted) row in one pass. No
-/// coordinate list, no value buffer, nothing stored per element entry.
+/// hands it to PETSc (AIJ) or hypre (ParCSR, see Format). Each assembly
+/// then adds the blocks' values straight into the library's own value
+/// arrays: a block's columns are sorted once, and each of its rows is
+/// walked along the stored (sorted) row in one pass. No coordinate list,
+/// no value buffer, nothing stored per element entry.
 ///
 /// Why not keep each element entry's position in its row (2 bytes an entry,
 /// what this class did before): 0.47 kB per unknown for P2/P1 Stokes, a
@@ -234,11 +235,11 @@ class CsrMatrix {
   Mat diagonal_ = nullptr, off_diagonal_ = nullptr;  // PETSc's AIJ parts (not owned)
   PetscScalar* diagonal_values_ = nullptr;
   PetscScalar* off_diagonal_values_ = nullptr;
-  // PETSc's column indices (while open): local columns of the diagonal
+  // The stored column indices (while open): local columns of the diagonal
   // part; of the off-diagonal part positions in global_of_off_diagonal_.
   const PetscInt* diagonal_columns_ = nullptr;
   const PetscInt* off_diagonal_columns_ = nullptr;
-  const PetscInt* global_of_off_diagonal_ = nullptr;  // PETSc's garray
+  const PetscInt* global_of_off_diagonal_ = nullptr;  // PETSc's garray, hypre's col_map_offd
   bool open_ = false;
   Format format_ = Format::petsc_aij;
   bool diagonal_first_ = false;  ///< each row's own entry leads its diagonal part (hypre)
