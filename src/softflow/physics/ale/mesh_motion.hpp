@@ -30,8 +30,13 @@ enum class AleMethod {
   iterative,
 };
 
-/// Largest number of unknowns for which AleMethod::automatic factors.
-inline constexpr int kAleDirectLimit = 150000;
+/// Largest number of unknowns for which AleMethod::automatic factors: about
+/// the mesh size at which the Stokes solve turns iterative
+/// (la::kDirectSolverLimit, 150k Stokes unknowns ~ 50k nodes), where memory
+/// is what limits a run. Measured on the 374k-unknown drop (125k ALE
+/// unknowns, issue 12): the Cholesky factor took a time step from 1099 to
+/// 1779 MB for 0.81 -> 0.24 s of ALE per 11.6 s step.
+inline constexpr int kAleDirectLimit = 50000;
 
 struct AleSettings {
   AleMethod method = AleMethod::automatic;
