@@ -95,7 +95,8 @@ Matrix create_hypre_matrix(OwnershipRange rows, PetscInt n_global,
   Matrix matrix;
   const PetscErrorCode code = MatCreateFromParCSR(parcsr, MATHYPRE, PETSC_OWN_POINTER, matrix.out());
   if (code != 0) {
-    hypre_ParCSRMatrixDestroy(parcsr);
+    // Once PETSc made the matrix it owns the ParCSR (freed with it).
+    if (!matrix.get()) hypre_ParCSRMatrixDestroy(parcsr);
     check(code, "MatCreateFromParCSR");
   }
   PetscInt rows_here = 0, global = 0;

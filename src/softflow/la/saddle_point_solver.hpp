@@ -51,7 +51,8 @@ struct SaddlePointSettings {
 /// velocity) is preconditioned by hypre: the default, unless the options
 /// database says otherwise (-<prefix>pc_type, -<prefix>fieldsplit_<name>_pc_type).
 /// A matrix it takes is then best stored in hypre's format
-/// (CsrMatrix::Format::hypre_parcsr).
+/// (CsrMatrix::Format::hypre_parcsr). Read when the matrices are made:
+/// options changed later do not move a matrix out of hypre's format.
 bool primal_split_uses_hypre(const SaddlePointSettings& settings, const std::string& primal_name);
 
 struct SolveReport {
