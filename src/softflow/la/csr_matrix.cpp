@@ -176,7 +176,6 @@ void CsrMatrix::create_in_hypre(const std::vector<PetscInt>& row_start,
   global_of_off_diagonal_ = parcsr_arrays(matrix_.get()).global_of_off_diagonal;
   check(MatSetBlockSizes(matrix_.get(), row_block_size_, column_block_size_), "MatSetBlockSizes");
   check(MatSetOption(matrix_.get(), MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE), "MatSetOption");
-  diagonal_first_ = true;
 }
 
 void CsrMatrix::create_in_petsc(const std::vector<PetscInt>& row_start,
@@ -210,12 +209,11 @@ void CsrMatrix::create_in_petsc(const std::vector<PetscInt>& row_start,
 }
 
 CsrMatrix::Structure CsrMatrix::borrow_structure() const {
-  Structure s;
   if (format_ == Format::hypre_parcsr) {
     const ParCsrArrays a = parcsr_arrays(matrix_.get());
-    s = {a.diagonal_start, a.diagonal_columns, a.off_diagonal_start, a.off_diagonal_columns};
-    return s;
+    return {a.diagonal_start, a.diagonal_columns, a.off_diagonal_start, a.off_diagonal_columns};
   }
+  Structure s;
   get_structure(diagonal_, &s.diagonal_start, &s.diagonal_columns);
   if (off_diagonal_) get_structure(off_diagonal_, &s.off_diagonal_start, &s.off_diagonal_columns);
   return s;
@@ -248,7 +246,8 @@ void CsrMatrix::read_row_layout(const std::vector<PetscInt>& row_start,
     diagonal_part.assign(d, stored.diagonal_columns + stored.diagonal_start[r + 1]);
     RowLayout& row = row_layout_[r];
     row.diagonal = stored.diagonal_start[r];
-    if (diagonal_first_ && !diagonal_part.empty() && diagonal_part.front() == static_cast<PetscInt>(r)) {
+    if (format_ == Format::hypre_parcsr && !diagonal_part.empty() &&
+        diagonal_part.front() == static_cast<PetscInt>(r)) {
       ++row.diagonal;  // the row's own entry leads: move it to its sorted place
       std::rotate(diagonal_part.begin(), diagonal_part.begin() + 1,
                   std::upper_bound(diagonal_part.begin() + 1, diagonal_part.end(), diagonal_part.front()));

@@ -114,7 +114,7 @@ class CsrMatrix {
       const PetscInt* diagonal = diagonal_columns_ + row.diagonal;
       PetscScalar* diagonal_value = diagonal_values_ + row.diagonal;
       // hypre keeps the row's own entry first, before the sorted rest.
-      const PetscInt own = diagonal_first_ ? r - row_range_.begin : -1;
+      const PetscInt own = format_ == Format::hypre_parcsr ? r - row_range_.begin : -1;
       const PetscInt* off_diagonal = off_diagonal_columns_ + row.off_diagonal;
       PetscScalar* off_diagonal_value = off_diagonal_values_ + row.off_diagonal;
       for (const auto& [column, j] : sorted_columns_) {
@@ -139,7 +139,7 @@ class CsrMatrix {
   /// (replacing its entries; none added = a zero matrix). Collective.
   void assemble();
 
-  /// Replaces the owned rows and columns `rows` (global, sorted) by those
+  /// Replaces the owned rows and columns `rows` (global, any order) by those
   /// of the identity times `diagonal` (Dirichlet data eliminated
   /// symmetrically); the pattern stays for the next assembly. Collective.
   void zero_rows_columns(std::span<const PetscInt> rows, PetscScalar diagonal);
@@ -242,7 +242,6 @@ class CsrMatrix {
   const PetscInt* global_of_off_diagonal_ = nullptr;  // PETSc's garray, hypre's col_map_offd
   bool open_ = false;
   Format format_ = Format::petsc_aij;
-  bool diagonal_first_ = false;  ///< each row's own entry leads its diagonal part (hypre)
   Matrix matrix_;
 };
 

@@ -37,7 +37,7 @@ Matrix create_hypre_matrix(OwnershipRange rows, PetscInt n_global,
 /// The arrays of a matrix made by create_hypre_matrix.
 ParCsrArrays parcsr_arrays(Mat hypre_matrix);
 
-/// Replaces the rows and columns `rows` (global, owned here, sorted) by
+/// Replaces the rows and columns `rows` (global, owned here) by
 /// those of the identity times `diagonal`, keeping the pattern; what
 /// MatZeroRowsColumns does, in one pass over the entries (hypre's own
 /// elimination, behind MATHYPRE's MatZeroRowsColumns, searches the row list

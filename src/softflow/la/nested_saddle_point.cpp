@@ -1,7 +1,5 @@
 #include "softflow/la/nested_saddle_point.hpp"
 
-#include <algorithm>
-
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
@@ -166,7 +164,6 @@ void NestedSaddlePoint::eliminate_primal(std::span<const PetscInt> rows,
       if (!field_of_[i]) position_of[i] = next++;
     for (PetscInt r : rows) positions.push_back(position_of[r - range_.begin]);
   }
-  std::sort(positions.begin(), positions.end());
   a_.zero_rows_columns(positions, 1.0);
   check(MatZeroRows(g_.get(), static_cast<PetscInt>(positions.size()), positions.data(), 0.0,
                     nullptr, nullptr),
