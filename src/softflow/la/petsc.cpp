@@ -56,6 +56,17 @@ Solver lu_solver(Mat a, const std::string& prefix) {
   return ksp;
 }
 
+void make_shell_preconditioner(PC pc, void* context, PetscErrorCode (*set_up)(PC),
+                               PetscErrorCode (*apply)(PC, Vec, Vec),
+                               PetscErrorCode (*destroy)(PC), const char* name) {
+  check(PCSetType(pc, PCSHELL), "PCSetType(shell)");
+  check(PCShellSetContext(pc, context), "PCShellSetContext");
+  check(PCShellSetSetUp(pc, set_up), "PCShellSetSetUp");
+  check(PCShellSetApply(pc, apply), "PCShellSetApply");
+  check(PCShellSetDestroy(pc, destroy), "PCShellSetDestroy");
+  check(PCShellSetName(pc, name), "PCShellSetName");
+}
+
 NullSpace rigid_body_modes(std::span<const PetscScalar> xyz) {
   const auto n = static_cast<PetscInt>(xyz.size());
   Vector coordinates;

@@ -79,6 +79,12 @@ struct NamedIndexSet {
 /// overridable under the options prefix (e.g. -transport_pc_type ilu).
 Solver lu_solver(Mat a, const std::string& prefix);
 
+/// Makes `pc` a shell preconditioner with these callbacks; `destroy` frees
+/// `context` (PCShellGetContext gives it back to the callbacks).
+void make_shell_preconditioner(PC pc, void* context, PetscErrorCode (*set_up)(PC),
+                               PetscErrorCode (*apply)(PC, Vec, Vec),
+                               PetscErrorCode (*destroy)(PC), const char* name);
+
 /// The six rigid-body modes (3 translations, 3 rotations) of a vector field
 /// given the coordinates of this rank's nodes as x y z triples: the
 /// near-nullspace smoothed-aggregation AMG needs for elasticity-like blocks.

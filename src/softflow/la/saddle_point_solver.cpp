@@ -196,6 +196,7 @@ void SaddlePointSolver::set_up() {
   PC pc = nullptr;
   check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
   check(PCSetUp(pc), "PCSetUp");
+  install_schur_correction();
   // The splits' preconditioners too, now: PCFIELDSPLIT builds them at their
   // first solve, and a split's matrix may be the operator's own block,
   // which holds another matrix by then (a restart's first step).
@@ -268,6 +269,42 @@ SolveReport SaddlePointSolver::solve(Vec b, Vec x, bool x_is_guess) {
   return r;
 }
 
+void SaddlePointSolver::install_schur_correction() {
+  if (schur_correction_installed_ || (schur_correction_->empty() && primal_coarse_space_->empty()) ||
+      settings_.method != SaddlePointMethod::iterative)
+    return;
+  PC pc = nullptr;
+  check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
+  PetscBool fieldsplit = PETSC_FALSE;
+  check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &fieldsplit),
+        "PetscObjectTypeCompare");
+  if (!fieldsplit) return;
+  PCCompositeType type;
+  check(PCFieldSplitGetType(pc, &type), "PCFieldSplitGetType");
+  if (type != PC_COMPOSITE_SCHUR) return;
+  for_each_split(ksp_.get(), [&](KSP split, PetscInt k) {
+    if (k == 0 && !primal_coarse_space_->empty()) {
+      PC split_pc = nullptr, smoother = nullptr;
+      check(KSPGetPC(split, &split_pc), "KSPGetPC");
+      const char* prefix = nullptr;
+      check(KSPGetOptionsPrefix(split, &prefix), "KSPGetOptionsPrefix");
+      check(PCCreate(PetscObjectComm(reinterpret_cast<PetscObject>(split)), &smoother), "PCCreate");
+      check(PCSetOptionsPrefix(smoother, prefix), "PCSetOptionsPrefix");
+      check(PCSetFromOptions(smoother), "PCSetFromOptions");
+      make_two_level(split_pc, smoother, *primal_coarse_space_);
+      return;
+    }
+    if (k != 1 || schur_correction_->empty()) return;  // the Schur complement's solver
+    PC schur_pc = nullptr;
+    check(KSPGetPC(split, &schur_pc), "KSPGetPC");
+    PetscBool jacobi = PETSC_FALSE;
+    check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(schur_pc), PCJACOBI, &jacobi),
+          "PetscObjectTypeCompare");
+    if (jacobi) make_coarse_corrected_jacobi(schur_pc, *schur_correction_);
+  });
+  schur_correction_installed_ = true;
+}
+
 bool SaddlePointSolver::reduces_residual(Vec b, Vec x) const {
   Mat a = nullptr;
   check(KSPGetOperators(ksp_.get(), &a, nullptr), "KSPGetOperators");
@@ -296,6 +333,10 @@ SolveReport SaddlePointSolver::solve_once(Vec b, Vec x, bool reuse, bool x_is_gu
     keep_primal_split(ksp_.get(), reuse);
   if (!reuse) ++n_setups_;
   have_preconditioner_ = true;
+  if (!schur_correction_installed_ && (!schur_correction_->empty() || !primal_coarse_space_->empty())) {
+    check(KSPSetUp(ksp_.get()), "KSPSetUp");  // makes the splits
+    install_schur_correction();
+  }
   check(KSPSolve(ksp_.get(), b, x), "KSPSolve");
   SolveReport r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -4,7 +4,11 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "softflow/la/coarse_corrected_jacobi.hpp"
 #include "softflow/la/petsc.hpp"
+#include "softflow/la/two_level.hpp"
 
 namespace softflow::la {
 
@@ -111,6 +115,14 @@ class SaddlePointSolver {
   /// preconditioner, and the builds so far. Checkpoints save it, so that a
   /// restarted run refactors at the same steps as an uninterrupted one.
   [[nodiscard]] bool refactor_next() const { return refactor_next_; }
+  /// Whether the next solve builds its preconditioner afresh (none yet, the
+  /// reuse policy asks for it, or no reuse at all).
+  [[nodiscard]] bool rebuilds_next() const {
+    const bool reuses = settings_.method == SaddlePointMethod::direct
+                            ? settings_.max_reuse_iterations > 0
+                            : settings_.max_reuse_growth > 0.0;
+    return !have_preconditioner_ || refactor_next_ || !reuses;
+  }
   /// Iterative method: the fewest iterations since the last rebuild (the
   /// reference of max_reuse_growth).
   [[nodiscard]] int fewest_iterations() const { return fewest_iterations_; }
@@ -119,6 +131,18 @@ class SaddlePointSolver {
     n_setups_ = n_setups;
     fewest_iterations_ = fewest_iterations;
   }
+  /// Iterative method, two fields: a coarse correction of the Schur
+  /// complement's preconditioner, Jacobi on `schur` (set_operators), where
+  /// that is known to be wrong along a few vectors (the Stokes system: each
+  /// drop's constant pressure at low viscosity ratios). Vectors in the
+  /// layout of `schur`; the owner may change the coefficients before any
+  /// solve. Applies while the second split's pc_type is jacobi (the default).
+  [[nodiscard]] CoarseCorrection& schur_correction() { return *schur_correction_; }
+  /// Iterative method: vectors of the first field's space that its
+  /// preconditioner (BoomerAMG) is to solve exactly, la::make_two_level
+  /// (the Stokes system: each very viscous drop's rigid motions). Set before
+  /// the first solve.
+  [[nodiscard]] std::vector<SparseVector>& primal_coarse_space() { return *primal_coarse_space_; }
   /// Builds the preconditioner (factors) on the current operators now,
   /// without solving: a restart rebuilding the factors an earlier run had.
   void set_up();
@@ -128,8 +152,16 @@ class SaddlePointSolver {
   /// Whether |b - A x| < |b|: x is a better start than zero.
   [[nodiscard]] bool reduces_residual(Vec b, Vec x) const;
 
+  /// After the outer setup, which makes the splits: the Schur split's
+  /// Jacobi becomes the coarse-corrected one (once; a no-op without a correction).
+  void install_schur_correction();
   SaddlePointSettings settings_;
   Solver ksp_;
+  // On the heap: the Schur split's shell preconditioner points to it.
+  std::unique_ptr<CoarseCorrection> schur_correction_ = std::make_unique<CoarseCorrection>();
+  bool schur_correction_installed_ = false;
+  std::unique_ptr<std::vector<SparseVector>> primal_coarse_space_ =
+      std::make_unique<std::vector<SparseVector>>();
   bool have_preconditioner_ = false;
   bool refactor_next_ = true;
   int n_setups_ = 0;

@@ -12,6 +12,7 @@
 #include "softflow/fem/field.hpp"
 #include "softflow/la/vector_values.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
+#include "softflow/physics/stokes/schur_estimate.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
 #include "softflow/physics/stokes/viscoelastic_terms.hpp"
 
@@ -22,6 +23,16 @@ using la::check;
 // Degree 5 (14 points): exact for the affine-element integrands (degree <= 4)
 // and accurate to well below discretisation error on curved P2 elements.
 constexpr int kQuadratureDegree = 5;
+
+/// The viscosity region r's Schur-complement estimate M/eta divides by
+/// (add_stokes_tet_matrix's pressure_mass_viscosity, or its eta): a
+/// viscoelastic phase's step viscosity, else the (solvent + DEVSS) one.
+double pressure_mass_viscosity(const StokesProblem& problem, int region) {
+  const auto& viscoelastic = problem.viscoelastic;
+  if (viscoelastic.active() && viscoelastic.models.at(region).has_conformation())
+    return viscoelastic.step_viscosity(region);
+  return problem.viscosity.at(region);
+}
 }  // namespace
 
 fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool interface_slip) {
@@ -80,6 +91,101 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
   }
   const auto near_nullspace = velocity_near_nullspace();
   solver_ = std::make_unique<la::SaddlePointSolver>(settings_, fields, near_nullspace.get());
+}
+
+void StokesSystem::update_coarse_spaces(const mesh::Mesh& geometry, const StokesProblem& problem) {
+  const double eta_matrix = pressure_mass_viscosity(problem, 0);
+  auto& schur = solver_->schur_correction();
+  if (!coarse_spaces_made_) {
+    // The objects less viscous than the matrix: their constant pressure.
+    for (int k = 1; k <= mesh_.n_objects; ++k)
+      if (pressure_mass_viscosity(problem, k) < eta_matrix) {
+        schur.vectors.push_back(object_pressure_constant(k));
+        schur.coefficients.push_back(0.0);
+        schur_correction_objects_.push_back(k);
+      }
+  }
+  if (!schur.empty()) {
+    la::Vector product;
+    check(VecDuplicate(schur.vectors.front().get(), product.out()), "VecDuplicate");
+    for (std::size_t i = 0; i < schur.vectors.size(); ++i) {
+      const int k = schur_correction_objects_[i];
+      const double eta = pressure_mass_viscosity(problem, k);
+      // z^T (-f M / eta) z = -f V / eta: the object's volume from the matrix.
+      PetscScalar zmz = 0.0;
+      check(MatMult(schur_->get(), schur.vectors[i].get(), product.get()), "MatMult");
+      check(VecDot(product.get(), schur.vectors[i].get(), &zmz), "VecDot");
+      const double volume = -zmz * eta / pressure_mass_weight(eta / eta_matrix);
+      schur.coefficients[i] = constant_pressure_correction(eta, eta_matrix, volume);
+    }
+  }
+  // The rigid motions of the objects more viscous than the matrix, on the
+  // current geometry, whenever the preconditioner is about to be rebuilt
+  // (a kept one keeps the vectors it was built with).
+  if (!coarse_spaces_made_ || solver_->rebuilds_next()) {
+    auto& space = solver_->primal_coarse_space();
+    space.clear();
+    for (int k = 1; k <= mesh_.n_objects; ++k)
+      if (pressure_mass_viscosity(problem, k) > eta_matrix) add_rigid_motions(geometry, k, space);
+  }
+  coarse_spaces_made_ = true;
+}
+
+la::Vector StokesSystem::object_pressure_constant(int object) const {
+  la::Vector z;
+  check(MatCreateVecs(schur_->get(), z.out(), nullptr), "MatCreateVecs");
+  PetscInt first = 0, n = 0;
+  check(VecGetOwnershipRange(z.get(), &first, nullptr), "VecGetOwnershipRange");
+  check(VecGetLocalSize(z.get(), &n), "VecGetLocalSize");
+  PetscScalar* a = nullptr;
+  check(VecGetArray(z.get(), &a), "VecGetArray");
+  std::fill(a, a + n, 0.0);
+  for (PetscInt d = range_.begin; d < range_.end; ++d) {
+    const int dof = static_cast<int>(d);
+    if (dofs_.field_of(dof) == kPressureField && dofs_.region_of(dof) == object)
+      a[pressure_position_[dof] - first] = 1.0;
+  }
+  check(VecRestoreArray(z.get(), &a), "VecRestoreArray");
+  return z;
+}
+
+void StokesSystem::add_rigid_motions(const mesh::Mesh& geometry, int object,
+                                     std::vector<la::SparseVector>& space) const {
+  // The object's nodes: those of its tetrahedra, its interface included
+  // (the velocity is continuous there).
+  std::vector<char> inside(mesh_.n_nodes(), 0);
+  for (int t = 0; t < mesh_.n_tets(); ++t)
+    if (mesh_.tet_region[t] == object)
+      for (int node : mesh_.tets[t]) inside[node] = 1;
+  // About the centre of its nodes: the six vectors then have comparable sizes.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (int node = 0; node < mesh_.n_nodes(); ++node)
+    if (inside[node]) {
+      centre += geometry.nodes[node];
+      ++count;
+    }
+  centre /= std::max(count, 1);
+  std::array<la::SparseVector, 6> modes;  // 3 translations, 3 rotations
+  PetscInt local = 0;                     // position among this rank's velocity unknowns
+  for (PetscInt d = range_.begin; d < range_.end; ++d) {
+    const int dof = static_cast<int>(d);
+    if (dofs_.field_of(dof) != kVelocityField) continue;
+    const int node = dofs_.node_of(dof), c = dofs_.component_of(dof);
+    if (inside[node]) {
+      const Eigen::Vector3d x = geometry.nodes[node] - centre;
+      modes[c].index.push_back(local);
+      modes[c].value.push_back(1.0);
+      for (int r = 0; r < 3; ++r) {  // about axis r: (e_r x x)_c
+        const double value = Eigen::Vector3d::Unit(r).cross(x)(c);
+        if (value == 0.0) continue;
+        modes[3 + r].index.push_back(local);
+        modes[3 + r].value.push_back(value);
+      }
+    }
+    ++local;
+  }
+  for (auto& m : modes) space.push_back(std::move(m));
 }
 
 StokesSystem::~StokesSystem() = default;
@@ -347,6 +453,11 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
   TetMatrix ke;
   TetVector fe;
   const auto& viscoelastic = problem.viscoelastic;
+  // Each region's weight on its block of -M/eta (schur_estimate.hpp).
+  std::vector<double> mass_weight(problem.viscosity.size(), 1.0);
+  for (std::size_t r = 1; r < mass_weight.size(); ++r)
+    mass_weight[r] = pressure_mass_weight(pressure_mass_viscosity(problem, static_cast<int>(r)) /
+                                          pressure_mass_viscosity(problem, 0));
   for (std::size_t e = 0; e < assembled_tets_.size(); ++e) {
     const int t = assembled_tets_[e];
     const int region = mesh_.tet_region[t];
@@ -372,7 +483,7 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
     } else {
       a_->set_block(tet_blocks_[e], ke);
     }
-    if (schur_) schur_->set_block(schur_blocks_[e], mass);
+    if (schur_) schur_->set_block(schur_blocks_[e], mass_weight[region] * mass);
     if (pmat_) {
       ke.bottomRightCorner<4, 4>() = mass;
       pmat_->set_block(tet_blocks_[e], ke);
@@ -634,6 +745,7 @@ std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
   if (gauge_after_solve()) move_flux_defect_to_gauge(problem, rhs.get());
+  if (schur_) update_coarse_spaces(geometry, problem);
   solver_->set_operators(operator_matrix(),
                          nested_ ? nested_->preconditioning() : pmat_ ? pmat_->get() : nullptr,
                          schur_ ? schur_->get() : nullptr);

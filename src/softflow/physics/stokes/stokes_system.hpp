@@ -136,6 +136,22 @@ class StokesSystem {
   /// velocity block is A's own), instead of a second copy of the whole
   /// system.
   void create_schur_matrix();
+  /// The iterative method without slip: the coarse spaces that make its
+  /// preconditioner robust in the viscosity ratio (docs/stokes_engine.md),
+  /// chosen at the first assembly by each object's viscosity against the
+  /// matrix's. Objects less viscous: their constant pressure corrects the
+  /// Schur complement's estimate (schur_estimate.hpp), coefficients
+  /// updated here at every assembly. Objects more viscous: their six rigid
+  /// motions are solved exactly by the velocity preconditioner
+  /// (la::make_two_level), on `geometry`, renewed whenever the
+  /// preconditioner is to be rebuilt. Collective.
+  void update_coarse_spaces(const mesh::Mesh& geometry, const StokesProblem& problem);
+  /// 1 on the pressure unknowns of `object`, in schur_'s layout.
+  [[nodiscard]] la::Vector object_pressure_constant(int object) const;
+  /// The rigid motions of `object`'s nodes on `geometry`, in the velocity
+  /// block's layout (this rank's part).
+  void add_rigid_motions(const mesh::Mesh& geometry, int object,
+                         std::vector<la::SparseVector>& space) const;
   /// The iterative method without slip: the operator as its velocity block
   /// A and gradient block G (la::NestedSaddlePoint), each numbered by its
   /// field's unknowns in global order (the pressure's by
@@ -241,6 +257,8 @@ class StokesSystem {
   std::unique_ptr<la::CsrMatrix> schur_;
   std::vector<la::CsrMatrix::Block> schur_blocks_;
   std::vector<int> pressure_position_;  // dof -> index among the pressure unknowns, or -1
+  bool coarse_spaces_made_ = false;          // update_coarse_spaces
+  std::vector<int> schur_correction_objects_;  // the object of each Schur correction vector
   std::vector<la::CsrMatrix::Block> tet_blocks_, interface_blocks_;
   std::vector<la::CsrMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
   std::vector<la::CsrMatrix::Block> slip_penalty_blocks_;  // pmat_ only

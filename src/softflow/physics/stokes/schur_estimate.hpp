@@ -1,0 +1,37 @@
+// How the iterative Stokes solver's Schur-complement estimate -M/eta is
+// corrected where it is known to be wrong at a viscosity jump.
+#pragma once
+
+namespace softflow::physics {
+
+/// The factor on an object's block of the viscosity-scaled pressure mass
+/// (M/eta_k times it), for viscosity ratio lambda = eta_k / eta_matrix.
+///
+/// Why: where the velocity is continuous across no viscosity jump,
+/// (div v, q)^2 <= (1/2) a(v, v) |q|^2 / eta bounds the Schur complement by
+/// M/(2 eta) (2 D:D = grad v:grad v + (div v)^2 for a periodic or wall-bounded
+/// v). Inside a much more viscous drop the velocity is free at the interface
+/// (the outer fluid gives way), and only the pointwise (div v)^2 <= 3 D:D
+/// holds: up to 3 / 2, three times higher. bench/schur_spectrum.py measures
+/// this at 34k unknowns: with lambda = 100 the top 5 % of the spectrum of
+/// (M/eta)^{-1} S lie on the drop's pressure, up to 1.47 against 0.50 at
+/// lambda = 1. The weight moves them back into the lambda = 1 range.
+double pressure_mass_weight(double viscosity_ratio);
+
+/// The coefficient c_k of object k's constant pressure z_k in the Schur
+/// preconditioner's coarse correction, P^{-1} r = D^{-1} r + c_k z_k (z_k . r)
+/// (la::CoarseCorrection), for the negative estimate -M/eta:
+///   c_k = -max(0, (eta_matrix - eta_k) / 2) / V_k,
+/// V_k the object's volume.
+///
+/// Why: a constant pressure in a drop does work only through the net flux
+/// across its interface, which the matrix resists as much as the drop, so
+/// the Schur complement there is about V_k / (eta_k + eta_matrix) up to a
+/// factor, not V_k / eta_k. At lambda = 0.01 M/eta puts it 100x too high
+/// (the one outlier of the spectrum at 0.0075, bench/schur_spectrum.py);
+/// the correction raises its weight in the inverse from eta_k / V_k to
+/// about (eta_k + eta_matrix) / (2 V_k), which at lambda = 1 is the mass's
+/// own: no correction from lambda = 1 up.
+double constant_pressure_correction(double eta_object, double eta_matrix, double volume);
+
+}  // namespace softflow::physics
