@@ -196,7 +196,7 @@ void SaddlePointSolver::set_up() {
   PC pc = nullptr;
   check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
   check(PCSetUp(pc), "PCSetUp");
-  install_schur_correction();
+  install_coarse_spaces();
   // The splits' preconditioners too, now: PCFIELDSPLIT builds them at their
   // first solve, and a split's matrix may be the operator's own block,
   // which holds another matrix by then (a restart's first step).
@@ -269,8 +269,8 @@ SolveReport SaddlePointSolver::solve(Vec b, Vec x, bool x_is_guess) {
   return r;
 }
 
-void SaddlePointSolver::install_schur_correction() {
-  if (schur_correction_installed_ || (schur_correction_->empty() && primal_coarse_space_->empty()) ||
+void SaddlePointSolver::install_coarse_spaces() {
+  if (coarse_spaces_installed_ || (schur_correction_->empty() && primal_coarse_space_->empty()) ||
       settings_.method != SaddlePointMethod::iterative)
     return;
   PC pc = nullptr;
@@ -302,7 +302,7 @@ void SaddlePointSolver::install_schur_correction() {
           "PetscObjectTypeCompare");
     if (jacobi) make_coarse_corrected_jacobi(schur_pc, *schur_correction_);
   });
-  schur_correction_installed_ = true;
+  coarse_spaces_installed_ = true;
 }
 
 bool SaddlePointSolver::reduces_residual(Vec b, Vec x) const {
@@ -333,9 +333,9 @@ SolveReport SaddlePointSolver::solve_once(Vec b, Vec x, bool reuse, bool x_is_gu
     keep_primal_split(ksp_.get(), reuse);
   if (!reuse) ++n_setups_;
   have_preconditioner_ = true;
-  if (!schur_correction_installed_ && (!schur_correction_->empty() || !primal_coarse_space_->empty())) {
+  if (!coarse_spaces_installed_ && (!schur_correction_->empty() || !primal_coarse_space_->empty())) {
     check(KSPSetUp(ksp_.get()), "KSPSetUp");  // makes the splits
-    install_schur_correction();
+    install_coarse_spaces();
   }
   check(KSPSolve(ksp_.get(), b, x), "KSPSolve");
   SolveReport r;

@@ -1,10 +1,9 @@
 // Krylov/direct solvers for the Taylor-Hood saddle-point system.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
-
-#include <memory>
 
 #include "softflow/la/coarse_corrected_jacobi.hpp"
 #include "softflow/la/petsc.hpp"
@@ -152,14 +151,16 @@ class SaddlePointSolver {
   /// Whether |b - A x| < |b|: x is a better start than zero.
   [[nodiscard]] bool reduces_residual(Vec b, Vec x) const;
 
-  /// After the outer setup, which makes the splits: the Schur split's
-  /// Jacobi becomes the coarse-corrected one (once; a no-op without a correction).
-  void install_schur_correction();
+  /// After the outer setup, which makes the splits, once: the velocity
+  /// split's preconditioner is wrapped by la::make_two_level if there is a
+  /// primal coarse space, and the Schur split's Jacobi becomes
+  /// la::make_coarse_corrected_jacobi if there is a Schur correction.
+  void install_coarse_spaces();
   SaddlePointSettings settings_;
   Solver ksp_;
-  // On the heap: the Schur split's shell preconditioner points to it.
+  // On the heap: the splits' shell preconditioners point to them.
   std::unique_ptr<CoarseCorrection> schur_correction_ = std::make_unique<CoarseCorrection>();
-  bool schur_correction_installed_ = false;
+  bool coarse_spaces_installed_ = false;
   std::unique_ptr<std::vector<SparseVector>> primal_coarse_space_ =
       std::make_unique<std::vector<SparseVector>>();
   bool have_preconditioner_ = false;

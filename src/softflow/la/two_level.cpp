@@ -8,6 +8,19 @@ namespace softflow::la {
 
 namespace {
 
+/// -log_view's line for the coarse part of an application (the smoother's
+/// is its own PCApply).
+PetscLogEvent coarse_event() {
+  static PetscLogEvent event = [] {
+    PetscLogEvent e = 0;
+    PetscClassId id = 0;
+    check(PetscClassIdRegister("softflow two-level", &id), "PetscClassIdRegister");
+    check(PetscLogEventRegister("TwoLevelCoarse", id, &e), "PetscLogEventRegister");
+    return e;
+  }();
+  return event;
+}
+
 struct Context {
   PC smoother = nullptr;
   const std::vector<SparseVector>* z = nullptr;
@@ -86,13 +99,29 @@ PetscErrorCode apply(PC pc, Vec r, Vec y) {
     PetscCall(PCApply(ctx->smoother, r, y));
     PetscFunctionReturn(0);
   }
+  PetscCall(PetscLogEventBegin(coarse_event(), pc, r, y, 0));
   Eigen::VectorXd w;
   PetscCall(dots(*ctx->z, r, w));
   const Eigen::VectorXd c = ctx->coarse.solve(w);
   PetscCall(VecCopy(r, ctx->work));
   PetscCall(add(ctx->az, c, -1.0, ctx->work));  // r - A Z c
+  PetscCall(PetscLogEventEnd(coarse_event(), pc, r, y, 0));
   PetscCall(PCApply(ctx->smoother, ctx->work, y));
+  PetscCall(PetscLogEventBegin(coarse_event(), pc, r, y, 0));
   PetscCall(add(*ctx->z, c, 1.0, y));
+  PetscCall(PetscLogEventEnd(coarse_event(), pc, r, y, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode view(PC pc, PetscViewer viewer) {
+  PetscFunctionBeginUser;
+  Context* ctx = nullptr;
+  PetscCall(PCShellGetContext(pc, &ctx));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "exact solve on %d coarse vectors, then:\n",
+                                   static_cast<int>(ctx->z->size())));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  PetscCall(PCView(ctx->smoother, viewer));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(0);
 }
 
@@ -114,6 +143,7 @@ void make_two_level(PC pc, PC smoother, const std::vector<SparseVector>& basis) 
   ctx->smoother = smoother;
   ctx->z = &basis;
   make_shell_preconditioner(pc, ctx, set_up, apply, destroy, "softflow: coarse solve + smoother");
+  check(PCShellSetView(pc, view), "PCShellSetView");
 }
 
 }  // namespace softflow::la
