@@ -139,6 +139,35 @@ TEST(TwoLevel, SolvesTheCoarseSpaceExactlyAndSmoothsTheRest) {
   EXPECT_GT((a.diagonal().cwiseInverse().cwiseProduct(a * target) - target).norm(), 0.1 * target.norm());
 }
 
+TEST(TwoLevel, AKeptPreconditionerKeepsItsSmootherTooAndARebuildRenewsBoth) {
+  // The solver keeps a preconditioner by the shell's reuse flag; the
+  // smoother, applied from inside the shell, must not rebuild itself on
+  // the changed matrix (BoomerAMG did, at every solve, before its own flag
+  // was raised after each build), and a rebuild must renew it with E.
+  const Eigen::MatrixXd a = dense_matrix(), z = dense_basis();
+  la::Matrix m = petsc_matrix(a);
+  const auto basis = sparse_basis(z);
+  const Eigen::VectorXd r = random_dense(13);
+  PC pc = nullptr;
+  la::check(PCCreate(PETSC_COMM_WORLD, &pc), "PCCreate");
+  la::check(PCSetOperators(pc, m.get(), m.get()), "PCSetOperators");
+  la::make_two_level(pc, jacobi_smoother(), basis);
+  auto apply = [&] {
+    la::Vector x = petsc_vector(r), y = petsc_vector(Eigen::VectorXd::Zero(kSize));
+    la::check(PCApply(pc, x.get(), y.get()), "PCApply");
+    return dense_vector(y.get());
+  };
+  const Eigen::VectorXd built = apply();
+  la::check(PCSetReusePreconditioner(pc, PETSC_TRUE), "PCSetReusePreconditioner");
+  la::check(MatScale(m.get(), 2.0), "MatScale");
+  const Eigen::VectorXd kept = apply();
+  EXPECT_LT((kept - built).norm(), 1e-14 * built.norm());
+  la::check(PCSetReusePreconditioner(pc, PETSC_FALSE), "PCSetReusePreconditioner");
+  const Eigen::VectorXd rebuilt = apply();  // everything on 2A: half the answer
+  EXPECT_LT((rebuilt - 0.5 * built).norm(), 1e-12 * built.norm());
+  la::check(PCDestroy(&pc), "PCDestroy");
+}
+
 TEST(TwoLevel, WithoutCoarseVectorsIsTheSmoother) {
   const Eigen::MatrixXd a = dense_matrix();
   const la::Matrix m = petsc_matrix(a);

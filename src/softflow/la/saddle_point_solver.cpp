@@ -195,6 +195,7 @@ void SaddlePointSolver::set_up() {
   check(KSPSetUp(ksp_.get()), "KSPSetUp");
   PC pc = nullptr;
   check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
+  renew_coarse_space();
   check(PCSetUp(pc), "PCSetUp");
   install_coarse_spaces();
   // The splits' preconditioners too, now: PCFIELDSPLIT builds them at their
@@ -269,10 +270,14 @@ SolveReport SaddlePointSolver::solve(Vec b, Vec x, bool x_is_guess) {
   return r;
 }
 
+void SaddlePointSolver::renew_coarse_space() {
+  if (renew_primal_coarse_space_) renew_primal_coarse_space_(*primal_coarse_space_);
+}
+
 void SaddlePointSolver::install_coarse_spaces() {
-  if (coarse_spaces_installed_ || (schur_correction_->empty() && primal_coarse_space_->empty()) ||
-      settings_.method != SaddlePointMethod::iterative)
-    return;
+  if (coarse_spaces_installed_ || settings_.method != SaddlePointMethod::iterative) return;
+  coarse_spaces_installed_ = true;  // decided once, whatever the outcome
+  if (schur_correction_->empty() && primal_coarse_space_->empty()) return;
   PC pc = nullptr;
   check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
   PetscBool fieldsplit = PETSC_FALSE;
@@ -302,7 +307,6 @@ void SaddlePointSolver::install_coarse_spaces() {
           "PetscObjectTypeCompare");
     if (jacobi) make_coarse_corrected_jacobi(schur_pc, *schur_correction_);
   });
-  coarse_spaces_installed_ = true;
 }
 
 bool SaddlePointSolver::reduces_residual(Vec b, Vec x) const {
@@ -331,9 +335,12 @@ SolveReport SaddlePointSolver::solve_once(Vec b, Vec x, bool reuse, bool x_is_gu
   // The splits exist once the preconditioner was built.
   if (settings_.method == SaddlePointMethod::iterative && have_preconditioner_)
     keep_primal_split(ksp_.get(), reuse);
-  if (!reuse) ++n_setups_;
+  if (!reuse) {
+    renew_coarse_space();
+    ++n_setups_;
+  }
   have_preconditioner_ = true;
-  if (!coarse_spaces_installed_ && (!schur_correction_->empty() || !primal_coarse_space_->empty())) {
+  if (!coarse_spaces_installed_ && settings_.method == SaddlePointMethod::iterative) {
     check(KSPSetUp(ksp_.get()), "KSPSetUp");  // makes the splits
     install_coarse_spaces();
   }

@@ -1,6 +1,7 @@
 // Krylov/direct solvers for the Taylor-Hood saddle-point system.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -114,14 +115,6 @@ class SaddlePointSolver {
   /// preconditioner, and the builds so far. Checkpoints save it, so that a
   /// restarted run refactors at the same steps as an uninterrupted one.
   [[nodiscard]] bool refactor_next() const { return refactor_next_; }
-  /// Whether the next solve builds its preconditioner afresh (none yet, the
-  /// reuse policy asks for it, or no reuse at all).
-  [[nodiscard]] bool rebuilds_next() const {
-    const bool reuses = settings_.method == SaddlePointMethod::direct
-                            ? settings_.max_reuse_iterations > 0
-                            : settings_.max_reuse_growth > 0.0;
-    return !have_preconditioner_ || refactor_next_ || !reuses;
-  }
   /// Iterative method: the fewest iterations since the last rebuild (the
   /// reference of max_reuse_growth).
   [[nodiscard]] int fewest_iterations() const { return fewest_iterations_; }
@@ -139,9 +132,17 @@ class SaddlePointSolver {
   [[nodiscard]] CoarseCorrection& schur_correction() { return *schur_correction_; }
   /// Iterative method: vectors of the first field's space that its
   /// preconditioner (BoomerAMG) is to solve exactly, la::make_two_level
-  /// (the Stokes system: each very viscous drop's rigid motions). Set before
-  /// the first solve.
-  [[nodiscard]] std::vector<SparseVector>& primal_coarse_space() { return *primal_coarse_space_; }
+  /// (the Stokes system: each very viscous drop's rigid motions). Whether
+  /// there are any is read at the first solve; `renew` (may be empty) is
+  /// called before every build of the preconditioner to bring the vectors
+  /// up to date (e.g. to the current geometry), so that they never change
+  /// between a build and the solves that use it.
+  void set_primal_coarse_space(std::function<void(std::vector<SparseVector>&)> renew) {
+    renew_primal_coarse_space_ = std::move(renew);
+  }
+  [[nodiscard]] const std::vector<SparseVector>& primal_coarse_space() const {
+    return *primal_coarse_space_;
+  }
   /// Builds the preconditioner (factors) on the current operators now,
   /// without solving: a restart rebuilding the factors an earlier run had.
   void set_up();
@@ -156,13 +157,17 @@ class SaddlePointSolver {
   /// primal coarse space, and the Schur split's Jacobi becomes
   /// la::make_coarse_corrected_jacobi if there is a Schur correction.
   void install_coarse_spaces();
+  /// Before a build of the preconditioner: the primal coarse space renewed.
+  void renew_coarse_space();
   SaddlePointSettings settings_;
-  Solver ksp_;
-  // On the heap: the splits' shell preconditioners point to them.
+  // On the heap, and declared before ksp_ so that they outlive it: the
+  // splits' shell preconditioners point to them.
   std::unique_ptr<CoarseCorrection> schur_correction_ = std::make_unique<CoarseCorrection>();
-  bool coarse_spaces_installed_ = false;
   std::unique_ptr<std::vector<SparseVector>> primal_coarse_space_ =
       std::make_unique<std::vector<SparseVector>>();
+  std::function<void(std::vector<SparseVector>&)> renew_primal_coarse_space_;
+  bool coarse_spaces_installed_ = false;
+  Solver ksp_;
   bool have_preconditioner_ = false;
   bool refactor_next_ = true;
   int n_setups_ = 0;

@@ -28,10 +28,13 @@ double pressure_mass_weight(double viscosity_ratio);
 /// across its interface, which the matrix resists as much as the drop, so
 /// the Schur complement there is about V_k / (eta_k + eta_matrix) up to a
 /// factor, not V_k / eta_k. At lambda = 0.01 M/eta puts it 100x too high
-/// (the one outlier of the spectrum at 0.0075, bench/schur_spectrum.py);
-/// the correction raises its weight in the inverse from eta_k / V_k to
-/// about (eta_k + eta_matrix) / (2 V_k), which at lambda = 1 is the mass's
-/// own: no correction from lambda = 1 up.
+/// (the one outlier of the spectrum at 0.0075, bench/schur_spectrum.py).
+/// Jacobi on the P1 mass already weights a constant by about 2.5 eta_k / V_k
+/// in the inverse (the diagonal is 0.4 of the row sum); the correction
+/// adds (eta_matrix - eta_k) / (2 V_k), nothing from lambda = 1 up. Its
+/// factor 1/2 is measured, not derived: 1, 1/2 and 1/3 all move the
+/// outlier into the rest of the spectrum (34k, lambda = 0.01, Jacobi:
+/// extreme-eigenvalue ratio 72 -> 22), and 1/2 vanishes at lambda = 1.
 double constant_pressure_correction(double eta_object, double eta_matrix, double volume);
 
 }  // namespace softflow::physics

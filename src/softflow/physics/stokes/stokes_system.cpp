@@ -93,17 +93,31 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
   solver_ = std::make_unique<la::SaddlePointSolver>(settings_, fields, near_nullspace.get());
 }
 
-void StokesSystem::update_coarse_spaces(const mesh::Mesh& geometry, const StokesProblem& problem) {
+void StokesSystem::update_coarse_spaces(const StokesProblem& problem) {
   const double eta_matrix = pressure_mass_viscosity(problem, 0);
   auto& schur = solver_->schur_correction();
   if (!coarse_spaces_made_) {
     // The objects less viscous than the matrix: their constant pressure.
-    for (int k = 1; k <= mesh_.n_objects; ++k)
-      if (pressure_mass_viscosity(problem, k) < eta_matrix) {
+    // Those more viscous: their rigid motions, on the geometry of each
+    // build of the preconditioner (so a kept one keeps the vectors it was
+    // built with, and a restart rebuilds the same).
+    std::vector<int> stiff;
+    for (int k = 1; k <= mesh_.n_objects; ++k) {
+      const double eta = pressure_mass_viscosity(problem, k);
+      if (eta < eta_matrix) {
         schur.vectors.push_back(object_pressure_constant(k));
         schur.coefficients.push_back(0.0);
         schur_correction_objects_.push_back(k);
+      } else if (eta > eta_matrix) {
+        stiff.push_back(k);
       }
+    }
+    if (!stiff.empty())
+      solver_->set_primal_coarse_space([this, stiff](std::vector<la::SparseVector>& space) {
+        space.clear();
+        for (int k : stiff) add_rigid_motions(*assembled_geometry_, k, space);
+      });
+    coarse_spaces_made_ = true;
   }
   if (!schur.empty()) {
     la::Vector product;
@@ -119,16 +133,6 @@ void StokesSystem::update_coarse_spaces(const mesh::Mesh& geometry, const Stokes
       schur.coefficients[i] = constant_pressure_correction(eta, eta_matrix, volume);
     }
   }
-  // The rigid motions of the objects more viscous than the matrix, on the
-  // current geometry, whenever the preconditioner is about to be rebuilt
-  // (a kept one keeps the vectors it was built with).
-  if (!coarse_spaces_made_ || solver_->rebuilds_next()) {
-    auto& space = solver_->primal_coarse_space();
-    space.clear();
-    for (int k = 1; k <= mesh_.n_objects; ++k)
-      if (pressure_mass_viscosity(problem, k) > eta_matrix) add_rigid_motions(geometry, k, space);
-  }
-  coarse_spaces_made_ = true;
 }
 
 la::Vector StokesSystem::object_pressure_constant(int object) const {
@@ -745,7 +749,8 @@ std::pair<la::Vector, la::Vector> StokesSystem::assemble_system(
   assemble(geometry, problem, rhs.get());
   apply_dirichlet(problem, rhs.get(), x.get());
   if (gauge_after_solve()) move_flux_defect_to_gauge(problem, rhs.get());
-  if (schur_) update_coarse_spaces(geometry, problem);
+  assembled_geometry_ = &geometry;
+  if (schur_) update_coarse_spaces(problem);
   solver_->set_operators(operator_matrix(),
                          nested_ ? nested_->preconditioning() : pmat_ ? pmat_->get() : nullptr,
                          schur_ ? schur_->get() : nullptr);

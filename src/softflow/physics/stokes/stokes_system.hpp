@@ -143,9 +143,9 @@ class StokesSystem {
   /// Schur complement's estimate (schur_estimate.hpp), coefficients
   /// updated here at every assembly. Objects more viscous: their six rigid
   /// motions are solved exactly by the velocity preconditioner
-  /// (la::make_two_level), on `geometry`, renewed whenever the
-  /// preconditioner is to be rebuilt. Collective.
-  void update_coarse_spaces(const mesh::Mesh& geometry, const StokesProblem& problem);
+  /// (la::make_two_level), renewed on the assembled geometry at each build
+  /// of the preconditioner. Collective.
+  void update_coarse_spaces(const StokesProblem& problem);
   /// 1 on the pressure unknowns of `object`, in schur_'s layout.
   [[nodiscard]] la::Vector object_pressure_constant(int object) const;
   /// The rigid motions of `object`'s nodes on `geometry`, in the velocity
@@ -258,6 +258,9 @@ class StokesSystem {
   std::vector<la::CsrMatrix::Block> schur_blocks_;
   std::vector<int> pressure_position_;  // dof -> index among the pressure unknowns, or -1
   bool coarse_spaces_made_ = false;          // update_coarse_spaces
+  // The geometry of the last assembly (assemble_system): the rigid motions
+  // are renewed on it when the solver builds its preconditioner.
+  const mesh::Mesh* assembled_geometry_ = nullptr;
   std::vector<int> schur_correction_objects_;  // the object of each Schur correction vector
   std::vector<la::CsrMatrix::Block> tet_blocks_, interface_blocks_;
   std::vector<la::CsrMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
