@@ -253,11 +253,35 @@ def report(results):
         r = solve_row(s)
         md.append(f"| {name} | {ranks} | {lam:g} | {r['unknowns']:,} | {r['iterations']} | {r['solve_s']:.1f} | "
                   f"{r['memory_mb']:.0f} | {r['status']} |")
+    md += ["", "![iterations against the viscosity ratio](scaling_lambda.png)"]
     md += targets(results)
+    plot_lambda(results)
     with open(os.path.join(OUT, "scaling.md"), "w") as f:
         f.write("\n".join(md) + "\n")
     with open(os.path.join(OUT, "scaling.json"), "w") as f:
         json.dump({label: results[label] for label in sorted(results) if results[label]}, f, indent=1)
+
+
+def plot_lambda(results):
+    """Iterations of one solve against lambda, one line per case of the table."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 4))
+    series = [(LAMBDA_CASE, 1, LAMBDAS)] + [(n, r, [0.01, 1.0, 100.0]) for n, r in LAMBDA_EXTRA]
+    for name, ranks, lams in series:
+        points = [(lam, results[lambda_label(name, lam, ranks)]["solver"]["iterations"])
+                  for lam in lams if results.get(lambda_label(name, lam, ranks))]
+        if points:
+            s = results[lambda_label(name, points[0][0], ranks)]
+            ax.plot(*zip(*points), "o-", label=f"{name}, {s['unknowns']['total']:,} unknowns, "
+                    f"{ranks} rank{'s' if ranks > 1 else ''}")
+    ax.set(xscale="log", xlabel="viscosity ratio lambda", ylabel="GMRES iterations (rtol 1e-8)",
+           title="One Stokes solve, iterative path", ylim=(0, None))
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "scaling_lambda.png"), dpi=110)
+    plt.close(fig)
 
 
 def main():
