@@ -152,6 +152,28 @@ TEST(IterativeRobustness, IterationsHardlyDependOnTheViscosityRatio) {
   EXPECT_LE(*most, 1.2 * *fewest);
 }
 
+TEST(IterativeRobustness, EachObjectGetsTheCoarseSpaceOfItsSide) {
+  // A drop less viscous than the matrix: one Schur correction, c = -(eta_m -
+  // eta_d) / (2 V) with V the drop's volume read off the assembled mass; no
+  // velocity coarse space. More viscous: its six rigid motions and no
+  // correction. Equal: neither.
+  la::SaddlePointSettings iterative;
+  iterative.method = la::SaddlePointMethod::iterative;
+  const auto soft = verification::drop_in_shear(0.1, 0.5, 16, iterative);
+  ASSERT_EQ(soft.schur_correction_coefficients.size(), 1u);
+  const double volume = -(1.0 - 0.1) / (2.0 * soft.schur_correction_coefficients[0]);
+  std::printf("lambda 0.1: drop volume from the mass %.8f, of its tetrahedra %.8f\n", volume,
+              soft.drop_volume);
+  EXPECT_NEAR(volume, soft.drop_volume, 1e-10 * soft.drop_volume);
+  EXPECT_EQ(soft.primal_coarse_vectors, 0);
+  const auto stiff = verification::drop_in_shear(10.0, 0.5, 16, iterative);
+  EXPECT_TRUE(stiff.schur_correction_coefficients.empty());
+  EXPECT_EQ(stiff.primal_coarse_vectors, 6);
+  const auto equal = verification::drop_in_shear(1.0, 0.5, 16, iterative);
+  EXPECT_TRUE(equal.schur_correction_coefficients.empty());
+  EXPECT_EQ(equal.primal_coarse_vectors, 0);
+}
+
 TEST(IterativeAgainstDirectWithGamg, AnotherVelocityPreconditionerGetsTheBlockInPetscFormat) {
   // The velocity block is stored in hypre's format only while BoomerAMG
   // takes it (the default); a user's other choice, here PETSc's GAMG, gets

@@ -75,6 +75,9 @@ std::vector<DropSolveResult> drop_in_shear_sequence(const std::vector<double>& l
     r.iterations = result.solve.iterations;
     r.reused_preconditioner = result.solve.reused_preconditioner;
     r.preconditioner_builds = system.n_factorizations();
+    r.schur_correction_coefficients = system.solver().schur_correction().coefficients;
+    r.primal_coarse_vectors = static_cast<int>(system.solver().primal_coarse_space().size());
+    r.drop_volume = measures[0].volume;
     out.push_back(std::move(r));
   }
   return out;

@@ -21,6 +21,11 @@ struct DropSolveResult {
   int iterations = 0;             ///< of the Stokes solve
   bool reused_preconditioner = false;
   int preconditioner_builds = 0;  ///< by the system so far
+  /// The iterative solver's coarse spaces after the solve: the Schur
+  /// correction's coefficients and the number of velocity coarse vectors.
+  std::vector<double> schur_correction_coefficients;
+  int primal_coarse_vectors = 0;
+  double drop_volume = 0.0;       ///< of the drop's curved tetrahedra
 };
 
 /// Unit drop (viscosity ratio lambda, tension gamma) in a box [-3,3]^3 in
