@@ -777,6 +777,7 @@ void StokesSystem::factor(const MatrixRecord& record) {
   }
   assemble_system(geometry, problem);  // the matrix is what counts; the vectors go
   solver_->set_up();
+  assembled_geometry_ = &mesh_;  // not the local copy, gone on return
 }
 
 fem::Field StokesSystem::conformation_field(const std::vector<double>& owned_values) const {
