@@ -77,7 +77,10 @@ PetscErrorCode set_up(PC pc) {
   Eigen::VectorXd column;
   for (Eigen::Index j = 0; j < n; ++j) {
     PetscCall(VecSet(ctx->work, 0.0));
-    PetscCall(add({z[j]}, Eigen::VectorXd::Ones(1), 1.0, ctx->work));
+    PetscScalar* w = nullptr;
+    PetscCall(VecGetArray(ctx->work, &w));
+    for (std::size_t i = 0; i < z[j].index.size(); ++i) w[z[j].index[i]] = z[j].value[i];
+    PetscCall(VecRestoreArray(ctx->work, &w));
     PetscCall(MatMult(a, ctx->work, ctx->product));
     PetscCall(dots(z, ctx->product, column));
     e.col(j) = column;

@@ -25,8 +25,8 @@ using la::check;
 constexpr int kQuadratureDegree = 5;
 
 /// The viscosity region r's Schur-complement estimate M/eta divides by
-/// (add_stokes_tet_matrix's pressure_mass_viscosity, or its eta): a
-/// viscoelastic phase's step viscosity, else the (solvent + DEVSS) one.
+/// (what assemble hands add_stokes_tet_matrix as pressure_mass_viscosity):
+/// a viscoelastic phase's step viscosity, else the Newtonian one.
 double pressure_mass_viscosity(const StokesProblem& problem, int region) {
   const auto& viscoelastic = problem.viscoelastic;
   if (viscoelastic.active() && viscoelastic.models.at(region).has_conformation())
@@ -114,8 +114,7 @@ void StokesSystem::update_coarse_spaces(const StokesProblem& problem) {
     }
     if (!stiff.empty())
       solver_->set_primal_coarse_space([this, stiff](std::vector<la::SparseVector>& space) {
-        space.clear();
-        for (int k : stiff) add_rigid_motions(*assembled_geometry_, k, space);
+        space = rigid_motions(*assembled_geometry_, stiff);
       });
     coarse_spaces_made_ = true;
   }
@@ -153,43 +152,47 @@ la::Vector StokesSystem::object_pressure_constant(int object) const {
   return z;
 }
 
-void StokesSystem::add_rigid_motions(const mesh::Mesh& geometry, int object,
-                                     std::vector<la::SparseVector>& space) const {
-  // The object's nodes: those of its tetrahedra, its interface included
-  // (the velocity is continuous there).
-  std::vector<char> inside(mesh_.n_nodes(), 0);
+std::vector<la::SparseVector> StokesSystem::rigid_motions(const mesh::Mesh& geometry,
+                                                          const std::vector<int>& objects) const {
+  // Each node's position in `objects` (-1: none): the nodes of an object's
+  // tetrahedra, its interface included (the velocity is continuous there).
+  std::vector<int> position(mesh_.n_objects + 1, -1), which(mesh_.n_nodes(), -1);
+  for (std::size_t i = 0; i < objects.size(); ++i) position[objects[i]] = static_cast<int>(i);
   for (int t = 0; t < mesh_.n_tets(); ++t)
-    if (mesh_.tet_region[t] == object)
-      for (int node : mesh_.tets[t]) inside[node] = 1;
-  // About the centre of its nodes: the six vectors then have comparable sizes.
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  int count = 0;
+    if (const int i = position[mesh_.tet_region[t]]; i >= 0)
+      for (int node : mesh_.tets[t]) which[node] = i;
+  // About the centre of each object's nodes: its six vectors then have
+  // comparable sizes.
+  std::vector<Eigen::Vector3d> centre(objects.size(), Eigen::Vector3d::Zero());
+  std::vector<int> count(objects.size(), 0);
   for (int node = 0; node < mesh_.n_nodes(); ++node)
-    if (inside[node]) {
-      centre += geometry.nodes[node];
-      ++count;
+    if (which[node] >= 0) {
+      centre[which[node]] += geometry.nodes[node];
+      ++count[which[node]];
     }
-  centre /= std::max(count, 1);
-  std::array<la::SparseVector, 6> modes;  // 3 translations, 3 rotations
-  PetscInt local = 0;                     // position among this rank's velocity unknowns
+  for (std::size_t i = 0; i < objects.size(); ++i) centre[i] /= std::max(count[i], 1);
+  // Per object: 3 translations, then 3 rotations.
+  std::vector<la::SparseVector> modes(6 * objects.size());
+  PetscInt local = 0;  // position among this rank's velocity unknowns
   for (PetscInt d = range_.begin; d < range_.end; ++d) {
     const int dof = static_cast<int>(d);
     if (dofs_.field_of(dof) != kVelocityField) continue;
     const int node = dofs_.node_of(dof), c = dofs_.component_of(dof);
-    if (inside[node]) {
-      const Eigen::Vector3d x = geometry.nodes[node] - centre;
-      modes[c].index.push_back(local);
-      modes[c].value.push_back(1.0);
+    if (const int i = which[node]; i >= 0) {
+      la::SparseVector* m = &modes[6 * i];
+      const Eigen::Vector3d x = geometry.nodes[node] - centre[i];
+      m[c].index.push_back(local);
+      m[c].value.push_back(1.0);
       for (int r = 0; r < 3; ++r) {  // about axis r: (e_r x x)_c
         const double value = Eigen::Vector3d::Unit(r).cross(x)(c);
         if (value == 0.0) continue;
-        modes[3 + r].index.push_back(local);
-        modes[3 + r].value.push_back(value);
+        m[3 + r].index.push_back(local);
+        m[3 + r].value.push_back(value);
       }
     }
     ++local;
   }
-  for (auto& m : modes) space.push_back(std::move(m));
+  return modes;
 }
 
 StokesSystem::~StokesSystem() = default;
@@ -457,11 +460,12 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
   TetMatrix ke;
   TetVector fe;
   const auto& viscoelastic = problem.viscoelastic;
-  // Each region's weight on its block of -M/eta (schur_estimate.hpp).
-  std::vector<double> mass_weight(problem.viscosity.size(), 1.0);
-  for (std::size_t r = 1; r < mass_weight.size(); ++r)
-    mass_weight[r] = pressure_mass_weight(pressure_mass_viscosity(problem, static_cast<int>(r)) /
-                                          pressure_mass_viscosity(problem, 0));
+  // Each region's viscosity in -M/eta and weight on its block (schur_estimate.hpp).
+  std::vector<double> mass_viscosity(problem.viscosity.size()), mass_weight(mass_viscosity.size());
+  for (std::size_t r = 0; r < mass_viscosity.size(); ++r)
+    mass_viscosity[r] = pressure_mass_viscosity(problem, static_cast<int>(r));
+  for (std::size_t r = 0; r < mass_weight.size(); ++r)
+    mass_weight[r] = r == 0 ? 1.0 : pressure_mass_weight(mass_viscosity[r] / mass_viscosity[0]);
   for (std::size_t e = 0; e < assembled_tets_.size(); ++e) {
     const int t = assembled_tets_[e];
     const int region = mesh_.tet_region[t];
@@ -475,7 +479,7 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
     fe.setZero();
     PressureMass mass = PressureMass::Zero();
     add_stokes_tet_matrix(x, tabulation_, eta, ke, iterative ? &mass : nullptr,
-                          has_stress ? viscoelastic.step_viscosity(region) : 0.0);
+                          mass_viscosity[region]);
     if (has_stress)
       add_viscoelastic_tet_terms(viscoelastic, fem::quadrature_points(geometry, tabulation_, t), ke,
                                  fe);

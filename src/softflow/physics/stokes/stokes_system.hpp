@@ -148,10 +148,11 @@ class StokesSystem {
   void update_coarse_spaces(const StokesProblem& problem);
   /// 1 on the pressure unknowns of `object`, in schur_'s layout.
   [[nodiscard]] la::Vector object_pressure_constant(int object) const;
-  /// The rigid motions of `object`'s nodes on `geometry`, in the velocity
-  /// block's layout (this rank's part).
-  void add_rigid_motions(const mesh::Mesh& geometry, int object,
-                         std::vector<la::SparseVector>& space) const;
+  /// The six rigid motions of each of `objects` (on its nodes, on
+  /// `geometry`), in the velocity block's layout (this rank's part), six
+  /// per object in the order given.
+  [[nodiscard]] std::vector<la::SparseVector> rigid_motions(const mesh::Mesh& geometry,
+                                                           const std::vector<int>& objects) const;
   /// The iterative method without slip: the operator as its velocity block
   /// A and gradient block G (la::NestedSaddlePoint), each numbered by its
   /// field's unknowns in global order (the pressure's by
