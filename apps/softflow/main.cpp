@@ -32,6 +32,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -48,8 +49,10 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/case_config.hpp"
+#include "softflow/io/run_lock.hpp"
 #include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/drop_run.hpp"
+#include "softflow/simulation/run_support.hpp"
 #include "softflow/simulation/stokes_run.hpp"
 #include "softflow/simulation/convergence.hpp"
 #include "softflow/simulation/sweep.hpp"
@@ -298,6 +301,9 @@ int main(int argc, char** argv) {
   restart->add_flag("-q,--quiet", quiet, "print nothing but errors");
   restart->add_option("--wall-time-limit", wall_time_limit,
                       "checkpoint and stop (exit code 5) before this much wall time has passed");
+  restart->add_flag("--force", overwrite,
+                    "continue even though progress.json says the run is running on another host "
+                    "(after that host died)");
 
   auto* mesh = app.add_subcommand("mesh", "mesh the case and report nodes, elements and quality");
   mesh->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
@@ -505,9 +511,29 @@ int main(int argc, char** argv) {
     }
   }
 
+  // One writer per output directory, from before meshing to the process's
+  // end (io::RunLock): the launcher's rank 0 holds it. A refusal is shared
+  // with every rank once MPI runs, below.
+  std::optional<softflow::io::RunLock> run_lock;
+  std::string lock_refusal;
+  if ((*run || *restart) && launcher_rank_zero()) {
+    try {
+      std::filesystem::path directory = run_dir;
+      if (*run) {
+        const auto config = read_valid_case(case_file);
+        directory = options.output_directory.value_or(std::filesystem::path(config.output_directory));
+      }
+      run_lock.emplace(directory, *run ? "run" : "restart");
+    } catch (const softflow::InputError&) {
+      // reported below, with every rank
+    } catch (const std::exception& e) {
+      lock_refusal = e.what();
+    }
+  }
+
   // The mesh, before MPI starts: only then is it the same in every run
   // (simulation::mesh_before_mpi). Problems surface below, after MPI.
-  if ((*run || *mesh) && launcher_rank_zero()) {
+  if ((*run || *mesh) && launcher_rank_zero() && lock_refusal.empty()) {
     try {
       softflow::simulation::mesh_before_mpi(read_valid_case(case_file));
     } catch (const std::exception&) {
@@ -517,6 +543,9 @@ int main(int argc, char** argv) {
   try {
     PetscSession petsc_session(petsc);
     try {
+      softflow::simulation::on_root_sharing_failure([&] {
+        if (!lock_refusal.empty()) throw softflow::io::DirectoryBusy(lock_refusal);
+      });
       if (*restart && !std::filesystem::exists(std::filesystem::path(run_dir) / "case.toml"))
         throw softflow::InputError(fmt::format(
             "{}: not the output directory of a run (it has no case.toml); give the directory a "

@@ -12,6 +12,7 @@
 #include "softflow/analysis/richardson.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/io/output_directory.hpp"
+#include "softflow/io/run_lock.hpp"
 #include "softflow/simulation/run_support.hpp"
 
 namespace softflow::simulation {
@@ -166,6 +167,8 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
                     const SweepOptions& sweep_options) {
   const std::string text = read_case_text(case_file);
   const io::Sweep sweep = mesh_levels(text, case_file.string(), options);
+  check_cases(sweep, case_file.string(), sweep_options);
+  const io::RunLock lock(sweep.directory, "converge");  // one study per directory
   if (!sweep_options.quiet && !(sweep.cases.front().config.time.steady_tolerance > 0.0))
     fmt::print("softflow converge: time.steady_tolerance = 0, so each level's values are those at "
                "time.end = {:g}: make sure the runs are steady by then\n",

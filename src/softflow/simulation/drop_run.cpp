@@ -30,6 +30,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/io/output_directory.hpp"
+#include "softflow/io/run_lock.hpp"
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
@@ -856,18 +857,44 @@ std::string run_status(const fs::path& directory) {
 
 void refuse_to_replace_unfinished_run(const fs::path& directory) {
   std::error_code ec;
-  if (!fs::exists(directory / kCheckpointFile, ec)) return;
+  const bool checkpoint = fs::exists(directory / kCheckpointFile, ec);
+  const auto progress = read_json_file(directory / "progress.json");
   std::string status = run_status(directory);
+  // The caller holds the directory's io::RunLock, so no process of this
+  // host writes it; a "running" here is a run on another host (or a pid
+  // reused since the run was killed): it may be live, and two writers lose
+  // results (issue 33).
+  if (status == "running") {
+    const long pid = progress.is_object() ? progress.value("pid", 0L) : 0L;
+    const std::string host = progress.is_object() ? progress.value("host", std::string()) : "";
+    throw io::DirectoryBusy(fmt::format(
+        "{}/progress.json says a run is still running there (pid {} on {}{}): two runs in one "
+        "directory would mix and lose results. If that run has really ended (its machine "
+        "rebooted, or the pid belongs to another process now), start afresh with "
+        "`softflow run ... --overwrite`{}",
+        directory.string(), pid, host == host_name() ? "this host" : fmt::format("host '{}'", host),
+        host == host_name() ? ", a process that is not softflow" : "",
+        checkpoint ? fmt::format(" or continue it with `softflow restart {}`", directory.string())
+                   : std::string()));
+  }
+  if (status == "killed") {
+    const long step = progress.is_object() ? progress.value("step", 0L) : 0L;
+    throw InputError(fmt::format(
+        "{} holds a run that was killed at step {} (stopped without a final checkpoint; pid {} "
+        "is gone): {}, or start afresh with `softflow run ... --overwrite`",
+        directory.string(), step, progress.value("pid", 0L),
+        checkpoint ? fmt::format("continue it from its last checkpoint with `softflow restart {}`",
+                                 directory.string())
+                   : std::string("it has no checkpoint to continue from, but its results so far "
+                                 "would be replaced")));
+  }
+  if (!checkpoint) return;
   if (status.empty()) status = "interrupted";
   if (status == "completed" || status == "stopped") return;
-  const std::string what =
-      status == "killed"    ? "a run that was killed (stopped without a final checkpoint)"
-      : status == "running" ? "a run that is still running, or was killed on another host"
-                            : fmt::format("an unfinished run (status \"{}\")", status);
   throw InputError(
-      fmt::format("{} holds {}, with a checkpoint: continue it with `softflow restart {}`, or "
-                  "start afresh with `softflow run ... --overwrite`",
-                  directory.string(), what, directory.string()));
+      fmt::format("{} holds an unfinished run (status \"{}\"), with a checkpoint: continue it "
+                  "with `softflow restart {}`, or start afresh with `softflow run ... --overwrite`",
+                  directory.string(), status, directory.string()));
 }
 
 /// A mesh that starts below time.min_quality would stop the run at its first
@@ -923,6 +950,19 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
   const bool root = is_root();
   if (root) io::remove_stale_temporaries(directory / kCheckpointFile);
   const std::string previous = root ? run_status(directory) : std::string();
+  // The caller holds the directory's io::RunLock: "running" is a run on
+  // another host (or a reused pid), perhaps live.
+  if (!options.overwrite)
+    on_root_sharing_failure([&] {
+      if (previous != "running") return;
+      const auto progress = read_json_file(directory / "progress.json");
+      throw io::DirectoryBusy(fmt::format(
+          "{}/progress.json says the run is still running (pid {} on host '{}'): two writers "
+          "would mix and lose results. If that run has really ended, continue it with "
+          "`softflow restart {} --force`",
+          directory.string(), progress.value("pid", 0L), progress.value("host", std::string()),
+          directory.string()));
+    });
   // Every rank reads the checkpoint: each holds the full replicated state.
   const io::Checkpoint checkpoint = io::read_checkpoint(directory / kCheckpointFile);
   check_same_case(config, checkpoint, directory);

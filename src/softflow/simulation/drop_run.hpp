@@ -45,9 +45,12 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
 nlohmann::json restart_drop_case(const io::CaseConfig& config,
                                  const std::filesystem::path& directory, const RunOptions& options);
 
-/// Throws InputError if `directory` holds a checkpoint of a run that did not
-/// finish (no summary, or status "interrupted"/"running"): work a fresh run
-/// would throw away. `softflow run --overwrite` skips the check.
+/// Throws if a fresh run in `directory` would throw work away or share it
+/// with another writer: io::DirectoryBusy if progress.json records a run
+/// still "running" (the caller holds the io::RunLock, so that run is on
+/// another host, or its pid was reused); InputError for a killed run (with
+/// or without a checkpoint) and for an unfinished run with a checkpoint.
+/// `softflow run --overwrite` skips the check.
 void refuse_to_replace_unfinished_run(const std::filesystem::path& directory);
 
 /// The status of the run in `directory`: summary.json's if there is one,

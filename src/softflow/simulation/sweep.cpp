@@ -23,6 +23,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/output_directory.hpp"
+#include "softflow/io/run_lock.hpp"
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/run_support.hpp"
 
@@ -305,12 +306,12 @@ int run_sweep(const fs::path& case_file, const SweepOptions& options) {
         "e.g. capillary_number = [0.05, 0.1, 0.2] under [[objects]]; one case runs with softflow "
         "run",
         case_file.string()));
+  check_cases(sweep, case_file.string(), options);
+  const io::RunLock lock(sweep.directory, "sweep");  // one sweep per directory
   return run_cases(sweep, text, case_file.string(), options);
 }
 
-int run_cases(const io::Sweep& sweep, const std::string& text, const std::string& source,
-              const SweepOptions& options) {
-  std::error_code ec;
+void check_cases(const io::Sweep& sweep, const std::string& source, const SweepOptions& options) {
   for (const auto& c : sweep.cases) {
     try {
       geometry::validate(c.config.shear_cell_spec());  // overlaps, walls: before any case runs
@@ -326,7 +327,12 @@ int run_cases(const io::Sweep& sweep, const std::string& text, const std::string
                       source, c.label, c.config.time.end));
   if (options.jobs < 1)
     throw InputError(fmt::format("--jobs {}: must be at least 1", options.jobs));
+}
 
+int run_cases(const io::Sweep& sweep, const std::string& text, const std::string& source,
+              const SweepOptions& options) {
+  check_cases(sweep, source, options);
+  std::error_code ec;
   const fs::path directory = sweep.directory;
   for (const auto& d : {directory, directory / "cases", directory / "logs"}) {
     fs::create_directories(d, ec);

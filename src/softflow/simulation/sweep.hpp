@@ -54,9 +54,14 @@ int run_sweep(const std::filesystem::path& case_file, const SweepOptions& option
 /// InputError for a directory or a file that cannot be opened.
 std::string read_case_text(const std::filesystem::path& case_file);
 
+/// InputError if a case of `sweep` cannot run (geometry, time.end = 0) or
+/// the options are out of range: before anything is written.
+void check_cases(const io::Sweep& sweep, const std::string& source, const SweepOptions& options);
+
 /// run_sweep for cases already made (e.g. the mesh levels of `softflow
 /// converge`): `text` is the file they came from (saved as D/sweep.toml),
-/// `source` its name in messages.
+/// `source` its name in messages. The caller holds the directory's
+/// io::RunLock.
 int run_cases(const io::Sweep& sweep, const std::string& text, const std::string& source,
               const SweepOptions& options);
 
