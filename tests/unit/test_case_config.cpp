@@ -12,6 +12,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/io/case_config.hpp"
+#include "softflow/physics/stokes/interface_slip.hpp"
 
 namespace softflow::io {
 namespace {
@@ -1229,6 +1230,20 @@ TEST(SlipKeyErrors, NegativeAndNonFiniteValuesAreRefused) {
   EXPECT_ERROR("[[objects]]\nslip = nan\n", "objects[1].slip = nan: must be a finite number");
   EXPECT_ERROR("[[objects]]\nslip = 1e400\n", "objects[1].slip = 1e400");
   EXPECT_ERROR("[[objects]]\nslip = \"0.1\"\n", "objects[1].slip = \"0.1\": must be a number");
+}
+
+TEST(SlipKeyErrors, ASlipTheMeshCannotResolveIsRefusedNamingBothKeys) {
+  // Issue 33: slip = 1e6 on 16 equator nodes ran to exit 0 with negative
+  // slip dissipation. The bound is 100 (N / 16)^4 (physics::largest_resolved_slip).
+  const std::string e = error_of("[mesh]\nequator_nodes = 16\n[[objects]]\nslip = 1e6\n");
+  EXPECT_NE(e.find("objects[1].slip = 1000000.0: above 100, the largest slip that "
+                   "mesh.equator_nodes = 16 resolves"), std::string::npos) << e;
+  EXPECT_NE(e.find("mesh.equator_nodes >= 160"), std::string::npos) << e;
+  EXPECT_NE(e.find("within 0.037 % of free slip"), std::string::npos) << e;  // lambda = 1
+  EXPECT_EQ(error_of("[mesh]\nequator_nodes = 16\n[[objects]]\nslip = 100\n"), "");
+  EXPECT_NE(error_of("[mesh]\nequator_nodes = 16\n[[objects]]\nslip = 101\n"), "");
+  EXPECT_EQ(error_of("[mesh]\nequator_nodes = 32\n[[objects]]\nslip = 1000\n"), "");
+  EXPECT_EQ(physics::largest_resolved_slip(32), 1600.0);
 }
 
 TEST(SlipKeyErrors, ElasticParticlesTakeNoSlip) {

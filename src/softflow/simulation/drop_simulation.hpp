@@ -191,6 +191,8 @@ class DropSimulation {
   [[nodiscard]] double interface_change(const std::vector<std::vector<physics::Vec3>>& x_hat) const;
   /// SlipMeasures of every object from the last solution (empty without slip).
   [[nodiscard]] std::vector<physics::SlipMeasures> measure_slips() const;
+  /// AccuracyError if an object's slip dissipation is negative beyond round-off.
+  void check_slip_dissipation(const std::vector<physics::SlipMeasures>& slips) const;
   [[nodiscard]] std::vector<RegionStress> measure_stresses() const;
   void check_solution_finite() const;
   /// The global Stokes dofs the interface stages read (interface_values_):

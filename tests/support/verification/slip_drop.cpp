@@ -111,6 +111,7 @@ SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int
   // projected onto the exact sphere r = 1) and the Navier law's dissipation
   // alpha |(I - nn) lambda_h|^2; the exact slip dissipation in closed form.
   const auto& dofs = system.dofs();
+  const auto normals = system.slip_node_normals(mesh);
   static const element::QuadratureRule rule = element::triangle_rule(8);
   double jump2 = 0.0, exact2 = 0.0;
   for (const auto& tri : mesh.interface_faces) {
@@ -118,13 +119,18 @@ SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int
     for (int q = 0; q < rule.size(); ++q) {
       const auto p = element::surface_point(xt, rule.points[q]);
       const auto n = element::p2_triangle_values(rule.points[q]);
-      Vector3d jump = Vector3d::Zero(), lam = Vector3d::Zero();
-      for (int a = 0; a < 6; ++a)
+      Vector3d jump = Vector3d::Zero();
+      Eigen::Matrix<double, 3, 6> multipliers;
+      physics::TriangleNormals nodal;
+      for (int a = 0; a < 6; ++a) {
+        nodal[a] = normals[tri[a]];
         for (int c = 0; c < 3; ++c) {
           jump(c) += n[a] * (x[dofs.dof(physics::kVelocityField, tri[a], 0, c)] -
                              x[dofs.dof(physics::kVelocityField, tri[a], 1, c)]);
-          lam(c) += n[a] * x[dofs.dof(physics::kMultiplierField, tri[a], 1, c)];
+          multipliers(c, a) = x[dofs.dof(physics::kMultiplierField, tri[a], 1, c)];
         }
+      }
+      const Vector3d lam = physics::slip_traction(n, p.normal, nodal, multipliers);
       const Vector3d on_sphere = p.position.normalized();
       const Vector3d exact_jump = exact.velocity(on_sphere, false) - exact.velocity(on_sphere, true);
       const double w = rule.weights[q] * p.area_scale;
@@ -136,7 +142,7 @@ SlipDropResult slip_drop_in_shear(double lambda, double alpha, double gamma, int
   r.exact_slip_dissipation = exact.slip_dissipation();
   r.jump_l2 = std::sqrt(jump2);
   r.exact_jump_l2 = std::sqrt(exact2);
-  r.slip_dissipation = physics::slip_measures(mesh, dofs, x)[0].dissipation;
+  r.slip_dissipation = physics::slip_measures(mesh, dofs, normals, x)[0].dissipation;
   return r;
 }
 

@@ -34,14 +34,16 @@ Coefficients instantaneous(double lambda, double alpha) {
   const double k1 = 3.0 * (11.0 * lambda + 24.0) / (d * e), m1 = -8.0 / e;
   const double t1 = -10.0 * lambda * (19.0 * lambda + 24.0) / (d * e);
   // S = alpha T0 / (1 - alpha T1) = 10 alpha lambda e / Den: exactly 0 at alpha = 0,
-  // so the no-slip coefficients come out unchanged.
-  const double s = alpha * t0 / (1.0 - alpha * t1);
+  // so the no-slip coefficients come out unchanged; free slip (alpha = inf)
+  // is its limit -T0 / T1, where the tangential traction T0 + S T1 vanishes.
+  const double s = std::isinf(alpha) ? (t1 != 0.0 ? -t0 / t1 : 0.0)
+                                     : alpha * t0 / (1.0 - alpha * t1);
   Coefficients c;
   c.a = a0 + s * a1;
   c.b = b0 + s * b1;
   c.k = k0 + s * k1;
   c.m = s * m1;
-  c.t = t0 + s * t1;
+  c.t = std::isinf(alpha) ? 0.0 : t0 + s * t1;
   c.s = s;
   return c;
 }
@@ -72,7 +74,10 @@ DropInLinearFlow::DropInLinearFlow(Kind kind, double lambda,
       w_(0.5 * (velocity_gradient - velocity_gradient.transpose())),
       tension_(tension) {
   require_non_negative("lambda", lambda);
-  require_non_negative("slip", slip);
+  if (!(slip >= 0.0))  // inf: free slip
+    throw InputError(fmt::format("DropInLinearFlow: slip = {} must be >= 0 (inf: free slip)", slip));
+  if (std::isinf(slip) && kind == Kind::taylor_quasi_steady)
+    throw InputError("DropInLinearFlow: free slip (slip = inf) has no quasi-steady Taylor shape");
   c_ = kind_ == Kind::instantaneous ? instantaneous(lambda, slip)
                                     : taylor_quasi_steady(lambda, slip);
 }
@@ -125,6 +130,7 @@ Eigen::Vector3d DropInLinearFlow::tangential_traction(const Eigen::Vector3d& x) 
 }
 
 double DropInLinearFlow::slip_dissipation() const {
+  if (std::isinf(alpha_)) return 0.0;  // alpha t^2 with t ~ 1 / alpha
   return 0.8 * std::numbers::pi * alpha_ * c_.t * c_.t * e_.squaredNorm();
 }
 

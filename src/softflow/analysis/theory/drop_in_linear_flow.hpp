@@ -59,7 +59,8 @@ class DropInLinearFlow {
  public:
   enum class Kind { instantaneous, taylor_quasi_steady };
 
-  /// lambda >= 0 (0: a bubble) and slip >= 0, both finite; throws
+  /// lambda >= 0 (0: a bubble), finite, and slip >= 0 (inf: free slip, the
+  /// instantaneous kind only); throws
   /// softflow::InputError otherwise.
   DropInLinearFlow(Kind kind, double lambda, const Eigen::Matrix3d& velocity_gradient,
                    double tension = 0.0, double slip = 0.0);

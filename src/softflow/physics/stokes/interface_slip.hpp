@@ -2,12 +2,14 @@
 // collocated Lagrange multipliers (thesis §2.3.1, eqs. 2.17-2.18).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "softflow/element/isoparametric.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
@@ -24,50 +26,104 @@ inline constexpr int kMultiplierField = 2;
 //
 //  momentum, matrix copy:  ... + integral_S lambda_h . v_m ds
 //  momentum, object copy:  ... - integral_S lambda_h . v_d ds  (+ the tension load)
-//  constraint at node i:   s_i [ (u_m,i - u_d,i) - alpha (I - n_i n_i) lambda_i ] = 0
+//  constraint, per node i: D_i [ integral_S N_i (u_m - u_d)_h ds
+//                                - alpha integral_S N_i T_i (T lambda)_h ds ] = 0
 //
-// The constraint is collocated at the nodes: its normal part is
-// n_i.(u_m,i - u_d,i) = 0 exactly, so the interface tracker sees one
-// normal velocity; its tangential part is the Navier law with lambda the
-// traction sigma_m n. That lambda is the matrix traction because the
-// tension load goes to the object's copy: the matrix copy's rows then read
-// R_m(v) + integral lambda.v = 0, and the matrix weak form has
-// R_m(v) = -integral_S (sigma_m n).v (n the object's outward normal).
-// s_i = integral_S N_i^2 ds summed over the node's triangles scales each
-// constraint row like the coupling columns it pairs with, so LU pivots as
-// for a symmetric saddle point. With alpha = 0 the constraint gives
-// u_m = u_d at every node: the continuous velocity of the no-slip system,
-// the same discrete solution. Taking v = u gives the energy balance:
+// with T_i = I - n_i n_i (n_i the nodal normal) and (T lambda)_h =
+// sum_j N_j T_j lambda_j. The constraint is the transpose of the coupling
+// less alpha times the tangential multipliers' mass: the system is
+// symmetric. Its normal part is the weak continuity of the normal velocity
+// (test n_i N_i), its tangential part the Navier law with lambda the
+// traction sigma_m n: the tension load goes to the object's copy, so the
+// matrix copy's rows read R_m(v) + integral lambda.v = 0, and the matrix
+// weak form has R_m(v) = -integral_S (sigma_m n).v (n the object's outward
+// normal). Taking v = u and testing the constraint with lambda gives
 // viscous dissipation + integral_S lambda_h.(u_m - u_d) ds = wall work +
-// tension work, the middle term being the slip dissipation.
+// tension work, the slip dissipation being alpha integral |(T lambda)_h|^2
+// >= 0 for every mesh.
+//
+// Why symmetric (issue 33): an earlier form collocated the constraint at
+// the nodes (s_i [(u_m - u_d)_i - alpha T_i lambda_i] = 0) against the
+// integrated coupling. Its small inconsistency forced the one motion the
+// slip law alone holds, the rigid rotation of a near-spherical drop's
+// inside, with a weight alpha: at alpha = 1e3 on 16 equator nodes the
+// velocity was 8x off and the slip dissipation negative. A symmetric
+// system is the minimum of an energy with a non-negative slip term, which
+// no inconsistency can make negative or amplify (docs/validation/slip_drop.md).
+//
+// D_i = n_i n_i + T_i / (1 + alpha) weights each node's three rows (the
+// solution does not change) so that they stay of one size as alpha grows;
+// alpha = inf is free slip, T lambda = 0. With alpha = 0 the constraint
+// gives u_m = u_d at every node: the continuous velocity of the no-slip
+// system, the same discrete solution.
 
 /// Unit outward normal at every interface node of `geometry`, indexed by
 /// mesh node (zero elsewhere): the tracker's node normals (node_normals).
 std::vector<Eigen::Vector3d> interface_node_normals(std::span<const InterfaceMesh> surfaces,
                                                     const mesh::Mesh& geometry);
 
-/// s_i of every interface node (indexed by mesh node, zero elsewhere).
+/// s_i = integral_S N_i^2 ds summed over the node's triangles, of every
+/// interface node (indexed by mesh node, zero elsewhere): the size of a
+/// node's constraint rows, for the iterative method's Schur estimate.
 std::vector<double> interface_node_scale(const mesh::Mesh& geometry);
 
-/// Per object, from a slip system's solution on `geometry`.
+/// The nodal normals of one interface triangle (its 6 nodes, in order).
+using TriangleNormals = std::array<Eigen::Vector3d, 6>;
+
+/// The discrete traction at a point of an interface triangle with P2 shape
+/// values `shape` and unit normal `normal` there, from the nodal
+/// multipliers (columns): sum_a N_a [(n_a . lambda_a) n + T_a lambda_a].
+/// The normal part follows the surface's own normal, the tangential part
+/// the nodes' tangent planes.
+Eigen::Vector3d slip_traction(const std::array<double, 6>& shape, const Eigen::Vector3d& normal,
+                              const TriangleNormals& nodal, const Eigen::Matrix<double, 3, 6>& lambda);
+
+/// The 18 x 18 matrix C of the coupling on one triangle with nodes `x`:
+/// integral lambda_h . v_h ds = v^T C lambda (lambda_h as slip_traction),
+/// rows (node b, component i) of v, columns (node a, component j) of lambda.
+Eigen::Matrix<double, 18, 18> slip_coupling_matrix(const element::TriangleNodes& x,
+                                                   const TriangleNormals& nodal);
+
+/// Per object, from a slip system's solution on `geometry` with the nodal
+/// normals (interface_node_normals) it was assembled with.
 struct SlipMeasures {
   double area = 0.0;
   /// integral_S |(I - n n)(u_m - u_d)| ds / area and its largest nodal value.
   double mean_slip_speed = 0.0;
   double max_slip_speed = 0.0;
-  /// integral_S lambda_h . (u_m - u_d) ds: the power the slip dissipates.
+  /// integral_S lambda_h . (u_m - u_d) ds: the power the slip dissipates
+  /// (alpha times the tangential multipliers' mass norm: never negative).
   double dissipation = 0.0;
+  /// integral_S |lambda_h . (u_m - u_d)| ds: the scale against which a
+  /// negative dissipation is more than round-off.
+  double absolute_power = 0.0;
 };
+
+/// Whether `m`'s slip dissipation is negative beyond round-off (1e-9 of its
+/// absolute_power): with the symmetric coupling it is alpha |(T lambda)_h|^2
+/// >= 0, so such a value is a solve gone wrong, not physics.
+bool dissipation_is_negative(const SlipMeasures& m);
+
+/// The largest dimensionless slip alpha R / eta_m that a mesh of
+/// `equator_nodes` resolves (docs/validation/slip_large_alpha.md). The
+/// inside of a near-spherical drop can turn rigidly at no viscous cost;
+/// only the slip law, with weight 1 / alpha, sets that rotation, against
+/// the discrete interface's own asphericity (~ h^2): measured on the
+/// sphere in shear, the slip velocity's error stays within twice its
+/// alpha = 10 value up to alpha ~ 100 (N / 16)^4.
+double largest_resolved_slip(int equator_nodes);
 
 /// SlipMeasures of objects 1..n_objects (index k - 1). `solution` holds
 /// every dof of `dofs` (a slip system's map: velocity per region plus
 /// multipliers).
 std::vector<SlipMeasures> slip_measures(const mesh::Mesh& geometry, const fem::DofMap& dofs,
+                                        std::span<const Eigen::Vector3d> node_normals,
                                         std::span<const double> solution);
 /// The same reading only the interface dofs through `value(dof)`: the
 /// velocity copies and multipliers of interface nodes (e.g. a
 /// la::SelectedEntries of a distributed solution).
 std::vector<SlipMeasures> slip_measures(const mesh::Mesh& geometry, const fem::DofMap& dofs,
+                                        std::span<const Eigen::Vector3d> node_normals,
                                         const std::function<double(int dof)>& value);
 
 }  // namespace softflow::physics

@@ -273,12 +273,18 @@ void StokesSystem::partition() {
   }
   if (slip_) {
     std::vector<char> seen(mesh_.n_nodes(), 0);
-    for (const auto& tri : mesh_.interface_faces)
-      for (int node : tri)
-        if (!seen[node] && range_.owns(dofs_.dof(kMultiplierField, node, 0))) {
+    for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) {
+      bool owns_a_row = false;
+      for (int node : mesh_.interface_faces[f]) {
+        const bool owned = range_.owns(dofs_.dof(kMultiplierField, node, 0));
+        owns_a_row = owns_a_row || owned;
+        if (!seen[node] && owned) {
           seen[node] = 1;
           owned_interface_nodes_.push_back(node);
         }
+      }
+      if (owns_a_row) constraint_faces_.push_back(f);
+    }
   }
   std::vector<std::vector<PetscInt>> owned_by_field(dofs_.n_fields());
   for (PetscInt i = range_.begin; i < range_.end; ++i)
@@ -333,17 +339,19 @@ void StokesSystem::create_matrices() {
         const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns));
         if (record) slip_coupling_blocks_.push_back(b);
       }
-      // Each node's constraint rows x (u_m, u_d, lambda) there.
-      for (int node : owned_interface_nodes_) {
-        std::array<PetscInt, 3> rows;
-        std::array<PetscInt, 9> columns;
-        const int object = interface_object_of(node);
-        for (int c = 0; c < 3; ++c) {
-          rows[c] = dofs_.dof(kMultiplierField, node, object, c);
-          columns[c] = dofs_.dof(kVelocityField, node, 0, c);
-          columns[3 + c] = dofs_.dof(kVelocityField, node, object, c);
-          columns[6 + c] = rows[c];
-        }
+      // The constraint rows of each face's nodes x (u_m, u_d, lambda) of the face.
+      for (int f : constraint_faces_) {
+        const int object = mesh_.interface_object[f];
+        std::array<PetscInt, 18> rows;
+        std::array<PetscInt, 54> columns;
+        const auto outside = interface_velocity_dofs(f, 0), inside = interface_velocity_dofs(f, object);
+        std::copy(outside.begin(), outside.end(), columns.begin());
+        std::copy(inside.begin(), inside.end(), columns.begin() + 18);
+        for (int k = 0; k < 6; ++k)
+          for (int c = 0; c < 3; ++c)
+            rows[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[f][k], object, c);
+        std::copy(rows.begin(), rows.end(), columns.begin() + 36);
+        rows = row_dofs<18>(rows);
         const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns));
         if (record) slip_constraint_blocks_.push_back(b);
       }
@@ -367,12 +375,16 @@ void StokesSystem::create_matrices() {
     for (int node : owned_interface_nodes_) {
       const int object = interface_object_of(node);
       std::array<PetscInt, 6> d;
+      std::array<PetscInt, 3> multipliers;
       for (int c = 0; c < 3; ++c) {
         d[c] = dofs_.dof(kVelocityField, node, 0, c);
         d[3 + c] = dofs_.dof(kVelocityField, node, object, c);
+        multipliers[c] = dofs_.dof(kMultiplierField, node, object, c);
       }
       slip_penalty_blocks_.push_back(
           pmat_->add_block(std::span<const PetscInt>(d), std::span<const PetscInt>(d)));
+      slip_compliance_blocks_.push_back(pmat_->add_block(
+          std::span<const PetscInt>(multipliers), std::span<const PetscInt>(multipliers)));
     }
     pmat_->create();
   }
@@ -658,41 +670,66 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   factors_ = std::move(r);
 }
 
-Eigen::Matrix<double, 3, 9> StokesSystem::slip_constraint_block(int node, const SlipNodes& nodes,
-                                                                 const Eigen::Matrix3d& lambda_block) {
-  const double s = nodes.scale[node];
-  Eigen::Matrix<double, 3, 9> block;
-  block << s * Eigen::Matrix3d::Identity(), -s * Eigen::Matrix3d::Identity(), -s * lambda_block;
+Eigen::Matrix<double, 18, 54> StokesSystem::slip_constraint_block(
+    const std::array<int, 6>& tri, const Eigen::Matrix<double, 18, 18>& coupling,
+    const Eigen::Matrix<double, 6, 6>& mass, const SlipNodes& nodes, double alpha) {
+  // Row weights per node: D_a = n_a n_a + w T_a with w = 1 / (1 + alpha), a
+  // change of each node's three rows that leaves the solution as it is but
+  // keeps them of one size as alpha grows; alpha = inf gives free slip
+  // (T lambda = 0) exactly.
+  const bool free_slip = std::isinf(alpha);
+  const double w = free_slip ? 0.0 : 1.0 / (1.0 + alpha);
+  const double alpha_w = free_slip ? 1.0 : alpha * w;
+  Eigen::Matrix<double, 18, 54> block;
+  for (int a = 0; a < 6; ++a) {
+    const Eigen::Vector3d& na = nodes.normal[tri[a]];
+    const Eigen::Matrix3d ta = nodes.tangential(tri[a]);
+    const Eigen::Matrix3d row_weight = na * na.transpose() + w * ta;
+    for (int b = 0; b < 6; ++b) {
+      // The coupling's transpose: lambda_a's rows against v_b.
+      const Eigen::Matrix3d jump = row_weight * coupling.block<3, 3>(3 * b, 3 * a).transpose();
+      block.block<3, 3>(3 * a, 3 * b) = jump;          // u_m
+      block.block<3, 3>(3 * a, 18 + 3 * b) = -jump;    // u_d
+      block.block<3, 3>(3 * a, 36 + 3 * b) =           // lambda
+          (-alpha_w * mass(a, b)) * ta * nodes.tangential(tri[b]);
+    }
+  }
   return block;
+}
+
+TriangleNormals StokesSystem::SlipNodes::of(const std::array<int, 6>& tri) const {
+  TriangleNormals out;
+  for (int a = 0; a < 6; ++a) out[a] = normal[tri[a]];
+  return out;
 }
 
 void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem,
                                  const SlipNodes& nodes) {
   const bool iterative = static_cast<bool>(pmat_);  // with slip, the only preconditioning matrix
   for (std::size_t i = 0; i < assembled_faces_.size(); ++i) {
-    const int f = assembled_faces_[i];
-    const auto m = surface_mass(fem::triangle_nodes(geometry, mesh_.interface_faces[f]));
-    Eigen::Matrix<double, 36, 18> block = Eigen::Matrix<double, 36, 18>::Zero();
-    for (int a = 0; a < 6; ++a)
-      for (int b = 0; b < 6; ++b)
-        for (int c = 0; c < 3; ++c) {
-          block(3 * a + c, 3 * b + c) = m(a, b);        // + integral lambda_h . v_m
-          block(18 + 3 * a + c, 3 * b + c) = -m(a, b);  // - integral lambda_h . v_d
-        }
+    const auto& tri = mesh_.interface_faces[assembled_faces_[i]];
+    const auto c = slip_coupling_matrix(fem::triangle_nodes(geometry, tri), nodes.of(tri));
+    Eigen::Matrix<double, 36, 18> block;
+    block << c, -c;  // + integral lambda_h . v_m, - integral lambda_h . v_d
     a_->set_block(slip_coupling_blocks_[i], block);
     if (iterative) pmat_->set_block(slip_coupling_blocks_[i], block);
   }
-  // The constraint rows; the preconditioning matrix gets its own
+  // The constraint rows: the transpose of the coupling, less alpha times
+  // the tangential multipliers' mass (interface_slip.hpp). The
+  // preconditioning matrix takes the same and adds its Schur estimate
   // (assemble_slip_schur_estimate).
-  for (std::size_t i = 0; i < owned_interface_nodes_.size(); ++i) {
-    const int node = owned_interface_nodes_[i];
-    const int object = interface_object_of(node);
-    const double alpha = problem.slip.of(object);
-    if (!(alpha >= 0.0) || !std::isfinite(alpha))
+  for (std::size_t i = 0; i < constraint_faces_.size(); ++i) {
+    const int f = constraint_faces_[i];
+    const auto& tri = mesh_.interface_faces[f];
+    const double alpha = problem.slip.of(mesh_.interface_object[f]);
+    if (!(alpha >= 0.0))
       throw SolverError(fmt::format("StokesProblem: slip coefficient {} of object {} (allowed: "
-                                    "finite, >= 0)", alpha, object));
-    a_->set_block(slip_constraint_blocks_[i],
-                  slip_constraint_block(node, nodes, alpha * nodes.tangential(node)));
+                                    ">= 0, inf for free slip)", alpha, mesh_.interface_object[f]));
+    const auto x = fem::triangle_nodes(geometry, tri);
+    const auto block =
+        slip_constraint_block(tri, slip_coupling_matrix(x, nodes.of(tri)), surface_mass(x), nodes, alpha);
+    a_->set_block(slip_constraint_blocks_[i], block);
+    if (iterative) pmat_->set_block(slip_constraint_blocks_[i], block);
   }
 }
 
@@ -708,14 +745,15 @@ void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
   // factor 0.01 -> 114 / 133 iterations at lambda 0.1 / 10, 0.001 -> 122 /
   // 127, 0.1 -> 154 at lambda 0.1, 0.5 -> stalls near 1e-9, 4 and 20 stall
   // near 1e-5 and 1e-3: the penalty should only just lift the rigid modes. The multipliers' Schur
-  // complement -D A^-1 B^T is then estimated node by node: with D = s_i
-  // [I, -I], B^T = M [I; -I] and the 2 x 2 model [a_m + g, -g; -g, a_d + g]
-  // of the penalised block, -s_i M_ii c I with c = (a_m + a_d) / (a_m a_d
-  // + g (a_m + a_d)), to which the constraint's own -s_i alpha (I - nn)
-  // adds. Like the pressure's -M/eta it is negative definite; Jacobi on it
-  // completes the preconditioner. The velocity copies of an owned node are
-  // owned by the same rank (dofs are numbered node by node), so the
-  // diagonal is read locally.
+  // complement -D A^-1 B^T is then estimated node by node: with D and B^T
+  // both s_i [I, -I] on the node (the mass lumped to its diagonal s_i) and
+  // the 2 x 2 model [a_m + g, -g; -g, a_d + g] of the penalised block,
+  // -s_i^2 c I with c = (a_m + a_d) / (a_m a_d + g (a_m + a_d)), added to
+  // the constraint's own -alpha (tangential mass) from assemble_slip. Like
+  // the pressure's -M/eta it is negative definite; Jacobi on it completes
+  // the preconditioner. The velocity copies of an owned node are owned by
+  // the same rank (dofs are numbered node by node), so the diagonal is read
+  // locally.
   la::Vector diagonal = la::make_vector(range_.size(), dofs_.n_dofs());
   check(MatGetDiagonal(a_->get(), diagonal.get()), "MatGetDiagonal");
   const PetscScalar* a = nullptr;
@@ -734,10 +772,14 @@ void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
     jump_penalty << penalty * Eigen::Matrix3d::Identity(), -penalty * Eigen::Matrix3d::Identity(),
         -penalty * Eigen::Matrix3d::Identity(), penalty * Eigen::Matrix3d::Identity();
     pmat_->set_block(slip_penalty_blocks_[i], jump_penalty);
-    pmat_->set_block(slip_constraint_blocks_[i],
-                     slip_constraint_block(node, nodes,
-                                           nodes.scale[node] * compliance * Eigen::Matrix3d::Identity() +
-                                               problem.slip.of(object) * nodes.tangential(node)));
+    // The constraint rows carry the weights of slip_constraint_block.
+    const double alpha = problem.slip.of(object);
+    const double w = std::isinf(alpha) ? 0.0 : 1.0 / (1.0 + alpha);
+    const Eigen::Matrix3d row_weight =
+        nodes.normal[node] * nodes.normal[node].transpose() + w * nodes.tangential(node);
+    const double s = nodes.scale[node];
+    const Eigen::Matrix3d estimate = (-s * s * compliance) * row_weight;
+    pmat_->set_block(slip_compliance_blocks_[i], estimate);
   }
   check(VecRestoreArrayRead(diagonal.get(), &a), "VecRestoreArrayRead");
 }

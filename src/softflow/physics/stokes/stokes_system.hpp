@@ -17,6 +17,7 @@
 #include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
+#include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
 
@@ -82,6 +83,11 @@ class StokesSystem {
   [[nodiscard]] const mesh::Mesh& mesh() const { return mesh_; }
   /// Whether the velocity has a copy per region coupled by slip multipliers.
   [[nodiscard]] bool interface_slip() const { return slip_; }
+  /// With slip: the nodal normals the slip rows use on `geometry`
+  /// (interface_node_normals), which slip_measures needs.
+  [[nodiscard]] std::vector<Eigen::Vector3d> slip_node_normals(const mesh::Mesh& geometry) const {
+    return interface_node_normals(surfaces_, geometry);
+  }
   [[nodiscard]] la::OwnershipRange ownership() const { return range_; }
   /// Preconditioner builds so far (LU factorisations with the direct method).
   [[nodiscard]] int n_factorizations() const { return solver_->n_setups(); }
@@ -207,6 +213,7 @@ class StokesSystem {
     [[nodiscard]] Eigen::Matrix3d tangential(int node) const {
       return Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
     }
+    [[nodiscard]] TriangleNormals of(const std::array<int, 6>& tri) const;
   };
   /// The N `dofs` with those of other ranks replaced by -1 (dropped): the
   /// rows this rank assembles of an element it shares.
@@ -222,11 +229,17 @@ class StokesSystem {
   }
   /// The object (1-based) of an interface node: its multipliers' region.
   [[nodiscard]] int interface_object_of(int node) const;
-  /// Constraint rows of `node` over (u_m, u_d, lambda): s_i [I, -I, -lambda_block].
-  static Eigen::Matrix<double, 3, 9> slip_constraint_block(int node, const SlipNodes& nodes,
-                                                           const Eigen::Matrix3d& lambda_block);
+  /// The constraint rows of interface triangle `tri` (surface mass `mass`)
+  /// over (u_m, u_d, lambda) of its 6 nodes: D_a C_ba^T [I, -I] and
+  /// -alpha D_a M_ab T_a T_b (C the coupling, slip_coupling_matrix; T the
+  /// nodal tangential projection; D_a the row weights; interface_slip.hpp).
+  /// alpha = inf: free slip.
+  static Eigen::Matrix<double, 18, 54> slip_constraint_block(
+      const std::array<int, 6>& tri, const Eigen::Matrix<double, 18, 18>& coupling,
+      const Eigen::Matrix<double, 6, 6>& mass, const SlipNodes& nodes, double alpha);
   /// Slip coupling (interface_slip.hpp): multiplier columns of the velocity
-  /// rows of each owned interface face, constraint rows of each owned node.
+  /// rows of each owned interface face, constraint rows of each face with an
+  /// owned multiplier.
   void assemble_slip(const mesh::Mesh& geometry, const StokesProblem& problem,
                      const SlipNodes& nodes);
   /// The iterative method's preconditioning matrix: the jump penalty and the
@@ -239,6 +252,7 @@ class StokesSystem {
   bool slip_ = false;
   std::vector<InterfaceMesh> surfaces_;    // with slip: for the node normals
   std::vector<int> owned_interface_nodes_;  // with slip: nodes whose multipliers this rank owns
+  std::vector<int> constraint_faces_;       // with slip: faces with a multiplier row here
   fem::DofMap dofs_;
   fem::TetTabulation tabulation_;
   la::OwnershipRange range_;
@@ -265,7 +279,7 @@ class StokesSystem {
   std::vector<int> schur_correction_objects_;  // the object of each Schur correction vector
   std::vector<la::CsrMatrix::Block> tet_blocks_, interface_blocks_;
   std::vector<la::CsrMatrix::Block> slip_coupling_blocks_, slip_constraint_blocks_;
-  std::vector<la::CsrMatrix::Block> slip_penalty_blocks_;  // pmat_ only
+  std::vector<la::CsrMatrix::Block> slip_penalty_blocks_, slip_compliance_blocks_;  // pmat_ only
   std::vector<la::IndexSet> field_index_sets_;
   std::unique_ptr<la::SaddlePointSolver> solver_;
   /// The last solution (distributed; null before the first solve): the
