@@ -54,6 +54,7 @@
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "softflow/simulation/stokes_run.hpp"
+#include "softflow/simulation/stop_requests.hpp"
 #include "softflow/simulation/convergence.hpp"
 #include "softflow/simulation/sweep.hpp"
 
@@ -511,6 +512,11 @@ int main(int argc, char** argv) {
     }
   }
 
+  // A stop request during meshing and set-up ends the process at once, exit 5
+  // (simulation/stop_requests.hpp); the run itself takes over once it has
+  // output to keep.
+  if (*run || *restart) softflow::simulation::install_stop_handler();
+
   // One writer per output directory, from before meshing to the process's
   // end (io::RunLock): the launcher's rank 0 holds it. A refusal is shared
   // with every rank once MPI runs, below.
@@ -524,6 +530,7 @@ int main(int argc, char** argv) {
         directory = options.output_directory.value_or(std::filesystem::path(config.output_directory));
       }
       run_lock.emplace(directory, *run ? "run" : "restart");
+      softflow::simulation::install_stop_handler(run_lock->lock_file());  // removed on a stop
     } catch (const softflow::InputError&) {
       // reported below, with every rank
     } catch (const std::exception& e) {
@@ -542,6 +549,10 @@ int main(int argc, char** argv) {
 
   try {
     PetscSession petsc_session(petsc);
+    // PETSc installs its own handler for SIGTERM and SIGINT: softflow's comes back.
+    if (*run || *restart)
+      softflow::simulation::install_stop_handler(run_lock ? run_lock->lock_file()
+                                                          : std::filesystem::path());
     try {
       softflow::simulation::on_root_sharing_failure([&] {
         if (!lock_refusal.empty()) throw softflow::io::DirectoryBusy(lock_refusal);

@@ -35,6 +35,7 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/stop_requests.hpp"
 #include "softflow/time/step_controller.hpp"
 
 namespace softflow::simulation {
@@ -74,59 +75,11 @@ nlohmann::json theory_json(const io::CaseConfig& config) {
   return out;
 }
 
-// ---------------------------------------------------------------------------
-// Stop requests. The handler only records the signal; the run checks it at
-// the end of each step, where the state is consistent and can be saved.
-
-volatile std::sig_atomic_t g_stop_signal = 0;
-
-void request_stop(int signal) {
-  g_stop_signal = signal;
-  // A second Ctrl-C ends the process at once, for whoever cannot wait for the step.
-  std::signal(signal, SIG_DFL);
-}
-
-/// SIGINT, SIGTERM and SIGUSR1 (which mpirun forwards to every rank) request
-/// a stop for as long as the object lives; the previous handlers come back after.
-class StopRequests {
- public:
-  StopRequests() {
-    g_stop_signal = 0;
-    for (std::size_t i = 0; i < kSignals.size(); ++i)
-      previous_[i] = std::signal(kSignals[i], request_stop);
-  }
-  ~StopRequests() {
-    for (std::size_t i = 0; i < kSignals.size(); ++i) std::signal(kSignals[i], previous_[i]);
-  }
-  StopRequests(const StopRequests&) = delete;
-  StopRequests& operator=(const StopRequests&) = delete;
-
-  /// The signal received on any rank (0: none). Collective: every rank must call it.
-  static int received() {
-    int local = g_stop_signal, any = 0;
-    MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    return any;
-  }
-
- private:
-  static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGUSR1};
-  std::array<void (*)(int), 3> previous_{};
-};
-
 /// True on every rank if true on any: all ranks must take the same branch.
 bool on_any_rank(bool local) {
   int l = local ? 1 : 0, any = 0;
   MPI_Allreduce(&l, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   return any != 0;
-}
-
-std::string signal_name(int signal) {
-  switch (signal) {
-    case SIGINT: return "SIGINT";
-    case SIGTERM: return "SIGTERM";
-    case SIGUSR1: return "SIGUSR1";
-    default: return fmt::format("signal {}", signal);
-  }
 }
 
 // ---------------------------------------------------------------------------
@@ -512,7 +465,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   const bool adaptive = ledger.adaptive.has_value();
   const auto controller = adaptive ? std::optional(step_controller(config)) : std::nullopt;
   const int first_step = sim.steps();
-  StopRequests stop_requests;
+  leave_startup();  // from here a stop request checkpoints after the step
   const physics::WallMotion walls = wall_motion(config);
   auto last_checkpoint_clock = Clock::now();
   double longest_step = 0.0, checkpoint_seconds = 0.0, checkpoint_bytes = 0.0;
@@ -672,7 +625,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
           options.wall_time_limit &&
           seconds_since(options.started) + 1.5 * longest_step + 2.0 * checkpoint_seconds + 1.0 >
               *options.wall_time_limit;
-      const int signal = StopRequests::received();
+      const int signal = stop_requested();
       const bool stop = signal != 0 || on_any_rank(limit_near);
       const bool due =
           (config.checkpoint.interval_steps > 0 &&
@@ -927,8 +880,14 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   ledger.mesh_report = meshed.report;
   ledger.steady = steady_monitor(config);
   ledger.adaptive = adaptive_steps(config);
+  leave_startup();  // the staging directory exists: a stop request now removes it cleanly
   DropSimulation sim(config, std::move(meshed.mesh));
   const StepReport first = sim.initial_report();
+  if (const int signal = stop_requested())
+    throw RunInterrupted(fmt::format(
+        "stopped by {} during set-up, before the first step: nothing to continue from and no "
+        "results written; run the case again to start it",
+        signal_name(signal)));
   if (ledger.steady) ledger.steady->add(first.time, steady_sample(first, wall_motion(config)));
   RunFiles files;
   on_root_sharing_failure([&] {
@@ -983,6 +942,12 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
   ++ledger.sessions;
   DropSimulation sim(config, checkpoint.reference_mesh);
   sim.restore(checkpoint);
+  leave_startup();
+  if (const int signal = stop_requested())
+    throw RunInterrupted(fmt::format(
+        "stopped by {} during the restart's set-up: {} is as it was; `softflow restart {}` "
+        "continues it",
+        signal_name(signal), directory.string(), directory.string()));
   RunFiles files;
   on_root_sharing_failure([&] {
     truncate_timeseries(directory / "timeseries.csv", checkpoint.step, timeseries_header());

@@ -19,6 +19,7 @@
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/run_support.hpp"
+#include "softflow/simulation/stop_requests.hpp"
 
 namespace softflow::simulation {
 
@@ -82,6 +83,7 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
   // Staged output: nothing appears under `directory` until the run succeeds.
   std::unique_ptr<io::OutputDirectory> output;
   on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });
+  leave_startup();  // the staging directory exists: a stop request now removes it cleanly
   const mesh::Mesh& mesh = meshed.mesh;
   if (!options.quiet && root)
     fmt::print("mesh: {} nodes, {} tetrahedra, {} interface nodes, min quality {:.3f}\n",
@@ -92,6 +94,9 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
   physics::StokesSystem stokes(mesh, solver_settings(config), has_interface_slip(config));  // step 2
   const double setup_seconds = seconds_since(setup_start);  // dof map, matrix patterns
   const auto result = stokes.solve(stokes_problem(config, mesh, 0.0));  // the initial state
+  if (const int signal = stop_requested())
+    throw RunInterrupted(fmt::format("stopped by {} before the results were written; run the case "
+                                     "again", signal_name(signal)));
   const auto& dofs = stokes.dofs();
   if (!options.quiet && root)
     fmt::print("stokes: {} unknowns ({} velocity, {} pressure), assembly {:.2f} s, solve {:.2f} s, "

@@ -444,7 +444,7 @@ int run_cases(const io::Sweep& sweep, const std::string& text, const std::string
     if (code == 0)
       say(job.index, fmt::format("completed in {:.1f} s", seconds));
     else if (code == kInterrupted)
-      say(job.index, "interrupted, checkpoint written (run the sweep again to resume)");
+      say(job.index, "interrupted (run the sweep again to resume it)");
     else
       say(job.index, fmt::format("failed (exit code {}): {}", code, last_line(log)));
   }
