@@ -365,6 +365,13 @@ int main(int argc, char** argv) {
                    "(e.g. 20,25,31,39,49,61,78 to step past a count gmsh cannot mesh); far size and "
                    "growth scale with them")
       ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            return value.empty() ? std::string("an empty count; give equator-node counts, e.g. "
+                                               "20,25,31")
+                                 : std::string();
+          },
+          "N,N,..."))
       ->excludes(levels_option)
       ->excludes(factor_option);
   converge->add_option("-j,--jobs", jobs, "levels run at the same time (each on one core)")
@@ -414,9 +421,15 @@ int main(int argc, char** argv) {
     int n = static_cast<int>(ours.size());
     app.parse(n, ours.data());
   } catch (const CLI::ParseError& e) {
-    return app.exit(e, launcher_rank_zero() ? std::cout : error_stream(), error_stream()) == 0
-               ? kOk
-               : kInputError;
+    // --help and --version are "errors" with code 0: CLI11 prints them.
+    if (e.get_exit_code() == 0)
+      return app.exit(e, launcher_rank_zero() ? std::cout : error_stream(), error_stream()) == 0
+                 ? kOk
+                 : kInputError;
+    // Like every other message: one line prefixed softflow:, then the way to help.
+    error_stream() << "softflow: " << e.what() << "\n"
+                   << "Run softflow --help (or softflow SUBCOMMAND --help) for the options.\n";
+    return kInputError;
   }
   if (run->count("--output") > 0 && output_dir.empty()) {
     error_stream() << "softflow: -o/--output is empty: give a directory, or leave the option out to "

@@ -79,6 +79,14 @@ def main(softflow, case_source, work):
     expect_stop(softflow, work, "volume_drift", text, 6,
                 [r"step 1 \(t = ", "object 1", "volume", "time.max_volume_drift", "[Tt]ry"])
 
+    # The same failure with checkpoints every 5 steps: the message says the
+    # run failed before the first one, not that interval_steps should be set.
+    text += "\n[checkpoint]\ninterval_steps = 5\n"
+    _, _, message = expect_stop(softflow, work, "volume_drift_checkpointed", text, 6,
+                                ["failed before step 5, the first checkpoint"])
+    if "sets how often" in message:
+        fail(f"volume_drift_checkpointed: advises a key that is already set: {message}")
+
     # A solver that does not converge.
     text = base + '\n[solver]\ntype = "iterative"\nmax_iterations = 2\n'
     expect_stop(softflow, work, "no_convergence", text, 3,

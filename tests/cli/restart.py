@@ -32,6 +32,8 @@ forwards it to every rank; SIGTERM it does not), and "round-off" allows
 4. A run stopped by --wall-time-limit exits with 5 and continues too.
 5. A restart refuses a case.toml changed after the checkpoint, and does
    nothing for a run that is complete.
+6. A restart after timeseries.csv was deleted warns and records the lost
+   rows in summary.json's warnings.
 """
 import os
 import shutil
@@ -163,6 +165,8 @@ def main(softflow, case_source, work):
                  + PETSC, INTERRUPTED)
     steps = read_json(limited, "summary.json")["steps"]
     print(f"--wall-time-limit {seconds:.2f} stopped the run at step {steps}")
+    lost = os.path.join(work, "lost_series")  # for part 6: an unfinished run
+    shutil.copytree(limited, lost)
     run([softflow, "restart", limited, "-q"] + PETSC, 0)
     compare(reference, rows(limited), "wall-time limit + restart")
 
@@ -176,6 +180,15 @@ def main(softflow, case_source, work):
     if "capillary_number" not in result.stderr or "not the case" not in result.stderr:
         fail(f"a changed case is not refused clearly: {result.stderr}")
     print("changed case refused: " + result.stderr.strip().splitlines()[0][:160])
+    # 6. A time series deleted before the restart: continued from the
+    # checkpoint with a warning, and summary.json says what is missing.
+    os.remove(os.path.join(lost, "timeseries.csv"))
+    result = run([softflow, "restart", lost, "-q"] + PETSC, 0)
+    warnings = read_json(lost, "summary.json").get("warnings", [])
+    if "timeseries.csv has no rows" not in result.stderr or not any(
+            "timeseries.csv has no rows" in w for w in warnings):
+        fail(f"a restart without its time series does not say so:\n{result.stderr}\n{warnings}")
+    print("lost time series reported: " + warnings[0][:120])
     before = open(os.path.join(full, "timeseries.csv")).read()
     result = run([softflow, "restart", full], 0)
     if "nothing to do" not in result.stdout or open(os.path.join(full, "timeseries.csv")).read() != before:

@@ -67,3 +67,19 @@ TEST(SweepTheory, NoCurveAlongOtherParameters) {
 
 }  // namespace
 }  // namespace softflow::simulation
+
+namespace softflow::simulation {
+namespace {
+
+TEST(SweepExitCode, CompleteUnlessACaseWasInterruptedOrNeverRan) {
+  // Issue 33: a stop request after the last case started, every case then
+  // completed: the sweep is complete (it exited 5).
+  EXPECT_EQ(sweep_exit_code({0, 0, 0}), 0);
+  EXPECT_EQ(sweep_exit_code({0, 5, 0}), 5);
+  EXPECT_EQ(sweep_exit_code({0, -1}), 5);      // never started
+  EXPECT_EQ(sweep_exit_code({5, 3, 0}), 3);    // a failure outranks an interruption
+  EXPECT_EQ(sweep_exit_code({0, -2, 2}), 4);   // failed in an earlier sweep: first
+}
+
+}  // namespace
+}  // namespace softflow::simulation

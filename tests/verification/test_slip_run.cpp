@@ -70,3 +70,17 @@ TEST(SlipRun, SlipLowersTheDeformation) {
     previous = r.objects[0].deformation;
   }
 }
+
+TEST(SlipRun, TheInitialRowHasTheInterfaceArea) {
+  // Issue 33: slip.csv's row 0 gave area 0 (timeseries.csv 12.53).
+  const auto config = slip_case("capillary_number = 0.1\nslip = 1.0\n", "slip_row0");
+  auto meshed = simulation::build_mesh(config);
+  simulation::DropSimulation sim(config, std::move(meshed.mesh));
+  const auto first = sim.initial_report();
+  ASSERT_EQ(first.slips.size(), 1u);
+  // The same curved surface by two quadratures (degree 5 here, the
+  // tracker's own there): 2e-6 apart at 16 equator nodes.
+  EXPECT_NEAR(first.slips[0].area, first.objects[0].area, 1e-5 * first.objects[0].area);
+  EXPECT_EQ(first.slips[0].mean_slip_speed, 0.0);
+  EXPECT_EQ(first.slips[0].dissipation, 0.0);
+}

@@ -788,7 +788,8 @@ void verify_periodic(const mesh::Mesh& m) {
 }
 
 // Throws if a curved element folds (non-positive Jacobian at a sample point).
-double check_quality(const mesh::Mesh& m) {
+// `optimized`: whether gmsh's high-order optimiser ran (the advice differs).
+double check_quality(const mesh::Mesh& m, bool optimized) {
   const int worst = mesh::worst_tet(m);
   if (worst < 0) return 1.0;
   const double q = mesh::tet_quality(m, worst);
@@ -796,10 +797,12 @@ double check_quality(const mesh::Mesh& m) {
     Vector3d centroid = Vector3d::Zero();
     for (int k = 0; k < 4; ++k) centroid += 0.25 * m.nodes[m.tets[worst][k]];
     throw MeshError(
-        fmt::format("gmsh produced an inverted curved tetrahedron near {} (quality {}); set "
-                    "mesh.optimize_high_order = true "
-                    "or refine the interface (mesh.equator_nodes)",
-                    vec(centroid), num(q)));
+        fmt::format("gmsh produced an inverted curved tetrahedron near {} (quality {}){}",
+                    vec(centroid), num(q),
+                    optimized ? " although its high-order optimiser ran; refine the interface "
+                                "(mesh.equator_nodes) or grade the mesh more gently (mesh.growth)"
+                              : "; set mesh.optimize_high_order = true or refine the interface "
+                                "(mesh.equator_nodes)"));
   }
   return q;
 }
@@ -831,9 +834,11 @@ std::string meshing_advice(const MeshSizing& sizing) {
   return fmt::format(
       "What usually helps: another mesh.equator_nodes (now {}; elongated or thin objects need "
       "more), a smaller mesh.far_size "
-      "(now {:g}) or mesh.growth (now {:g}), or, when the curved-element optimiser is what "
-      "failed, mesh.optimize_high_order = false",
-      sizing.equator_nodes, sizing.far_size, sizing.growth);
+      "(now {:g}) or mesh.growth (now {:g}){}",
+      sizing.equator_nodes, sizing.far_size, sizing.growth,
+      sizing.optimize_high_order ? ", or, when the curved-element optimiser is what failed, "
+                                   "mesh.optimize_high_order = false"
+                                 : "");
 }
 
 /// gmsh gives no progress while it meshes, and its curved-element optimiser
@@ -929,7 +934,7 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
   }
   mesh::renumber_nodes_spatially(m);  // compact per-rank node ranges, local element loops
   verify_periodic(m);
-  const double q = check_quality(m);
+  const double q = check_quality(m, spec.sizing.optimize_high_order);
   if (report)
     *report = make_report(m, spec, q,
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

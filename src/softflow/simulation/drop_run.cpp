@@ -15,6 +15,7 @@
 #include <numbers>
 #include <optional>
 #include <deque>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -157,6 +158,9 @@ struct RunLedger {
   /// Adaptive steps (time.adaptive_tolerance > 0): saved with the
   /// checkpoint, so a restarted run takes the same steps.
   std::optional<AdaptiveSteps> adaptive;
+  /// What a reader of the results must know (e.g. rows of the time series
+  /// lost before a restart); in summary.json, kept across restarts.
+  std::vector<std::string> warnings;
 };
 
 /// The monitor of time.steady_tolerance, or none. Centre velocities are
@@ -241,7 +245,8 @@ nlohmann::json to_json(const RunLedger& l) {
           {"sessions", l.sessions},
           {"mesh", l.mesh_report},
           {"steady", l.steady ? steady_samples_json(*l.steady) : nlohmann::json()},
-          {"adaptive", l.adaptive ? adaptive_json(*l.adaptive) : nlohmann::json()}};
+          {"adaptive", l.adaptive ? adaptive_json(*l.adaptive) : nlohmann::json()},
+          {"warnings", l.warnings}};
 }
 
 RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config) {
@@ -265,6 +270,7 @@ RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config
     l.mesh_report = j.at("mesh");
     if (l.steady) restore_steady_samples(*l.steady, j.at("steady"));
     if (l.adaptive) l.adaptive = adaptive_from_json(j.at("adaptive"));
+    l.warnings = j.value("warnings", std::vector<std::string>{});  // absent before 2026-12-03
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("the checkpoint's run record is damaged: {}", e.what()));
   }
@@ -332,6 +338,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
       {"sessions", ledger.sessions},
   };
   if (!stop_reason.empty()) summary["stop_reason"] = stop_reason;
+  if (!ledger.warnings.empty()) summary["warnings"] = ledger.warnings;
   summary["last_checkpoint"] =
       checkpoint.step >= 0 ? nlohmann::json{{"step", checkpoint.step}, {"time", checkpoint.time}}
                            : nlohmann::json(nullptr);
@@ -451,6 +458,21 @@ nlohmann::json progress_json(const StepReport& r, const nlohmann::json& n_steps,
                              ? nlohmann::json{{"step", checkpoint.step}, {"time", checkpoint.time}}
                              : nlohmann::json(nullptr);
   return j;
+}
+
+/// Why a failed run has no checkpoint, and which key changes that: advice
+/// only where the key is not already set so.
+std::string no_checkpoint_advice(const io::CaseConfig& config, const std::string& failure) {
+  if (failure.find("cannot write the checkpoint") != std::string::npos) return "";
+  if (config.checkpoint.interval_steps > 0)
+    return fmt::format(": it failed before step {}, the first checkpoint [checkpoint] "
+                       "interval_steps = {} asks for",
+                       config.checkpoint.interval_steps, config.checkpoint.interval_steps);
+  if (config.checkpoint.interval_minutes > 0)
+    return fmt::format(": checkpoints come every {:g} minutes ([checkpoint] interval_minutes); "
+                       "[checkpoint] interval_steps adds one every so many steps",
+                       config.checkpoint.interval_minutes);
+  return ": [checkpoint] interval_steps or interval_minutes sets how often";
 }
 
 /// The loop from the simulation's current step to time.end, shared by a
@@ -659,10 +681,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                              checkpoint.step, checkpoint.time, directory.string())
                        : fmt::format(
                              ". The output so far is in {} (no checkpoint was written{})",
-                             directory.string(),
-                             stop_reason.find("cannot write the checkpoint") != std::string::npos
-                                 ? ""
-                                 : ": [checkpoint] interval_steps sets how often");
+                             directory.string(), no_checkpoint_advice(config, stop_reason));
   }
 
   ledger.wall_seconds = earlier_wall_seconds + seconds_since(session_start);
@@ -694,9 +713,12 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 }
 
 /// Keeps the header and the rows of steps <= `step`; a row cut short by a
-/// crash (no final newline) goes too. Rows past the checkpoint are computed again.
-void truncate_timeseries(const fs::path& path, int step, const std::string& header) {
+/// crash (no final newline) goes too. Rows past the checkpoint are computed
+/// again. Returns how many of the steps 0..step have no row (a file deleted
+/// or edited since: those rows cannot be computed again).
+int truncate_timeseries(const fs::path& path, int step, const std::string& header) {
   std::ifstream in(path, std::ios::binary);
+  std::set<int> steps_kept;
   std::ostringstream text;
   text << in.rdbuf();
   std::string all = text.str();
@@ -713,13 +735,18 @@ void truncate_timeseries(const fs::path& path, int step, const std::string& head
     const auto comma = line.find(',');
     if (comma == std::string::npos) continue;
     try {
-      if (std::stoi(line.substr(0, comma)) <= step) kept += line + "\n";
+      const int row_step = std::stoi(line.substr(0, comma));
+      if (row_step <= step) {
+        kept += line + "\n";
+        if (row_step >= 0) steps_kept.insert(row_step);
+      }
     } catch (const std::exception&) {
       // not a row of ours: dropped
     }
   }
   if (kept.empty()) kept = header;
   io::write_text_file_atomically(path, kept);
+  return step + 1 - static_cast<int>(steps_kept.size());
 }
 
 /// Opens timeseries.csv (and stress.csv for viscoelastic runs, slip.csv
@@ -860,9 +887,10 @@ void check_initial_mesh_quality(const io::CaseConfig& config, const mesh::Mesh& 
       "the initial mesh has minimum element quality {:.3g} at {}, below time.min_quality = {:.3g}, "
       "so the run would stop at its first step. "
       "Mesh finer or smoother: a larger mesh.equator_nodes (now {}), a smaller mesh.far_size (now "
-      "{:g}) or mesh.growth (now {:g}), mesh.optimize_high_order = true; or lower time.min_quality",
+      "{:g}) or mesh.growth (now {:g}){}; or lower time.min_quality",
       quality, mesh::describe_element(mesh, mesh::worst_tet(mesh)), config.time.min_quality,
-      config.sizing.equator_nodes, config.sizing.far_size, config.sizing.growth));
+      config.sizing.equator_nodes, config.sizing.far_size, config.sizing.growth,
+      config.sizing.optimize_high_order ? "" : ", mesh.optimize_high_order = true"));
 }
 
 nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
@@ -950,11 +978,24 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
         signal_name(signal), directory.string(), directory.string()));
   RunFiles files;
   on_root_sharing_failure([&] {
-    truncate_timeseries(directory / "timeseries.csv", checkpoint.step, timeseries_header());
+    std::vector<std::pair<std::string, int>> missing;
+    missing.emplace_back("timeseries.csv", truncate_timeseries(directory / "timeseries.csv",
+                                                               checkpoint.step, timeseries_header()));
     if (sim.viscoelastic())
-      truncate_timeseries(directory / "stress.csv", checkpoint.step, stress_header());
+      missing.emplace_back("stress.csv", truncate_timeseries(directory / "stress.csv",
+                                                             checkpoint.step, stress_header()));
     if (sim.interface_slip())
-      truncate_timeseries(directory / "slip.csv", checkpoint.step, slip_header());
+      missing.emplace_back("slip.csv", truncate_timeseries(directory / "slip.csv",
+                                                           checkpoint.step, slip_header()));
+    for (const auto& [file, steps] : missing) {
+      if (steps <= 0) continue;
+      const std::string warning = fmt::format(
+          "{}/{} has no rows for {} of the steps 0..{} the checkpoint covers (deleted or edited "
+          "since): the run continues from the checkpoint, but those rows are lost for good",
+          directory.string(), file, steps, checkpoint.step);
+      fmt::print(stderr, "softflow: warning: {}\n", warning);
+      ledger.warnings.push_back(warning);
+    }
     open_series(directory, sim, files);
     if (config.write_fields) {
       files.fields =

@@ -585,7 +585,9 @@ ObjectState DropSimulation::measure(int k, const Vec3& centre_velocity) const {
 
 std::vector<physics::SlipMeasures> DropSimulation::measure_slips() const {
   if (!stokes_->interface_slip()) return {};
-  if (!solution_) return std::vector<physics::SlipMeasures>(mesh_.n_objects);  // t = 0
+  if (!solution_)  // t = 0: the interface is there, nothing moves across it yet
+    return physics::slip_measures(mesh_, stokes_->dofs(), stokes_->slip_node_normals(mesh_),
+                                  [](int) { return 0.0; });
   return physics::slip_measures(mesh_, stokes_->dofs(), stokes_->slip_node_normals(mesh_),
                                 [this](int dof) { return interface_values_[dof]; });
 }

@@ -455,15 +455,17 @@ int run_cases(const io::Sweep& sweep, const std::string& text, const std::string
   draw_plot("plot_sweep.py", directory, "sweep.png", options.quiet);
   if (!options.quiet) fmt::print("wrote {}/sweep.md, sweep.csv, sweep.png\n", directory.string());
 
-  int result = 0;
+  return sweep_exit_code(exit_codes);
+}
+
+int sweep_exit_code(const std::vector<int>& exit_codes) {
   for (int code : exit_codes) {
-    if (result != 0) break;
-    if (code > 0 && code != kInterrupted) result = code;
-    if (code == kFailedEarlier) result = 4;  // its own code is in its log
+    if (code > 0 && code != kInterrupted) return code;
+    if (code == kFailedEarlier) return 4;  // its own code is in its log
   }
-  if (result != 0) return result;
-  const bool unfinished = stop_signal != 0 || out_of_time ||
-                          std::any_of(exit_codes.begin(), exit_codes.end(),
+  // A stop request that came after the last case had started changes
+  // nothing if every case then completed: the sweep is complete.
+  const bool unfinished = std::any_of(exit_codes.begin(), exit_codes.end(),
                                       [](int c) { return c == kInterrupted || c == -1; });
   return unfinished ? kInterrupted : 0;
 }

@@ -65,6 +65,12 @@ void check_cases(const io::Sweep& sweep, const std::string& source, const SweepO
 int run_cases(const io::Sweep& sweep, const std::string& text, const std::string& source,
               const SweepOptions& options);
 
+/// A sweep's exit code from its cases' (in case order): the first failed
+/// case's code (4 for one skipped because it failed earlier: its code is in
+/// its log), else 5 if a case was interrupted or never started (-1), else 0
+/// (a stop request after the last case started, all completed: 0).
+int sweep_exit_code(const std::vector<int>& exit_codes);
+
 /// sweep_theory.csv: Taylor D and Chaffey-Brenner theta along the first
 /// parameter when it is object 1's capillary number or viscosity ratio, one
 /// curve per combination of the other parameters (columns group, the
