@@ -52,6 +52,7 @@
 #include "softflow/io/run_lock.hpp"
 #include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/drop_run.hpp"
+#include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "softflow/simulation/stokes_run.hpp"
 #include "softflow/simulation/stop_requests.hpp"
@@ -318,6 +319,9 @@ int main(int argc, char** argv) {
               "docs/case_file_keys.md)");
 
   int jobs = 1;
+  auto* columns = app.add_subcommand(
+      "columns", "every column of the report files a run writes (timeseries.csv, stress.csv, "
+                 "slip.csv): unit and meaning, as docs/output_columns.md");
   auto* sweep = app.add_subcommand(
       "sweep",
       "run every combination of the parameters a case file gives as lists (e.g. capillary_number "
@@ -491,6 +495,10 @@ int main(int argc, char** argv) {
 
   if (*keys) {  // no PETSc, no case file: the declarations themselves
     std::cout << softflow::io::case_file_keys_markdown();
+    return kOk;
+  }
+  if (*columns) {  // the report files' column declarations
+    std::cout << softflow::simulation::output_columns_markdown();
     return kOk;
   }
 

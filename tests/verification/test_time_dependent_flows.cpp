@@ -17,6 +17,7 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/run_support.hpp"
 
 using namespace softflow;

@@ -36,6 +36,7 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/stop_requests.hpp"
 #include "softflow/time/step_controller.hpp"
 

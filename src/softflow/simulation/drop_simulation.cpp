@@ -614,53 +614,6 @@ std::vector<RegionStress> DropSimulation::measure_stresses() const {
   return out;
 }
 
-std::string timeseries_header() {
-  return "step,t,object,D,theta_deg,L,B,W,xc,yc,zc,uc,vc,wc,volume,area,ellipsoid_dev,"
-         "min_quality,stokes_iterations,step_seconds,dt,interface_change\n";
-}
-
-std::string timeseries_rows(const StepReport& r) {
-  std::string out;
-  for (const auto& o : r.objects)
-    out += fmt::format(
-        "{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
-        "{:.10g},{:.10g},{:.10g},{:.10g},{:.6g},{:.6g},{},{:.4g},{:.10g},{:.6g}\n",
-        r.step, r.time, o.object, o.deformation, o.theta_deg, o.L, o.B, o.W, o.centre.x(),
-        o.centre.y(), o.centre.z(), o.centre_velocity.x(), o.centre_velocity.y(),
-        o.centre_velocity.z(), o.volume, o.area, o.ellipsoid_deviation, r.min_quality,
-        r.stokes_iterations, r.step_seconds, r.dt, r.interface_change);
-  return out;
-}
-
 bool DropSimulation::interface_slip() const { return stokes_->interface_slip(); }
-
-std::string slip_header() { return "step,t,object,area,mean_slip_speed,max_slip_speed,slip_dissipation\n"; }
-
-std::string slip_rows(const StepReport& r) {
-  std::string out;
-  for (std::size_t k = 0; k < r.slips.size(); ++k) {
-    const auto& s = r.slips[k];
-    out += fmt::format("{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g}\n", r.step, r.time, k + 1,
-                       s.area, s.mean_slip_speed, s.max_slip_speed, s.dissipation);
-  }
-  return out;
-}
-
-std::string stress_header() {
-  return "step,t,region,volume,tau_xx,tau_yy,tau_zz,tau_xy,tau_yz,tau_xz,N1,tau_1,tau_2,tau_3,"
-         "spread\n";
-}
-
-std::string stress_rows(const StepReport& r) {
-  std::string out;
-  for (const auto& s : r.stresses)
-    out += fmt::format(
-        "{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
-        "{:.10g},{:.10g},{:.6g}\n",
-        r.step, r.time, s.region, s.volume, s.mean(0, 0), s.mean(1, 1), s.mean(2, 2), s.mean(0, 1),
-        s.mean(1, 2), s.mean(0, 2), s.first_normal_stress_difference(), s.principal(0),
-        s.principal(1), s.principal(2), s.spread);
-  return out;
-}
 
 }  // namespace softflow::simulation

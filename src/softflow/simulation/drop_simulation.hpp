@@ -238,17 +238,5 @@ class DropSimulation {
   std::vector<fem::Field*> added_fields_;
 };
 
-/// The CSV header and one row per object of a report (timeseries.csv).
-std::string timeseries_header();
-std::string timeseries_rows(const StepReport& report);
-/// The CSV header and one row per region with a conformation (stress.csv):
-/// <tau> (xx, yy, zz, xy, yz, xz), N1 = <tau_xx> - <tau_yy>, the principal
-/// values of <tau> and the spread (RegionStress).
-std::string stress_header();
-std::string stress_rows(const StepReport& report);
-/// slip.csv (runs with interface slip): per object and step the mean and
-/// largest tangential slip speed and the slip dissipation.
-std::string slip_header();
-std::string slip_rows(const StepReport& report);
 
 }  // namespace softflow::simulation

@@ -1,0 +1,169 @@
+#include "softflow/simulation/report_tables.hpp"
+
+namespace softflow::simulation {
+
+namespace {
+
+using io::Column;
+using io::ColumnFormat;
+constexpr ColumnFormat kInteger = ColumnFormat::integer();
+constexpr ColumnFormat kFull = ColumnFormat::real(10);  // state: enough digits to compare runs
+constexpr ColumnFormat kShort = ColumnFormat::real(6);  // diagnostics
+constexpr ColumnFormat kTiming = ColumnFormat::real(4);
+
+// Columns every file starts with.
+template <class Row>
+std::vector<Column<Row>> step_and_time() {
+  return {{"step", "", "step number (0: the initial state)", kInteger,
+           [](const Row& r) { return r.report.step; }},
+          {"t", "time", "time at the end of the step", kFull,
+           [](const Row& r) { return r.report.time; }}};
+}
+
+template <class Row>
+std::vector<Column<Row>> join(std::vector<Column<Row>> a, std::vector<Column<Row>> b) {
+  for (auto& c : b) a.push_back(std::move(c));
+  return a;
+}
+
+}  // namespace
+
+const io::ReportTable<ObjectRow>& timeseries_table() {
+  using C = Column<ObjectRow>;
+  static const io::ReportTable<ObjectRow> table(
+      "timeseries.csv", "object and step",
+      "Shape from the least-squares ellipsoid through the interface nodes (eq. 2.57); "
+      "volume, area and centre of volume on the curved P2 surface.",
+      join(step_and_time<ObjectRow>(),
+           std::vector<C>{
+               {"object", "", "object number (1-based, as [[objects]])", kInteger,
+                [](const ObjectRow& r) { return r.object.object; }},
+               {"D", "", "deformation parameter (L - B) / (L + B)", kFull,
+                [](const ObjectRow& r) { return r.object.deformation; }},
+               {"theta_deg", "deg", "angle of the major axis to the flow direction (nan below D = "
+                "1e-4, where it is undefined)", kFull,
+                [](const ObjectRow& r) { return r.object.theta_deg; }},
+               {"L", "length", "longest semi-axis in the shear plane", kFull,
+                [](const ObjectRow& r) { return r.object.L; }},
+               {"B", "length", "shortest semi-axis in the shear plane", kFull,
+                [](const ObjectRow& r) { return r.object.B; }},
+               {"W", "length", "semi-axis along the vorticity", kFull,
+                [](const ObjectRow& r) { return r.object.W; }},
+               {"xc", "length", "centre of volume, x (flow)", kFull,
+                [](const ObjectRow& r) { return r.object.centre.x(); }},
+               {"yc", "length", "centre of volume, y (gradient)", kFull,
+                [](const ObjectRow& r) { return r.object.centre.y(); }},
+               {"zc", "length", "centre of volume, z (vorticity)", kFull,
+                [](const ObjectRow& r) { return r.object.centre.z(); }},
+               {"uc", "length/time", "velocity of the centre of volume, x (eqs. 2.51-2.54)", kFull,
+                [](const ObjectRow& r) { return r.object.centre_velocity.x(); }},
+               {"vc", "length/time", "velocity of the centre of volume, y: the migration velocity",
+                kFull, [](const ObjectRow& r) { return r.object.centre_velocity.y(); }},
+               {"wc", "length/time", "velocity of the centre of volume, z", kFull,
+                [](const ObjectRow& r) { return r.object.centre_velocity.z(); }},
+               {"volume", "length^3", "enclosed volume", kFull,
+                [](const ObjectRow& r) { return r.object.volume; }},
+               {"area", "length^2", "interface area", kFull,
+                [](const ObjectRow& r) { return r.object.area; }},
+               {"ellipsoid_dev", "", "largest node distance from the fitted ellipsoid, relative to "
+                "its size (the thesis accepts 2-3 %)", kShort,
+                [](const ObjectRow& r) { return r.object.ellipsoid_deviation; }},
+               {"min_quality", "", "smallest element quality (scaled Jacobian) of the whole mesh",
+                kShort, [](const ObjectRow& r) { return r.report.min_quality; }},
+               {"stokes_iterations", "", "Krylov iterations of the step's Stokes solve", kInteger,
+                [](const ObjectRow& r) { return r.report.stokes_iterations; }},
+               {"step_seconds", "s", "wall time of the step", kTiming,
+                [](const ObjectRow& r) { return r.report.step_seconds; }},
+               {"dt", "time", "size of the step", kFull,
+                [](const ObjectRow& r) { return r.report.dt; }},
+               {"interface_change", "", "largest predicted-to-corrected interface node move over "
+                "the object radius: the step's error estimate (nan at a BDF1 step)", kShort,
+                [](const ObjectRow& r) { return r.report.interface_change; }}}));
+  return table;
+}
+
+const io::ReportTable<StressRow>& stress_table() {
+  using C = Column<StressRow>;
+  auto mean = [](int i, int j) {
+    return [i, j](const StressRow& r) { return r.stress.mean(i, j); };
+  };
+  static const io::ReportTable<StressRow> table(
+      "stress.csv", "region with a conformation tensor and step",
+      "Volume averages <tau> of the polymer or elastic stress tau = G (c - I) over the region "
+      "(0: the matrix, k: object k).",
+      join(step_and_time<StressRow>(),
+           std::vector<C>{
+               {"region", "", "region (0 the matrix, k object k)", kInteger,
+                [](const StressRow& r) { return r.stress.region; }},
+               {"volume", "length^3", "region volume", kFull,
+                [](const StressRow& r) { return r.stress.volume; }},
+               {"tau_xx", "stress", "<tau_xx>", kFull, mean(0, 0)},
+               {"tau_yy", "stress", "<tau_yy>", kFull, mean(1, 1)},
+               {"tau_zz", "stress", "<tau_zz>", kFull, mean(2, 2)},
+               {"tau_xy", "stress", "<tau_xy>", kFull, mean(0, 1)},
+               {"tau_yz", "stress", "<tau_yz>", kFull, mean(1, 2)},
+               {"tau_xz", "stress", "<tau_xz>", kFull, mean(0, 2)},
+               {"N1", "stress", "<tau_xx> - <tau_yy>", kFull,
+                [](const StressRow& r) { return r.stress.first_normal_stress_difference(); }},
+               {"tau_1", "stress", "largest eigenvalue of <tau>", kFull,
+                [](const StressRow& r) { return r.stress.principal(0); }},
+               {"tau_2", "stress", "middle eigenvalue of <tau>", kFull,
+                [](const StressRow& r) { return r.stress.principal(1); }},
+               {"tau_3", "stress", "smallest eigenvalue of <tau>", kFull,
+                [](const StressRow& r) { return r.stress.principal(2); }},
+               {"spread", "", "sqrt(<|tau - <tau>|^2>) / |<tau>|: 0 for a uniform stress", kShort,
+                [](const StressRow& r) { return r.stress.spread; }}}));
+  return table;
+}
+
+const io::ReportTable<SlipRow>& slip_table() {
+  using C = Column<SlipRow>;
+  static const io::ReportTable<SlipRow> table(
+      "slip.csv", "object and step",
+      "The slip across each interface with Navier slip (docs/slip.md).",
+      join(step_and_time<SlipRow>(),
+           std::vector<C>{
+               {"object", "", "object number", kInteger, [](const SlipRow& r) { return r.object; }},
+               {"area", "length^2", "interface area", kFull,
+                [](const SlipRow& r) { return r.slip.area; }},
+               {"mean_slip_speed", "length/time", "mean of |(I - nn)(u_m - u_d)| over the interface",
+                kFull, [](const SlipRow& r) { return r.slip.mean_slip_speed; }},
+               {"max_slip_speed", "length/time", "largest nodal |u_m - u_d|", kFull,
+                [](const SlipRow& r) { return r.slip.max_slip_speed; }},
+               {"slip_dissipation", "power", "integral of lambda . (u_m - u_d): the power the slip "
+                "dissipates (never negative)", kFull,
+                [](const SlipRow& r) { return r.slip.dissipation; }}}));
+  return table;
+}
+
+std::string timeseries_header() { return timeseries_table().header(); }
+std::string stress_header() { return stress_table().header(); }
+std::string slip_header() { return slip_table().header(); }
+
+std::string timeseries_rows(const StepReport& r) {
+  std::string out;
+  for (const auto& o : r.objects) out += timeseries_table().row({r, o});
+  return out;
+}
+
+std::string stress_rows(const StepReport& r) {
+  std::string out;
+  for (const auto& s : r.stresses) out += stress_table().row({r, s});
+  return out;
+}
+
+std::string slip_rows(const StepReport& r) {
+  std::string out;
+  for (std::size_t k = 0; k < r.slips.size(); ++k)
+    out += slip_table().row({r, static_cast<int>(k) + 1, r.slips[k]});
+  return out;
+}
+
+std::string output_columns_markdown() {
+  return "# The columns of a run's report files\n\n"
+         "Generated from their declarations (`src/softflow/simulation/report_tables.cpp`) by "
+         "`softflow columns`; lengths, times and stresses are in the case file's own units.\n\n" +
+         timeseries_table().markdown() + stress_table().markdown() + slip_table().markdown();
+}
+
+}  // namespace softflow::simulation
