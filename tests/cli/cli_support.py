@@ -74,3 +74,24 @@ def same_rows(reference, result, what, skip=("step_seconds",), tolerance=1e-12):
                 fail(f"{what}: step {a['step']}, {column}: {y!r} vs {x!r} in the reference run")
     return worst
 
+
+def write(path, text):
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def start(args):
+    """Starts `args` in the background, its output captured."""
+    return subprocess.Popen(list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def wait_for(predicate, process, what, timeout=120):
+    """Polls `predicate` until true; fails if `process` ends first or time runs out."""
+    deadline = time.time() + timeout
+    while not predicate():
+        if process.poll() is not None:
+            fail(f"{what}: the process ended first (exit {process.returncode}):\n"
+                 f"{process.communicate()[1]}")
+        if time.time() > deadline:
+            fail(f"{what}: not within {timeout} s")
+        time.sleep(0.002)

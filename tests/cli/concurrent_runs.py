@@ -22,36 +22,13 @@ import json
 import os
 import shutil
 import signal
-import subprocess
 import sys
-import time
 
 import cli_support as support
-from cli_support import fail, read_json
+from cli_support import fail, read_json, start, wait_for, write
 
 BUSY = 4
 INTERRUPTED = 5
-
-
-def write(path, text):
-    with open(path, "w") as f:
-        f.write(text)
-
-
-def start(args):
-    return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-
-
-def wait_for(predicate, process, what, timeout=120):
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        if predicate():
-            return
-        if process.poll() is not None:
-            fail(f"{what}: the process ended first (exit {process.returncode}):\n"
-                 f"{process.communicate()[1]}")
-        time.sleep(0.01)
-    fail(f"{what}: not within {timeout} s")
 
 
 def progress_step(out):

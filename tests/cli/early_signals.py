@@ -18,33 +18,16 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 
 import cli_support as support
-from cli_support import fail
+from cli_support import fail, start, wait_for, write
 
 INTERRUPTED = 5
 
 
-def write(path, text):
-    with open(path, "w") as f:
-        f.write(text)
-
-
-def start(args):
-    return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-
-
 def signal_when(path, process, what, timeout=60):
     """SIGTERM to `process` as soon as `path` exists."""
-    deadline = time.time() + timeout
-    while not os.path.exists(path):
-        if process.poll() is not None:
-            fail(f"{what}: ended (exit {process.returncode}) before {path} appeared:\n"
-                 f"{process.communicate()[1]}")
-        if time.time() > deadline:
-            fail(f"{what}: {path} did not appear within {timeout} s")
-        time.sleep(0.002)
+    wait_for(lambda: os.path.exists(path), process, what, timeout)
     process.send_signal(signal.SIGTERM)
     out, err = process.communicate(timeout=120)
     return process.returncode, out + err
