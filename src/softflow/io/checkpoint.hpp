@@ -17,7 +17,9 @@ namespace softflow::io {
 /// hand-written group per part). Version 4: every dataset with data is
 /// chunked with a Fletcher32 checksum, the attributes have a checksum of
 /// their own (attributes_checksum), and the file's metadata has HDF5's.
-inline constexpr int kCheckpointFormatVersion = 4;
+/// Version 5: every dataset has a content hash of what was written (xxh64),
+/// which also covers HDF5's chunk index (Fletcher32 does not).
+inline constexpr int kCheckpointFormatVersion = 5;
 
 /// Everything a run in time needs to continue as if never stopped.
 ///
@@ -35,7 +37,9 @@ inline constexpr int kCheckpointFormatVersion = 4;
 ///              1 real, 2 array). What is there is decided by the parts
 ///              registered in the run's StateRegistry, not by this file.
 ///   Every dataset with data is chunked (about 1 MiB a chunk) with HDF5's
-///   Fletcher32 filter; empty datasets are contiguous.
+///   Fletcher32 filter; empty datasets are contiguous. Every dataset has an
+///   attribute xxh64: XXH64 of its bytes as written, seeded with FNV-1a of
+///   its shape (rows, columns), checked against the bytes as read.
 struct Checkpoint {
   std::string softflow_version;
   int format_version = kCheckpointFormatVersion;
@@ -59,8 +63,10 @@ void write_checkpoint(const std::filesystem::path& path, const Checkpoint& check
 void remove_stale_temporaries(const std::filesystem::path& path);
 
 /// Reads a checkpoint; throws InputError naming the file if it is missing,
-/// not a softflow checkpoint, of another format version, or damaged (a
-/// checksum that does not match: "corrupt checkpoint").
+/// not a softflow checkpoint, of another format version, or damaged
+/// ("corrupt checkpoint": a checksum or content hash that does not match,
+/// or HDF5 failing on the file, naming what). What it returns is, bit for
+/// bit, what write_checkpoint was given.
 Checkpoint read_checkpoint(const std::filesystem::path& path);
 
 }  // namespace softflow::io
