@@ -423,6 +423,23 @@ int main(int argc, char** argv) {
                  "use [output] directory\n";
     return kInputError;
   }
+  if (!output_dir.empty()) {
+    if (const auto what = softflow::io::output_directory_problem(output_dir); !what.empty()) {
+      error_stream() << fmt::format(
+          "softflow: -o/--output {}: {}\n",
+          output_dir.size() > 40 ? output_dir.substr(0, 37) + "..." : output_dir, what);
+      return kInputError;
+    }
+  }
+  // PETSc takes a word after "--" that is no option as the value of the
+  // option before it, and skips any other without a word.
+  if (petsc.size() > 1) {
+    const std::vector<std::string> words(petsc.begin() + 1, petsc.end());
+    if (const auto what = softflow::io::petsc_words_problem(words); !what.empty()) {
+      error_stream() << fmt::format("softflow: PETSc options after \"--\": {}\n", what);
+      return kInputError;
+    }
+  }
   softflow::simulation::RunOptions options;
   options.quiet = quiet;
   options.overwrite = overwrite;
