@@ -460,7 +460,15 @@ int main(int argc, char** argv) {
       std::ostringstream text;
       text << in.rdbuf();
       const auto expanded = softflow::io::expand_sweep(text.str(), case_file);
-      for (const auto& c : expanded.cases) softflow::geometry::validate(c.config.shear_cell_spec());
+      // Geometry errors name the file and the combination, as key errors do.
+      for (const auto& c : expanded.cases) {
+        try {
+          softflow::geometry::validate(c.config.shear_cell_spec());
+        } catch (const softflow::InputError& e) {
+          throw softflow::InputError(
+              fmt::format("{} [sweep case {}]: {}", case_file, c.label, e.what()));
+        }
+      }
       std::cout << fmt::format("# a sweep of {} cases, every one valid; softflow sweep runs them in {}/\n",
                                expanded.cases.size(), expanded.directory);
       for (const auto& c : expanded.cases) std::cout << "#   " << c.label << "\n";

@@ -59,11 +59,17 @@ endforeach()
 # Command-line mistakes (issue 11, item 7): one message naming what is wrong,
 # exit 1, nothing run. Each: name|arguments (^-separated)|a substring of the message.
 file(WRITE ${WORK}/good.toml "[[objects]]\n[mesh]\nequator_nodes = 16\nfar_size = 2.0\n")
+# Sweeps (issue 33, items 8-9): checked like single cases, no value twice.
+file(WRITE ${WORK}/duplicate_sweep.toml "[[objects]]\ncapillary_number = [0.1, 0.2, 0.1]\n")
+file(WRITE ${WORK}/nameless_sweep.toml "[case]\nname = \"\"\n[[objects]]\ncapillary_number = [0.1, 0.2]\n")
 set(command_cases
   "unknown_subcommand|frobnicate|unknown subcommand 'frobnicate' (allowed: run,"
   "zero_jobs|sweep^good.toml^--jobs^0|--jobs = 0: a whole number of cases at a time, at least 1"
   "empty_output|run^good.toml^-o^|-o/--output is empty"
-  "petsc_word_after_dashes|run^good.toml^-o^out_dashes^--^stokes_ksp_monitor|the word 'stokes_ksp_monitor' (word 1)")
+  "petsc_word_after_dashes|run^good.toml^-o^out_dashes^--^stokes_ksp_monitor|the word 'stokes_ksp_monitor' (word 1)"
+  "duplicate_sweep_value|check^duplicate_sweep.toml|objects[1].capillary_number = [0.1, 0.2, 0.1]: lists 0.1 twice"
+  "duplicate_sweep_value_run|sweep^duplicate_sweep.toml|lists 0.1 twice"
+  "nameless_sweep|sweep^nameless_sweep.toml|case.name = \"\": must be a non-empty name")
 string(REPEAT "o" 250 long_output)
 list(APPEND command_cases "long_output|run^good.toml^-o^${long_output}|of 250 bytes: at most 239")
 foreach(entry ${command_cases})
