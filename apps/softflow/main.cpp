@@ -440,6 +440,23 @@ int main(int argc, char** argv) {
                  "use [output] directory\n";
     return kInputError;
   }
+  if (!output_dir.empty()) {
+    if (const auto what = softflow::io::output_directory_problem(output_dir); !what.empty()) {
+      error_stream() << fmt::format(
+          "softflow: -o/--output {}: {}\n",
+          output_dir.size() > 40 ? output_dir.substr(0, 37) + "..." : output_dir, what);
+      return kInputError;
+    }
+  }
+  // PETSc takes a word after "--" that is no option as the value of the
+  // option before it, and skips any other without a word.
+  if (petsc.size() > 1) {
+    const std::vector<std::string> words(petsc.begin() + 1, petsc.end());
+    if (const auto what = softflow::io::petsc_words_problem(words); !what.empty()) {
+      error_stream() << fmt::format("softflow: PETSc options after \"--\": {}\n", what);
+      return kInputError;
+    }
+  }
   softflow::simulation::RunOptions options;
   options.quiet = quiet;
   options.overwrite = overwrite;
@@ -460,7 +477,15 @@ int main(int argc, char** argv) {
       std::ostringstream text;
       text << in.rdbuf();
       const auto expanded = softflow::io::expand_sweep(text.str(), case_file);
-      for (const auto& c : expanded.cases) softflow::geometry::validate(c.config.shear_cell_spec());
+      // Geometry errors name the file and the combination, as key errors do.
+      for (const auto& c : expanded.cases) {
+        try {
+          softflow::geometry::validate(c.config.shear_cell_spec());
+        } catch (const softflow::InputError& e) {
+          throw softflow::InputError(
+              fmt::format("{} [sweep case {}]: {}", case_file, c.label, e.what()));
+        }
+      }
       std::cout << fmt::format("# a sweep of {} cases, every one valid; softflow sweep runs them in {}/\n",
                                expanded.cases.size(), expanded.directory);
       for (const auto& c : expanded.cases) std::cout << "#   " << c.label << "\n";

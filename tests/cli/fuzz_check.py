@@ -8,7 +8,11 @@ seed 1: the same files every time) each get one to three random mutations:
 a key deleted, a value replaced by one of another type or an extreme one
 (0, -1, 2^63, 1e308, 1e-320, nan, inf, "", control characters, 10,000
 characters, arrays, inline tables, nesting), an unknown key or table, a
-duplicated key, the text cut short, random bytes inserted. `softflow check`
+duplicated key, the text cut short, random bytes inserted, or one of the
+inputs of issue 33 (names too long for a directory or of only spaces,
+PETSc option words PETSc would skip, extreme semi-axes and angles, relaxation
+times shorter than the step, oscillation frequencies the step cannot resolve,
+duplicated sweep values). `softflow check`
 must, for each: end within 20 s, by itself (no signal), with exit code 0 or
 1, and on 1 print a message naming the file and a key (table.key, or
 objects[k].key) or a line (file:N:). The first failures are listed with
@@ -47,6 +51,57 @@ EXTREMES = ["0", "-1", "9223372036854775808", "-9223372036854775809", "1e308", "
             "[1.0, 2.0, 3.0]", "[0.5, 0.5]"]
 
 
+# Issue 33: (table or "objects", {key: value}, keys removed): values that
+# passed `check` and failed later, or were ignored. Only refusals and values
+# `check` answers without PETSc, so that the test's run time stays.
+ISSUE_33 = [
+    ("case", {"name": '"' + "n" * 250 + '"'}, ()),
+    ("case", {"name": '"' + "n" * 239 + '"'}, ()),
+    ("case", {"name": '"' + "\u00e9" * 130 + '"'}, ()),
+    ("case", {"name": '"   "'}, ()),
+    ("case", {"name": '" "'}, ()),
+    ("output", {"directory": '"out/' + "d" * 250 + '"'}, ()),
+    ("output", {"directory": '"' + "p" * 300 + '/x"'}, ()),
+    ("output", {"directory": '"out/.."'}, ()),
+    ("solver", {"petsc_options": '"ksp_monitor"'}, ()),
+    ("solver", {"petsc_options": '"-stokes_ksp_type gmres restart"'}, ()),
+    ("solver", {"petsc_options": '"-1 -a"'}, ()),
+    ("solver", {"petsc_options": '"-a\\t1"'}, ()),
+    ("solver", {"petsc_options": '"-a\t1"'}, ()),
+    ("objects", {"shape": '"ellipsoid"', "semi_axes": "[1e-3, 1.0, 1.0]"}, ("radius",)),
+    ("objects", {"shape": '"ellipsoid"', "semi_axes": "[1e300, 1e-300, 1.0]"}, ("radius",)),
+    ("objects", {"shape": '"ellipsoid"', "semi_axes": "[0.25, 1.0, 1.0]"}, ("radius",)),
+    ("objects", {"shape": '"ellipsoid"', "semi_axes": "[1.2, 1.0, 1.0]", "rotation_deg": "[1e300, 0.0, 0.0]"},
+     ("radius",)),
+    ("objects", {"shape": '"ellipsoid"', "semi_axes": "[1.2, 1.0, 1.0]", "rotation_deg": "[-360.0, 360.0, 720.0]"},
+     ("radius",)),
+    ("objects", {"model": '"ucm"', "polymer_viscosity": "1.0", "relaxation_time": "1e-300"},
+     ("viscosity_ratio", "solvent_viscosity")),
+    ("matrix", {"model": '"oldroyd_b"', "solvent_viscosity": "0.5", "polymer_viscosity": "0.5",
+                "relaxation_time": "1e-300"}, ("viscosity",)),
+    ("matrix", {"model": '"giesekus"', "solvent_viscosity": "0.5", "polymer_viscosity": "0.5",
+                "relaxation_time": "0.01", "mobility": "0.2"}, ("viscosity",)),
+    ("flow", {"type": '"oscillatory"', "strain_amplitude": "0.5", "frequency": "1000.0"}, ("shear_rate",)),
+    ("flow", {"type": '"oscillatory"', "strain_amplitude": "0.5", "frequency": "1e300"}, ("shear_rate",)),
+    ("time", {"step": "[0.05, 0.05]"}, ()),
+    ("objects", {"capillary_number": "[0.1, 0.2, 0.1]"}, ("interfacial_tension",)),
+    ("case", {"name": '["a", "b"]'}, ()),
+]
+
+
+def issue_33(rng, tables, objects):
+    table, values, removed = rng.choice(ISSUE_33)
+    if table == "objects":
+        if not objects:
+            return
+        target = rng.choice(objects)
+    else:
+        target = tables.setdefault(table, {})
+    for key in removed:
+        target.pop(key, None)
+    target.update(values)
+
+
 def random_value(rng):
     kind = rng.randrange(6)
     if kind == 0:
@@ -81,7 +136,7 @@ def mutate(rng):
     extra = []
     text_mutations = []
     for _ in range(rng.randrange(1, 4)):
-        op = rng.randrange(9)
+        op = rng.randrange(10)
         pool = list(tables.values()) + objects
         target = rng.choice(pool)
         if op in (0, 1, 2) and target:  # a value of another type or an extreme one
@@ -92,6 +147,8 @@ def mutate(rng):
             target["".join(rng.choice("abcdefghij_") for _ in range(rng.randrange(1, 12)))] = random_value(rng)
         elif op == 5:  # an unknown or repeated table
             extra += [f"[{rng.choice(['mesh', 'cells', 'objects', 'x.y', 'time'])}]", "a = 1"]
+        elif op == 9:  # an input of issue 33
+            issue_33(rng, tables, objects)
         elif op == 6 and target:  # a key given twice
             key = rng.choice(list(target))
             extra_key = (key, target[key])

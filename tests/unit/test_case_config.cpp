@@ -1299,5 +1299,149 @@ TEST(DimensionlessGroups, SlipIsReportedForInterfacesThatSlip) {
   EXPECT_TRUE(seen);
 }
 
+
+// ---- bad input, issue 33 (items 5-7, 8 for single cases, 12) ----
+
+TEST(BadInput33, RotationAnglesAreBoundedToOneTurn) {
+  const std::string ellipsoid = "[[objects]]\nshape = \"ellipsoid\"\nsemi_axes = [1.3, 1, 0.8]\n";
+  EXPECT_ERROR(ellipsoid + "rotation_deg = [1e300, 0, 0]\n",
+               "objects[1].rotation_deg[1] = 1e+300: must be in [-360, 360]");
+  EXPECT_ERROR(ellipsoid + "rotation_deg = [0, 0, -360.5]\n", "objects[1].rotation_deg[3] = -360.5");
+  EXPECT_EQ(error_of(ellipsoid + "rotation_deg = [360, -360, 45]\n"), "");
+  EXPECT_NE(case_file_keys_markdown().find("[x, y, z], each in [-360, 360]"), std::string::npos);
+}
+
+TEST(BadInput33, ANameThatCannotBeADirectoryIsRefused) {
+  // NAME_MAX (255) less ".partial-<pid>" (16): 239 bytes.
+  EXPECT_EQ(kMaxDirectoryNameBytes, 239u);
+  const std::string longest(239, 'n'), too_long(250, 'n');
+  EXPECT_EQ(error_of("[case]\nname = \"" + longest + "\"\n"), "");
+  const std::string e = error_of("[case]\nname = \"" + too_long + "\"\n");
+  EXPECT_NE(e.find("case.name = \"nnnn"), std::string::npos) << e;
+  EXPECT_NE(e.find("of 250 bytes: at most 239 are allowed"), std::string::npos) << e;
+  EXPECT_NE(e.find("'.partial-<pid>'"), std::string::npos) << e;
+  EXPECT_NE(e.find("or give output.directory"), std::string::npos) << e;
+  // With its own directory, the name names no directory.
+  EXPECT_EQ(error_of("[case]\nname = \"" + too_long + "\"\n[output]\ndirectory = \"out/x\"\n"), "");
+  // Two-byte characters count as two.
+  std::string wide;
+  for (int i = 0; i < 120; ++i) wide += "\xc3\xa9";  // U+00E9, 240 bytes
+  EXPECT_NE(error_of("[case]\nname = \"" + wide + "\"\n").find("of 240 bytes"), std::string::npos);
+  // A file name too long for a directory gives the default name "case".
+  EXPECT_EQ(parse_case("", too_long + ".toml").name, "case");
+}
+
+TEST(BadInput33, AnOutputDirectoryThatCannotBeMadeIsRefused) {
+  const auto directory = [](const std::string& d) {
+    return error_of("[output]\ndirectory = \"" + d + "\"\n");
+  };
+  EXPECT_EQ(directory("out/" + std::string(239, 'd')), "");
+  EXPECT_EQ(directory("out/" + std::string(239, 'd') + "/"), "");
+  std::string e = directory("out/" + std::string(240, 'd'));
+  EXPECT_NE(e.find("output.directory = \"out/ddd"), std::string::npos) << e;
+  EXPECT_NE(e.find("of 240 bytes: at most 239 are allowed"), std::string::npos) << e;
+  e = directory(std::string(256, 'p') + "/run");
+  EXPECT_NE(e.find("of 256 bytes: a directory name has at most 255 (NAME_MAX)"), std::string::npos)
+      << e;
+  std::string deep;
+  for (int i = 0; i < 40; ++i) deep += std::string(100, 'p') + "/";
+  e = directory(deep + "run");
+  EXPECT_NE(e.find("is 4043 bytes long: an output directory's path has at most 3800"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(directory("out/..").find("names no directory to create"), std::string::npos);
+  EXPECT_EQ(output_directory_problem("output/drop_shear"), "");
+}
+
+TEST(BadInput33, NamesOfOnlySpacesAreRefused) {
+  EXPECT_ERROR("[case]\nname = \"   \"\n",
+               "case.name = \"   \": must contain a character other than spaces");
+  EXPECT_ERROR("[case]\nname = \" \"\n", "must contain a character other than spaces");
+  EXPECT_EQ(error_of("[case]\nname = \" a b \"\n"), "");
+  EXPECT_EQ(parse_case("", "   .toml").name, "case");
+}
+
+TEST(BadInput33, PetscWordsThatPetscWouldSkipAreRefused) {
+  EXPECT_ERROR("[solver]\npetsc_options = \"ksp_monitor\"\n",
+               "solver.petsc_options = \"ksp_monitor\": the word 'ksp_monitor' (word 1) is "
+               "neither an option");
+  EXPECT_ERROR("[solver]\npetsc_options = \"ksp_monitor\"\n", "(it comes first)");
+  EXPECT_ERROR("[solver]\npetsc_options = \"ksp_monitor\"\n", "write '-ksp_monitor' or remove it");
+  const std::string e = error_of("[solver]\npetsc_options = \"-stokes_ksp_type gmres restart\"\n");
+  EXPECT_NE(e.find("the word 'restart' (word 3)"), std::string::npos) << e;
+  EXPECT_NE(e.find("('-stokes_ksp_type' already takes 'gmres')"), std::string::npos) << e;
+  EXPECT_NE(e.find("PETSc would skip it silently"), std::string::npos) << e;
+  EXPECT_ERROR("[solver]\npetsc_options = \"-1 -ksp_monitor\"\n", "the word '-1' (word 1)");
+  // PETSc splits at spaces only: "-a\t1" would be one option named "a\t1".
+  EXPECT_ERROR("[solver]\npetsc_options = \"-stokes_ksp_type\\tgmres\"\n",
+               "PETSc separates options at spaces only");
+  // Values follow their options: words PETSc reads.
+  for (const char* fine :
+       {"-stokes_ksp_type gmres -stokes_ksp_monitor", "-stokes_ksp_rtol 1e-3",
+        "-a -1", "-a -inf", "  -a   b  ", "-a \\\"x y\\\" -b", "--stokes_ksp_monitor", ""})
+    EXPECT_EQ(error_of(fmt::format("[solver]\npetsc_options = \"{}\"\n", fine)), "") << fine;
+}
+
+TEST(BadInput33, PetscOptionNamesAsPetscReadsThem) {
+  EXPECT_TRUE(is_petsc_option_name("-ksp_monitor"));
+  EXPECT_TRUE(is_petsc_option_name("--ksp_monitor"));
+  EXPECT_TRUE(is_petsc_option_name("-inform"));  // strtod stops at "orm"
+  EXPECT_FALSE(is_petsc_option_name("-inf"));
+  EXPECT_FALSE(is_petsc_option_name("-nan"));
+  EXPECT_FALSE(is_petsc_option_name("-1"));
+  EXPECT_FALSE(is_petsc_option_name("-"));
+  EXPECT_FALSE(is_petsc_option_name("-_a"));
+  EXPECT_FALSE(is_petsc_option_name("ksp_monitor"));
+  EXPECT_EQ(petsc_option_words("  -a \"x y\"  z "),
+            (std::vector<std::string>{"-a", "x y", "z"}));
+  EXPECT_NE(petsc_words_problem({"-a", "1", "2"}).find("'2' (word 3)"), std::string::npos);
+  EXPECT_EQ(petsc_words_problem({"-a", "1", "-b"}), "");
+}
+
+TEST(BadInput33, TimeStepsLongerThanARelaxationTimeAreRefused) {
+  const std::string matrix =
+      "[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\npolymer_viscosity = 0.5\n";
+  // Passed check, and the run stopped at step 1 with NaN in the Stokes system.
+  std::string e = error_of(matrix + "relaxation_time = 1e-300\n[time]\nstep = 0.05\nend = 1.0\n");
+  EXPECT_NE(e.find("time.step = 0.05 is longer than the shortest relaxation time, "
+                   "matrix.relaxation_time = 1e-300"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("stable only for steps below 4/3 of it"), std::string::npos) << e;
+  EXPECT_NE(e.find("allowed: time.step <= 1e-300"), std::string::npos) << e;
+  EXPECT_EQ(error_of(matrix + "relaxation_time = 0.05\n[time]\nstep = 0.05\nend = 1.0\n"), "");
+  // One Stokes solve takes no step.
+  EXPECT_EQ(error_of(matrix + "relaxation_time = 1e-300\n[time]\nstep = 0.05\nend = 0.0\n"), "");
+  // The shortest of the phases, a drop's here.
+  e = error_of(matrix +
+               "relaxation_time = 1.0\n[time]\nstep = 0.05\nend = 1.0\n[[objects]]\nmodel = "
+               "\"ucm\"\npolymer_viscosity = 1.0\nrelaxation_time = 0.02\n");
+  EXPECT_NE(e.find("objects[1].relaxation_time = 0.02"), std::string::npos) << e;
+  // Adaptive steps: the largest one too.
+  e = error_of(matrix +
+               "relaxation_time = 0.1\n[time]\nstep = 0.01\nend = 1.0\nadaptive_tolerance = "
+               "1e-3\nmax_step = 0.5\n[[objects]]\n");
+  EXPECT_NE(e.find("time.max_step = 0.5 is longer than the shortest relaxation time"),
+            std::string::npos)
+      << e;
+  // Elastic particles do not relax.
+  EXPECT_EQ(error_of("[time]\nstep = 0.05\nend = 1.0\n[[objects]]\nmodel = \"neo_hookean\"\n"
+                     "modulus = 10.0\n"),
+            "");
+}
+
+TEST(BadInput33, OscillatoryFlowNeedsTenStepsPerPeriod) {
+  const std::string flow = "[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.5\n";
+  // Passed check: 0.008 steps per period.
+  const std::string e = error_of(flow + "frequency = 1000.0\n[time]\nstep = 0.05\nend = 1.0\n");
+  EXPECT_NE(e.find("time.step = 0.05 with flow.frequency = 1000.0 takes 0.126 steps per period"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("at least 10 are needed, time.step <= 0.0006283"), std::string::npos) << e;
+  // 2 pi / 2 = 3.14: 12.6 steps of 0.25 (tests/verification/test_time_dependent_flows.cpp).
+  EXPECT_EQ(error_of(flow + "frequency = 2.0\n[time]\nstep = 0.25\nend = 3.0\n"), "");
+  EXPECT_EQ(error_of(flow + "frequency = 1000.0\n[time]\nstep = 0.05\nend = 0.0\n"), "");
+}
+
 }  // namespace
 }  // namespace softflow::io

@@ -380,10 +380,11 @@ TEST(ShearCellValidation, RejectsASphereCrossingAPeriodicFace) {
 
 TEST(ShearCellValidation, EllipsoidsAreTestedByShapeNotBoundingSphere) {
   // Two long, thin ellipsoids side by side: their bounding spheres overlap.
-  const auto a = ellipsoid(Vector3d(0, -1, 0), Vector3d(3, 0.4, 0.4), Vector3d::Zero());
-  const auto b = ellipsoid(Vector3d(0, 1, 0), Vector3d(3, 0.4, 0.4), Vector3d::Zero());
+  // (Ratio 4, the most the mesh takes, at 32-37 equator nodes.)
+  const auto a = ellipsoid(Vector3d(0, -1, 0), Vector3d(2.4, 0.6, 0.6), Vector3d::Zero());
+  const auto b = ellipsoid(Vector3d(0, 1, 0), Vector3d(2.4, 0.6, 0.6), Vector3d::Zero());
   auto spec = small_cell(10, 6, 6, {a, b});
-  spec.sizing.equator_nodes = 40;  // h = 2 pi 0.4 / 20 = 0.13 < gap 1.2
+  spec.sizing.equator_nodes = 36;  // h = 2 pi 0.6 / 18 = 0.21 < gap 0.8
   EXPECT_EQ(input_error_message(spec), "");
 
   // Tilted towards each other by 30 degrees about z, they intersect.
@@ -413,6 +414,92 @@ TEST(ShearCellValidation, RejectsBadSizesNamingTheField) {
   EXPECT_NE(input_error_message(spec).find("objects[1].semi_axes"), std::string::npos);
   // build_shear_cell validates too.
   EXPECT_THROW(geometry::build_shear_cell(spec), InputError);
+}
+
+// Issue 33, item 5: [0.001, 1, 1] passed validation and gmsh meshed it for
+// over 4 minutes. An ellipsoid must be resolved (a_max / a_min <= N / 8)
+// and meshable in reasonable time (N a_max / a_min <= 150).
+TEST(ShearCellValidation, EllipsoidsTheMeshCannotResolveAreRefused) {
+  EXPECT_DOUBLE_EQ(geometry::largest_ellipsoid_ratio(40), 3.75);
+  EXPECT_DOUBLE_EQ(geometry::largest_ellipsoid_ratio(20), 2.5);
+  EXPECT_DOUBLE_EQ(geometry::largest_ellipsoid_ratio(8), 1.0);
+  auto spec = small_cell(30, 30, 30, {ellipsoid(Vector3d::Zero(), Vector3d(1e-3, 1, 1),
+                                                Vector3d::Zero())});
+  spec.sizing.equator_nodes = 40;
+  std::string msg = input_error_message(spec);
+  EXPECT_NE(msg.find("objects[1]: ellipsoid at (0, 0, 0) with semi-axes (0.001, 1, 1) has a "
+                     "semi-axis ratio a_max / a_min = 1000 that mesh.equator_nodes = 40 cannot "
+                     "mesh (allowed: a_max / a_min <= min(N / 8, 150 / N) = 3.75)"),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("N >= 8 a_max / a_min = 8000"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("N <= 150 a_min / a_max = 0.15"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("make it rounder (objects[1].semi_axes)"), std::string::npos) << msg;
+  // Too coarse for its curvature: more equator nodes.
+  spec.objects[0].semi_axes = Vector3d(0.25, 1, 1);
+  spec.sizing.equator_nodes = 20;
+  msg = input_error_message(spec);
+  EXPECT_NE(msg.find("a_max / a_min = 4 that mesh.equator_nodes = 20"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("quarter circle"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("set mesh.equator_nodes (now 20) between 32 and 37"), std::string::npos)
+      << msg;
+  // Too many nodes around it: fewer equator nodes (measured: 76 s and an
+  // inverted element at 40, under a note that blamed the optimiser).
+  spec.sizing.equator_nodes = 40;
+  msg = input_error_message(spec);
+  EXPECT_NE(msg.find("N a_max / a_min, here 160"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("quarter circle"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("between 32 and 37"), std::string::npos) << msg;
+  spec.sizing.equator_nodes = 36;
+  EXPECT_EQ(input_error_message(spec), "");
+  // Prolate alike; spheres are not limited (an exact OCC sphere).
+  spec.objects[0].semi_axes = Vector3d(3, 1, 1);
+  spec.sizing.equator_nodes = 60;
+  EXPECT_NE(input_error_message(spec).find("here 180"), std::string::npos);
+  spec.sizing.equator_nodes = 48;
+  EXPECT_EQ(input_error_message(spec), "");
+  spec.objects[0] = sphere(Vector3d::Zero(), 1.0);
+  spec.sizing.equator_nodes = 200;
+  EXPECT_EQ(input_error_message(spec), "");
+  // A huge ratio has no int: still a message.
+  spec.objects[0] = ellipsoid(Vector3d::Zero(), Vector3d(1e-300, 1, 1), Vector3d::Zero());
+  EXPECT_NE(input_error_message(spec).find("make it rounder"), std::string::npos);
+}
+
+TEST(ShearCellValidation, TheSlowMeshingNoteNamesWhatMakesItSlow) {
+  // An elongated ellipsoid: named, with its keys; not the optimiser.
+  auto spec = small_cell(30, 30, 30, {ellipsoid(Vector3d::Zero(), Vector3d(1.0 / 3.0, 1, 1),
+                                                Vector3d::Zero())});
+  spec.sizing.equator_nodes = 40;
+  std::string note = geometry::slow_meshing_note(spec, 60);
+  EXPECT_NE(note.find("softflow: note: gmsh has been meshing for 60 s"), std::string::npos);
+  EXPECT_NE(note.find("objects[1] is an ellipsoid with semi-axes (0.333333, 1, 1), whose longest "
+                      "circumference gets N a_max / a_min = 120 nodes"),
+            std::string::npos)
+      << note;
+  EXPECT_NE(note.find("fewer mesh.equator_nodes (now 40) or a rounder objects[1].semi_axes"),
+            std::string::npos)
+      << note;
+  EXPECT_EQ(note.find("optimize_high_order"), std::string::npos) << note;
+  // Many objects: the optimiser.
+  std::vector<ObjectSpec> many;
+  for (int i = 0; i < 6; ++i) many.push_back(sphere(Vector3d(4.0 * i - 10, 0, 0), 1.0));
+  spec = small_cell(30, 30, 30, many);
+  spec.sizing.equator_nodes = 12;
+  note = geometry::slow_meshing_note(spec, 60);
+  EXPECT_NE(note.find("with 6 objects, gmsh's curved-element optimiser"), std::string::npos) << note;
+  EXPECT_NE(note.find("mesh.optimize_high_order = false"), std::string::npos) << note;
+  EXPECT_NE(note.find("mesh.equator_nodes (now 12)"), std::string::npos) << note;
+  // A large mesh.
+  spec = small_cell(30, 30, 30, {sphere(Vector3d::Zero(), 1.0)});
+  spec.sizing.equator_nodes = 300;
+  note = geometry::slow_meshing_note(spec, 60);
+  EXPECT_NE(note.find("the mesh is large: about 36000 interface nodes"), std::string::npos) << note;
+  // Nothing in the case explains it.
+  spec.sizing.equator_nodes = 20;
+  spec.sizing.optimize_high_order = false;
+  note = geometry::slow_meshing_note(spec, 60);
+  EXPECT_NE(note.find("the machine may be busy"), std::string::npos) << note;
 }
 
 TEST(MeshFingerprint, EqualMeshesAgreeAndOneUlpOfOneCoordinateChangesIt) {

@@ -74,5 +74,68 @@ TEST(SweepCase, ProblemsNameTheParameterAndTheCombination) {
   EXPECT_NE(error_of("[time\nend = 1").find("TOML syntax error"), std::string::npos);
 }
 
+
+// ---- issue 33, items 8 and 9 ----
+
+TEST(SweepCase, TheSweepsNameIsCheckedLikeACasesName) {
+  const std::string swept = "[[objects]]\ncapillary_number = [0.1, 0.2]\n";
+  // Passed before, "" writing into output/ itself.
+  EXPECT_NE(error_of("[case]\nname = \"\"\n" + swept).find("s.toml: case.name = \"\": must be a "
+                                                           "non-empty name"),
+            std::string::npos);
+  EXPECT_NE(error_of("[case]\nname = true\n" + swept).find("case.name = true: must be a string"),
+            std::string::npos);
+  EXPECT_NE(error_of("[case]\nname = 5\n" + swept).find("case.name = 5: must be a string"),
+            std::string::npos);
+  EXPECT_NE(error_of("[case]\nname = \"  \"\n" + swept)
+                .find("case.name = \"  \": must contain a character other than spaces"),
+            std::string::npos);
+  EXPECT_NE(error_of("[case]\nname = \"a/b\"\n" + swept).find("case.name = \"a/b\""),
+            std::string::npos);
+  EXPECT_NE(error_of("[output]\ndirectory = 5\n" + swept)
+                .find("output.directory = 5: must be a string"),
+            std::string::npos);
+  const std::string e = error_of("[case]\nname = \"" + std::string(240, 'n') + "\"\n" + swept);
+  EXPECT_NE(e.find("of 240 bytes: at most 239 are allowed"), std::string::npos) << e;
+  EXPECT_NE(error_of("[case]\nname = [\"a\", \"b\"]\n" + swept).find("case.name = [\"a\", \"b\"]: "
+                                                                   "cannot be varied"),
+            std::string::npos);
+  EXPECT_NE(error_of("[output]\ndirectory = [\"a\", \"b\"]\n" + swept).find("cannot be varied"),
+            std::string::npos);
+  EXPECT_EQ(error_of("[case]\nname = \"fine\"\n[output]\ndirectory = \"out/fine\"\n" + swept), "");
+  // A file name that cannot be a name gives "sweep".
+  EXPECT_EQ(expand_sweep(swept, "   .toml").name, "sweep");
+}
+
+TEST(SweepCase, ALabelTooLongForADirectoryIsRefused) {
+  const std::string e = error_of("[[objects]]\ncapillary_number = [0.1, 0.2]\n[case]\nname = \"s\"\n"
+                                 "[solver]\npetsc_options = [\"-a\", \"-" +
+                                 std::string(240, 'b') + "\"]\n");
+  EXPECT_NE(e.find("has a label of"), std::string::npos) << e;
+  EXPECT_NE(e.find("at most 238 bytes"), std::string::npos) << e;
+}
+
+TEST(SweepCase, AValueListedTwiceIsRefused) {
+  // Still a sweep file (softflow check and run tell it by this), refused on expansion.
+  EXPECT_EQ(sweep_parameters("[[objects]]\ncapillary_number = [0.1, 0.1]\n", "s.toml").size(), 1u);
+  // Ran once and gave two identical rows.
+  std::string e = error_of("[[objects]]\ncapillary_number = [0.1, 0.2, 0.1]\n");
+  EXPECT_NE(e.find("objects[1].capillary_number = [0.1, 0.2, 0.1]: lists 0.1 twice (values 1 and "
+                   "3)"),
+            std::string::npos)
+      << e;
+  e = error_of("[time]\nend = 1.0\nstep = [0.05, 0.050]\n");
+  EXPECT_NE(e.find("time.step = [0.05, 0.05]: lists 0.05 twice"), std::string::npos) << e;
+  e = error_of("[[objects]]\nviscosity_ratio = [1, 1.0]\n");
+  EXPECT_NE(e.find("lists 1.0 twice"), std::string::npos) << e;
+  e = error_of("[[objects]]\ncentre = [[0.0, 0.0, 0.0], [0, 0, 0]]\n");
+  EXPECT_NE(e.find("objects[1].centre"), std::string::npos) << e;
+  EXPECT_NE(e.find("twice"), std::string::npos) << e;
+  // Different values, one directory.
+  e = error_of("[solver]\npetsc_options = [\"-a b\", \"-a_b\"]\n");
+  EXPECT_NE(e.find("both make the directory label '-a_b'"), std::string::npos) << e;
+  EXPECT_EQ(error_of("[[objects]]\ncapillary_number = [0.1, 0.2]\n"), "");
+}
+
 }  // namespace
 }  // namespace softflow::io

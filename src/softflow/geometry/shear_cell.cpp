@@ -195,13 +195,62 @@ void check_pair(int i, int j, const ShearCellSpec& spec) {
                   label(j), describe(b), label(i), num(gap), num(h)));
 }
 
+// An ellipsoid the mesh cannot resolve, or gmsh cannot finish meshing
+// (largest_ellipsoid_ratio): [0.001, 1, 1] passed `check` and `softflow
+// mesh` ran for over 4 minutes (60 s with the optimiser off).
+void check_resolution(int k, const ObjectSpec& o, const MeshSizing& sizing) {
+  if (o.shape != ObjectShape::ellipsoid) return;
+  const double n = sizing.equator_nodes;
+  const double a_min = o.semi_axes.minCoeff(), a_max = o.semi_axes.maxCoeff();
+  const double ratio = a_max / a_min;
+  if (ratio <= largest_ellipsoid_ratio(sizing.equator_nodes)) return;
+  // As doubles: a ratio of 1e300 has no int.
+  const double fewest = std::ceil(8.0 * ratio - 1e-9);
+  const double most = std::floor(kMaxLongestCircumferenceNodes / ratio + 1e-9);
+  const bool no_count = fewest > most;  // no mesh.equator_nodes does both
+  std::vector<std::string> why;
+  if (ratio > n / 8.0 || no_count)
+    why.push_back(fmt::format(
+        "to be resolved, its interface elements (they follow the smallest semi-axis: h = 4 pi "
+        "a_min / N, here {}) may turn at most a quarter circle along its sharpest curvature "
+        "(radius a_min^2 / a_max = {}), as a sphere's do at the coarsest 8 equator nodes, so N "
+        ">= 8 a_max / a_min = {}",
+        num(interface_element_size(o, sizing)), num(a_min * a_min / a_max), num(8.0 * ratio)));
+  if (n * ratio > kMaxLongestCircumferenceNodes || no_count)
+    why.push_back(fmt::format(
+        "to be meshed in reasonable time, its longest circumference may get at most {:g} nodes "
+        "(N a_max / a_min, here {}; gmsh's curved meshing of an ellipsoid slows steeply with "
+        "them: at 160 over a minute and a failed mesh, at 320 over 10 minutes), so N <= {:g} "
+        "a_min / a_max = {}",
+        kMaxLongestCircumferenceNodes, num(n * ratio), kMaxLongestCircumferenceNodes,
+        num(kMaxLongestCircumferenceNodes / ratio)));
+  const std::string fix =
+      no_count ? fmt::format("make it rounder ({}.semi_axes): no mesh.equator_nodes does both "
+                             "above a_max / a_min = {:.3g} (at N = 35)",
+                             label(k), largest_ellipsoid_ratio(35))
+               : fmt::format("set mesh.equator_nodes (now {}) between {:g} and {:g}, or make it "
+                             "rounder ({}.semi_axes)",
+                             sizing.equator_nodes, fewest, most, label(k));
+  throw InputError(fmt::format(
+      "{}: {} has a semi-axis ratio a_max / a_min = {} that mesh.equator_nodes = {} cannot mesh "
+      "(allowed: a_max / a_min <= min(N / 8, 150 / N) = {}): {}; {}",
+      label(k), describe(o), num(ratio), sizing.equator_nodes,
+      num(largest_ellipsoid_ratio(sizing.equator_nodes)), fmt::join(why, "; "), fix));
+}
+
 }  // namespace
+
+double largest_ellipsoid_ratio(int equator_nodes) {
+  const double n = equator_nodes;
+  return std::min(n / 8.0, kMaxLongestCircumferenceNodes / n);
+}
 
 void validate(const ShearCellSpec& spec) {
   validate_box(spec.box);
   validate_sizing(spec.sizing);
   for (int k = 0; k < static_cast<int>(spec.objects.size()); ++k) {
     validate_shape(k, spec.objects[k]);
+    check_resolution(k, spec.objects[k], spec.sizing);
     const double h = interface_element_size(spec.objects[k], spec.sizing);
     for (int axis : {1, 0, 2}) check_axis(k, spec.objects[k], spec.box, axis, h);
   }
@@ -856,20 +905,13 @@ double slow_meshing_note_seconds() {
 
 class SlowStageNote {
  public:
-  SlowStageNote(std::string stage, double seconds, const MeshSizing& sizing)
-      : thread_([this, stage = std::move(stage), seconds, sizing] {
+  SlowStageNote(double seconds, std::string note)
+      : thread_([this, seconds, note = std::move(note)] {
           std::unique_lock lock(mutex_);
           if (done_changed_.wait_for(lock, std::chrono::duration<double>(seconds),
                                      [this] { return done_; }))
             return;
-          std::cerr << fmt::format(
-                           "softflow: note: gmsh has been {} for {:.0f} s (for many objects, or "
-                           "objects near walls, its curved-element optimiser can take many "
-                           "minutes). It may still succeed; to make it faster, stop it and try "
-                           "mesh.optimize_high_order = false, a larger mesh.equator_nodes (now "
-                           "{}) or a smaller mesh.growth (now {:g})",
-                           stage, seconds, sizing.equator_nodes, sizing.growth)
-                    << std::endl;
+          std::cerr << note << std::endl;
         }) {}
   ~SlowStageNote() {
     {
@@ -888,6 +930,14 @@ class SlowStageNote {
   bool done_ = false;
   std::thread thread_;  // last: starts once the members it uses exist
 };
+
+/// The surface area of an ellipsoid (Thomsen's formula, within 1.1 %).
+double surface_area(const Vector3d& a) {
+  constexpr double p = 1.6075;
+  const double ab = std::pow(a.x() * a.y(), p), ac = std::pow(a.x() * a.z(), p),
+               bc = std::pow(a.y() * a.z(), p);
+  return 4.0 * M_PI * std::pow((ab + ac + bc) / 3.0, 1.0 / p);
+}
 
 MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double min_quality, double seconds) {
   MeshReport r;
@@ -912,6 +962,89 @@ MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double mi
 
 }  // namespace
 
+std::string slow_meshing_note(const ShearCellSpec& spec, double seconds) {
+  const MeshSizing& sizing = spec.sizing;
+  const double n = sizing.equator_nodes;
+  std::vector<std::string> causes, fixes;
+  // An elongated ellipsoid: gmsh curves its elements onto a dilated sphere,
+  // slowly, and more slowly the more nodes its longest circumference gets
+  // (largest_ellipsoid_ratio). [0.001, 1, 1] used to mesh for minutes under
+  // a note that blamed the optimiser; with it off, the time stayed.
+  int worst = -1;
+  double worst_nodes = 0.0;
+  for (int k = 0; k < static_cast<int>(spec.objects.size()); ++k) {
+    const ObjectSpec& o = spec.objects[k];
+    if (o.shape != ObjectShape::ellipsoid) continue;
+    const double nodes = n * o.semi_axes.maxCoeff() / o.semi_axes.minCoeff();
+    if (nodes > worst_nodes) {
+      worst = k;
+      worst_nodes = nodes;
+    }
+  }
+  if (worst >= 0 && worst_nodes >= 80.0) {
+    causes.push_back(fmt::format(
+        "{} is an ellipsoid with semi-axes {}, whose longest circumference gets N a_max / a_min "
+        "= {:.0f} nodes (its elements follow its smallest semi-axis): gmsh curves an ellipsoid's "
+        "elements onto a dilated sphere, slowly, and the more slowly the more such nodes ({:g} "
+        "is the most `softflow check` accepts)",
+        label(worst), vec(spec.objects[worst].semi_axes), worst_nodes,
+        kMaxLongestCircumferenceNodes));
+    fixes.push_back(fmt::format("fewer mesh.equator_nodes (now {}) or a rounder {}.semi_axes",
+                                sizing.equator_nodes, label(worst)));
+  }
+  // Many objects keep the curved-element optimiser busy (50 spheres at 12
+  // equator nodes: more than 10 minutes; seconds without it).
+  const std::size_t count = spec.objects.size();
+  if (sizing.optimize_high_order && count >= 5) {
+    causes.push_back(fmt::format(
+        "with {} objects, gmsh's curved-element optimiser (mesh.optimize_high_order = true) can "
+        "take many minutes (50 spheres: more than 10)",
+        count));
+    fixes.push_back(fmt::format(
+        "mesh.optimize_high_order = false (then check the minimum quality `softflow mesh` "
+        "reports), or a larger mesh.equator_nodes (now {}): coarse curved elements give the "
+        "optimiser more to untangle",
+        sizing.equator_nodes));
+  }
+  // A large mesh: about 0.4 N^2 interface nodes on a sphere (650 at N = 40,
+  // 4,746 at 110, which meshes in 9 s), times its area over that of the
+  // sphere of its smallest semi-axis.
+  double interface_nodes = 0.0;
+  for (const auto& o : spec.objects) {
+    const double a_min = o.semi_axes.minCoeff();
+    interface_nodes += 0.4 * n * n * surface_area(o.semi_axes) / (4.0 * M_PI * a_min * a_min);
+  }
+  if (interface_nodes > 20000.0) {
+    causes.push_back(fmt::format(
+        "the mesh is large: about {:.0f} interface nodes on {} object{} at mesh.equator_nodes = "
+        "{} (the volume has many times more)",
+        interface_nodes, count, count == 1 ? "" : "s", sizing.equator_nodes));
+    fixes.push_back(fmt::format("fewer mesh.equator_nodes (now {}), a larger mesh.growth (now "
+                                "{:g}) or mesh.far_size (now {:g})",
+                                sizing.equator_nodes, sizing.growth, sizing.far_size));
+  }
+  if (causes.empty()) {
+    if (sizing.optimize_high_order) {
+      causes.push_back(
+          "most likely gmsh's curved-element optimiser (mesh.optimize_high_order = true), which "
+          "objects near walls or near each other keep busy");
+      fixes.push_back("mesh.optimize_high_order = false (then check the minimum quality "
+                      "`softflow mesh` reports)");
+    } else {
+      causes.push_back(fmt::format(
+          "nothing in the case explains it ({} object{}, about {:.0f} interface nodes, the "
+          "optimiser off): the machine may be busy",
+          count, count == 1 ? "" : "s", interface_nodes));
+    }
+  }
+  std::string note = fmt::format("softflow: note: gmsh has been meshing for {:.0f} s. What makes "
+                                 "it slow here: {}. It may still succeed",
+                                 seconds, fmt::join(causes, "; "));
+  if (!fixes.empty())
+    note += fmt::format("; to make it faster, stop it and try {}", fmt::join(fixes, ", or "));
+  return note;
+}
+
 mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
   const auto start = std::chrono::steady_clock::now();
   validate(spec);
@@ -925,7 +1058,8 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
       set_size_and_order(spec);
     });
     try {
-      const SlowStageNote note("meshing", slow_meshing_note_seconds(), spec.sizing);
+      const double seconds = slow_meshing_note_seconds();
+      const SlowStageNote note(seconds, slow_meshing_note(spec, seconds));
       session.run("meshing", [] { gmsh::model::mesh::generate(3); });
     } catch (const MeshError& e) {
       throw MeshError(fmt::format("{}. {}", e.what(), meshing_advice(spec.sizing)));

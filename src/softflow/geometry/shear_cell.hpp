@@ -76,10 +76,33 @@ Eigen::Matrix3d rotation_matrix(const ObjectSpec& object);
 /// minimum gap validate() demands between the object and anything else.
 double interface_element_size(const ObjectSpec& object, const MeshSizing& sizing);
 
+/// The most elongated ellipsoid (a_max / a_min) that `equator_nodes` mesh,
+/// min(N / 8, 150 / N) (validate() refuses more; at most 150 / 35 = 4.29,
+/// at N = 35). Its interface elements follow its smallest semi-axis,
+/// h = 4 pi a_min / N. Resolved: an element turns at most a quarter circle
+/// along the sharpest curvature, radius a_min^2 / a_max (as a sphere's do
+/// at the coarsest 8 equator nodes): a_max / a_min <= N / 8. Finished: gmsh's
+/// curved (P2) meshing of an ellipsoid, a dilated sphere, slows steeply
+/// with the nodes around its longest circumference, N a_max / a_min
+/// (measured with `softflow mesh`, defaults otherwise, on 2 cores shared
+/// with other work: 20-60 s at 120; 30-105 s at 150, oblate 3 at N = 50
+/// with min quality 0.005, and one oblate 2.5 at N = 60 failing after
+/// 107 s; at 160, 24-84 s and an oblate [0.25, 1, 1] at N = 40 failing
+/// after 76 s; at 180 over 3 minutes; at 320 over 10; at 40,000,
+/// [0.001, 1, 1], no end): at most 150.
+double largest_ellipsoid_ratio(int equator_nodes);
+inline constexpr double kMaxLongestCircumferenceNodes = 150.0;
+
 /// Checks the spec (objects inside the box, away from walls and periodic
-/// faces, not overlapping). Throws InputError naming the offending object
-/// (1-based index, as in the case file) and what is wrong.
+/// faces, not overlapping, ellipsoids the mesh resolves). Throws InputError
+/// naming the offending object (1-based index, as in the case file) and
+/// what is wrong.
 void validate(const ShearCellSpec& spec);
+
+/// The note printed when gmsh has meshed `spec` for `seconds`: what in the
+/// spec makes meshing slow (an elongated ellipsoid, many objects under the
+/// curved-element optimiser, a large mesh) and the keys that change it.
+std::string slow_meshing_note(const ShearCellSpec& spec, double seconds);
 
 /// Meshes the cell with gmsh (OCC): box fragmented with the objects,
 /// periodic in x and/or z, P2 curved elements. Calls validate() first.

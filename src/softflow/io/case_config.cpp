@@ -412,6 +412,102 @@ void check_time(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
                            static_cast<long long>(kMaxSteps), static_cast<long long>(kMaxSteps)));
 }
 
+/// The phases' relaxation is taken explicitly: the predicted stress uses
+/// c_n's relaxation, and the log-conformation's source g(s)/lambda is
+/// evaluated at s extrapolated to t_{n+1} (docs/viscoelastic.md). For
+/// ds/dt = -s/lambda that is 3 s_{n+1} - 4 s_n + s_{n-1} = -2 (dt/lambda)
+/// (2 s_n - s_{n-1}), whose roots stay inside the unit circle only for
+/// dt < 4/3 lambda (BDF1, the first step: dt < 2 lambda); near the bound
+/// the stress rings, an oscillation that
+/// decays slowly (dt = 1.25 lambda: by 11 % a step) or grows (1.4 lambda:
+/// measured, an Oldroyd-B matrix's tau_xy 0.52, 0.58, 0.40, 0.81 at t = 2
+/// for 0.5). relaxation_time = 1e-300 passed `check` and the run stopped at
+/// step 1 with NaN in the Stokes system. So a step (and an adaptive run's
+/// largest step) must not exceed the shortest relaxation time: there the
+/// mode decays by 42 % a step.
+void check_relaxation_steps(const TableRead& time, const TableRead& matrix,
+                            const std::vector<TableRead>& objects, const CaseConfig& c,
+                            Diagnostics& diag) {
+  if (time.status("step") == Read::bad || time.status("end") == Read::bad) return;
+  if (!(c.time.end > 0.0)) return;  // one Stokes solve: no step is taken
+  std::string key;
+  double lambda = std::numeric_limits<double>::infinity();
+  const auto consider = [&](const TableRead& t, const ConstitutiveValues& values) {
+    if (t.status("relaxation_time") != Read::ok || !values.relaxation_time) return;
+    if (*values.relaxation_time < lambda) {
+      lambda = *values.relaxation_time;
+      key = t.path("relaxation_time");
+    }
+  };
+  if (c.matrix_model != ConstitutiveModel::newtonian) consider(matrix, c.matrix_parameters);
+  for (std::size_t k = 0; k < c.objects.size() && k < objects.size(); ++k)
+    if (!is_elastic_solid(c.objects[k].model) &&
+        c.objects[k].model != ConstitutiveModel::newtonian)
+      consider(objects[k], c.objects[k].parameters);
+  if (key.empty()) return;
+  const auto refuse = [&](std::string_view step_key, double step) {
+    const Value* given = time.value(step_key);
+    diag.error(fmt::format(
+        "{} = {} is longer than the shortest relaxation time, {} = {}: the relaxation of the "
+        "conformation is taken explicitly, which is stable only for steps below 4/3 of it and "
+        "rings near that; allowed: {} <= {} (or a longer relaxation time)",
+        time.path(step_key), given ? schema::describe(*given) : schema::toml_float(step), key,
+        schema::toml_float(lambda), time.path(step_key), schema::toml_float(lambda)));
+  };
+  if (c.time.step > lambda) refuse("step", c.time.step);
+  const bool adaptive = time.status("adaptive_tolerance") == Read::ok && c.time.adaptive_tolerance > 0.0;
+  if (adaptive && time.status("max_step") == Read::ok && c.time.max_step > lambda)
+    refuse("max_step", c.time.max_step);
+}
+
+/// Constant steps must resolve an oscillatory flow's period 2 pi / omega:
+/// at least kStepsPerPeriod of them. Fewer sample the wall motion too coarsely
+/// (at 2 per period every step sees the same phase) and BDF2 itself damps
+/// a free oscillation resolved by 10 steps by 18 % per period (by 51 % at 4).
+/// frequency = 1000 with step = 0.05 (0.13 steps per period) passed `check`.
+/// (Adaptive steps are refused for oscillatory flow, check_adaptive.)
+constexpr double kStepsPerPeriod = 10.0;
+
+void check_oscillatory_steps(const TableRead& time, const TableRead& flow, const CaseConfig& c,
+                             Diagnostics& diag) {
+  if (c.flow.type != FlowType::oscillatory || flow.status("type") != Read::ok ||
+      flow.status("frequency") != Read::ok)
+    return;
+  if (time.status("step") == Read::bad || time.status("end") == Read::bad) return;
+  if (!(c.time.end > 0.0)) return;
+  if (time.status("adaptive_tolerance") == Read::ok && c.time.adaptive_tolerance > 0.0) return;
+  const double period = 2.0 * M_PI / c.flow.frequency;
+  const double largest = period / kStepsPerPeriod;
+  if (c.time.step <= largest) return;
+  const Value* step = time.value("step");
+  diag.error(fmt::format(
+      "{} = {} with {} = {} takes {:.3g} steps per period (2 pi / frequency = {:.4g}): at least "
+      "{:g} are needed, time.step <= {:.4g}; fewer sample the wall motion too coarsely and BDF2 "
+      "damps the oscillation (by 18 % per period at 10 steps)",
+      time.path("step"), step ? schema::describe(*step) : schema::toml_float(c.time.step),
+      flow.path("frequency"), schema::describe(*flow.value("frequency")), period / c.time.step,
+      period, kStepsPerPeriod, largest));
+}
+
+/// The output directory, given or output/<name>, must be one softflow can
+/// make (output_directory_problem); a long name is refused only when it
+/// names the directory.
+void check_output_directory(const TableRead& name_table, const TableRead& output, CaseConfig& c,
+                            Diagnostics& diag) {
+  if (output.status("directory") == Read::ok) {
+    if (const auto what = output_directory_problem(c.output_directory); !what.empty())
+      diag.error(output.path("directory"), *output.value("directory"), what);
+    return;
+  }
+  c.output_directory = "output/" + c.name;
+  if (name_table.status("name") != Read::ok) return;  // the default name fits (default_case_name)
+  if (const auto what = output_directory_problem(c.output_directory); !what.empty())
+    diag.error(name_table.path("name"), *name_table.value("name"),
+               fmt::format("names the output directory output/<name>, which {}, or give "
+                           "output.directory",
+                           what));
+}
+
 // ---------------------------------------------------------------------------
 // TOML syntax errors: toml11's message carries a source excerpt; keep it, but
 // lead with "file:line:" like a compiler, so editors can jump to it.
@@ -502,12 +598,46 @@ toml::value parse_toml(const std::string& text, const std::string& source) {
 
 std::string default_case_name(const std::string& source) {
   const std::string stem = std::filesystem::path(source).stem().string();
-  return is_plain_name(stem) ? stem : "case";
+  return is_plain_name(stem) && stem.size() <= kMaxDirectoryNameBytes ? stem : "case";
+}
+
+/// At most `bytes` bytes of `s`, not cutting a UTF-8 sequence, with "..." if cut.
+std::string shortened(const std::string& s, std::size_t bytes = 40) {
+  if (s.size() <= bytes) return s;
+  std::size_t n = bytes;
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;
+  return s.substr(0, n) + "...";
 }
 
 }  // namespace
 
 // ---------------------------------------------------------------------------
+
+std::string output_directory_problem(const std::string& directory) {
+  if (directory.size() > kMaxDirectoryPathBytes)
+    return fmt::format("is {} bytes long: an output directory's path has at most {} (PATH_MAX, "
+                       "4096 bytes, less room for the names written in it); shorten it",
+                       directory.size(), kMaxDirectoryPathBytes);
+  std::filesystem::path path(directory);
+  // "out/a/" names "out/a", as OutputDirectory takes it.
+  if (!path.has_filename() && path.has_parent_path()) path = path.parent_path();
+  for (const auto& part : path) {
+    const std::string name = part.string();
+    if (name.size() > 255)
+      return fmt::format("has a part '{}' of {} bytes: a directory name has at most 255 "
+                         "(NAME_MAX); shorten it",
+                         shortened(name), name.size());
+  }
+  const std::string last = path.filename().string();
+  if (last.empty() || last == "." || last == "..")
+    return "names no directory to create (it ends in '.' or '..'); name the directory itself";
+  if (last.size() > kMaxDirectoryNameBytes)
+    return fmt::format("makes a directory name '{}' of {} bytes: at most {} are allowed "
+                       "(NAME_MAX, 255 bytes, less the 16 of the suffix '.partial-<pid>' of the "
+                       "directory a run is staged in); shorten it",
+                       shortened(last), last.size(), kMaxDirectoryNameBytes);
+  return "";
+}
 
 double mean_radius(const geometry::ObjectSpec& object) {
   const auto& a = object.semi_axes;
@@ -595,7 +725,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   }
 
   // 2. What several keys decide together.
-  if (read["output"].status("directory") != Read::ok) c.output_directory = "output/" + c.name;
+  check_output_directory(read["case"], read["output"], c, diag);
   check_time(read["time"], c, diag);
   const bool matrix_ok = resolve_matrix(read["matrix"], c, diag);
   const FlowState flow = resolve_flow(matrix_ok, read["flow"], c, diag);
@@ -607,6 +737,8 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
       resolve_tension(objects_read[k], c, flow, o, diag);
     if (model_known) check_slip(objects_read[k], c, o, diag);
   }
+  check_relaxation_steps(read["time"], read["matrix"], objects_read, c, diag);
+  check_oscillatory_steps(read["time"], read["flow"], c, diag);
   diag.throw_if_any();
   return c;
 }

@@ -222,6 +222,38 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
 /// stack). Every reader of TOML text calls this before toml::parse.
 void check_toml_nesting(std::string_view text, const std::string& source);
 
+/// The longest directory name softflow can make: NAME_MAX (255 bytes on
+/// Linux file systems) less the longest suffix it appends to a run's
+/// directory, ".partial-<pid>" (16 bytes with a 7-digit pid: Linux pids stay
+/// below 2^22 = 4194304). Its siblings ".old-<pid>" and ".lock" are shorter.
+inline constexpr std::size_t kMaxDirectoryNameBytes = 255 - 16;
+/// The longest output directory path: PATH_MAX (4096 bytes) less room for
+/// the staging suffix and the longest name written in it (a sweep's
+/// cases/<label>.toml.tmp-<pid>).
+inline constexpr std::size_t kMaxDirectoryPathBytes = 3800;
+
+/// "" or why `directory` cannot be a run's output directory, as a phrase to
+/// follow "<key> = <value>: ": its last component longer than
+/// kMaxDirectoryNameBytes, another longer than 255 bytes, or the whole path
+/// longer than kMaxDirectoryPathBytes. (Such a run got as far as its first
+/// mkdir and blamed a "stale directory ... File name too long".)
+std::string output_directory_problem(const std::string& directory);
+
+/// The words of a PETSc options string as PetscOptionsInsertString splits
+/// it: at runs of spaces; a word that begins with '"' runs to the next '"'.
+std::vector<std::string> petsc_option_words(std::string_view options);
+
+/// Whether PETSc reads `word` as an option name (PetscOptionsValidKey): '-'
+/// or "--" and a letter, and not a number ("-inf"); "-1" is a value.
+bool is_petsc_option_name(std::string_view word);
+
+/// "" or what is wrong with a list of PETSc option words (from
+/// solver.petsc_options or after "--"): PETSc takes a word that is no option
+/// name as the value of the option right before it, and skips any other
+/// silently. Such a word ("ksp_monitor" without its dash, or "restart" in
+/// "-ksp_type gmres restart") is named, with where it stands.
+std::string petsc_words_problem(const std::vector<std::string>& words);
+
 /// The resolved case as TOML: every key that applies, defaults filled in.
 /// Reading it back gives the same CaseConfig, bit for bit.
 std::string to_toml(const CaseConfig& config);

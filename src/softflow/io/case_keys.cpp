@@ -1,6 +1,8 @@
 #include "softflow/io/case_keys.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdlib>
 
 #include <fmt/format.h>
 
@@ -26,18 +28,43 @@ std::string control_character_problem(const std::string& s) {
                      it - s.begin() + 1);
 }
 
+/// "" or what is wrong with a case name (the key's own rule; whether it
+/// fits a directory name depends on output.directory and is checked with
+/// it, in case_config.cpp).
+std::string case_name_problem(const std::string& s) {
+  if (auto what = control_character_problem(s); !what.empty()) return what;
+  if (!s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c == ' '; }))
+    return "must contain a character other than spaces (it names the run and its output "
+           "directory)";
+  return is_plain_name(s) ? ""
+                          : "must be a non-empty name without '/' or '\\' (it names the output "
+                            "directory)";
+}
+
+/// "" or what is wrong with solver.petsc_options: a word PETSc would skip
+/// without a word (petsc_words_problem), or a tab or line break, at which
+/// PETSc does not split ("-a\t1" would be one option named "a\t1").
+std::string petsc_options_problem(const std::string& s) {
+  const auto it = std::find_if(s.begin(), s.end(), is_control);
+  if (it != s.end())
+    return fmt::format("must not contain control characters (found U+{:04X} at position {}): "
+                       "PETSc separates options at spaces only, so separate them with spaces",
+                       static_cast<unsigned>(static_cast<unsigned char>(*it)),
+                       it - s.begin() + 1);
+  return petsc_words_problem(petsc_option_words(s));
+}
+
 // ---- the tables that fill CaseConfig itself ----
 
 Table<CaseConfig> case_table() {
   return {"case", "What the run is called.", false,
           {text("name", field(&CaseConfig::name), Computed{"the case file's name without .toml"},
-                "names the run and its output directory",
-                [](const std::string& s) -> std::string {
-                  if (auto what = control_character_problem(s); !what.empty()) return what;
-                  return is_plain_name(s) ? ""
-                                          : "must be a non-empty name without '/' or '\\' (it "
-                                            "names the output directory)";
-                })}};
+                fmt::format("names the run and, unless output.directory is given, its output "
+                            "directory `output/<name>`: then at most {} bytes (a directory "
+                            "name's 255 less the 16 of the suffix `.partial-<pid>` a run is "
+                            "staged under); not only spaces",
+                            kMaxDirectoryNameBytes),
+                case_name_problem)}};
 }
 
 Table<CaseConfig> cell_table() {
@@ -135,7 +162,7 @@ std::vector<Key<Target>> viscoelastic_keys(ConstitutiveValues Target::*values,
       optional_number("relaxation_time", parameter(&ConstitutiveValues::relaxation_time), required,
                       Range::above(0),
                       fmt::format("lambda_{}, the relaxation time; its Weissenberg number is "
-                                  "lambda_{} gamma_dot",
+                                  "lambda_{} gamma_dot. time.step may not exceed it",
                                   sub, sub))
           .only_when("model", kViscoelasticLiquids),
       optional_number("mobility", parameter(&ConstitutiveValues::mobility), required,
@@ -204,7 +231,8 @@ Table<CaseConfig> flow_table() {
            .only_when("type", {"oscillatory"}),
        number("frequency", flow(&FlowConfig::frequency), required, Range::above(0),
               "omega, angular (rad per time unit). Ca uses the shear-rate amplitude "
-              "strain_amplitude * frequency as gamma_dot")
+              "strain_amplitude * frequency as gamma_dot. time.step <= 2 pi / (10 frequency): "
+              "at least 10 steps per period")
            .only_when("type", {"oscillatory"})
            .with_comment([](const CaseConfig& c) {
              return fmt::format("shear-rate amplitude strain_amplitude * frequency = {}",
@@ -249,7 +277,11 @@ Table<CaseConfig> solver_table() {
            integer("max_iterations", field(&CaseConfig::max_iterations), 500,
                    Range::at_least(1), "iteration limit of the iterative solver"),
            text("petsc_options", field(&CaseConfig::petsc_options), "",
-                "extra PETSc options, passed as is, e.g. \"-stokes_ksp_monitor\"")}};
+                "extra PETSc options, passed as is, e.g. \"-stokes_ksp_monitor\", separated by "
+                "spaces; each word is an option (-name) or the one value of the option before "
+                "it (\"-stokes_ksp_type gmres\"): any other word, which PETSc would skip "
+                "silently, is an error",
+                petsc_options_problem)}};
 }
 
 Table<CaseConfig> output_table() {
@@ -258,8 +290,10 @@ Table<CaseConfig> output_table() {
       "Where and what a run writes.",
       false,
       {text("directory", field(&CaseConfig::output_directory), Computed{"`\"output/<name>\"`"},
-            "where results go; a relative path is taken from the working directory, not from "
-            "the case file's folder",
+            fmt::format("where results go; a relative path is taken from the working directory, "
+                        "not from the case file's folder. Its last part at most {} bytes (as "
+                        "case.name), every part at most 255, the whole at most {}",
+                        kMaxDirectoryNameBytes, kMaxDirectoryPathBytes),
             [](const std::string& s) -> std::string {
               if (s.empty()) return "must not be empty";
               return control_character_problem(s);
@@ -276,7 +310,10 @@ Table<CaseConfig> time_table() {
       "time",
       "The time loop (thesis Steps 1-5).",
       false,
-      {number("step", time(&TimeConfig::step), 0.005, Range::above(0), "dt"),
+      {number("step", time(&TimeConfig::step), 0.005, Range::above(0),
+              "dt; at most the shortest relaxation_time of a viscoelastic phase (its relaxation "
+              "is explicit: stable below 4/3 of it), and for oscillatory flow at most 2 pi / (10 "
+              "frequency), 10 steps per period"),
        number("end", time(&TimeConfig::end), 0.0, Range::at_least(0),
               "t_end; 0 = one Stokes solve of the initial state, no time loop"),
        integer("fields_interval", time(&TimeConfig::fields_interval), 0, Range::at_least(0),
@@ -309,9 +346,10 @@ Table<CaseConfig> time_table() {
               "is kept below this: a step above it is taken again, smaller, as is a step that "
               "fails (solver, mesh quality), down to step / 1000. 0 = constant steps"),
        number("max_step", time(&TimeConfig::max_step), 0.0, Range::at_least(0),
-              "adaptive steps: the largest step (0: none); adaptive steps also stay below "
-              "1 / (interface.redistribution_factor gamma_dot), the stability bound of the "
-              "tangential redistribution")
+              "adaptive steps: the largest step (0: none; needed with a viscoelastic phase or "
+              "an elastic particle, and at most the shortest relaxation_time); adaptive "
+              "steps also stay below 1 / (interface.redistribution_factor gamma_dot), the "
+              "stability bound of the tangential redistribution")
            .printed_if(adaptive),
        number("max_growth", time(&TimeConfig::max_growth), 2.0, Range::open(1, 2.4),
               "adaptive steps: the largest ratio of a step to the one before (variable-step BDF2 "
@@ -375,11 +413,18 @@ Table<ObjectConfig> objects_table() {
                Range::any(), "the centre [x, y, z]"),
        number("radius", radius, 1.0, Range::above(0), "R").only_when("shape", {"sphere"}),
        vector3("semi_axes", geometry(&geometry::ObjectSpec::semi_axes), required,
-               Range::above(0), "semi-axes [a, b, c] along the body axes")
+               Range::above(0),
+               "semi-axes [a, b, c] along the body axes. The interface elements follow the "
+               "smallest, so a_max / a_min is at most min(N / 8, 150 / N), N = "
+               "mesh.equator_nodes (so at most 4.29, at N = 35): beyond N / 8 the mesh does "
+               "not resolve the sharpest curvature, beyond 150 / N gmsh does not finish in "
+               "reasonable time")
            .only_when("shape", {"ellipsoid"}),
        vector3("rotation_deg", geometry(&geometry::ObjectSpec::rotation_deg),
-               Eigen::Vector3d(0, 0, 0), Range::any(),
-               "body orientation in degrees: R = Rz(rz) Ry(ry) Rx(rx)")
+               Eigen::Vector3d(0, 0, 0), Range{-360.0, 360.0, false, false},
+               "body orientation in degrees: R = Rz(rz) Ry(ry) Rx(rx); each angle within one turn "
+               "either way, which gives every orientation (an angle beyond is refused, not "
+               "reduced: 1e300 degrees is a typing error, and has no digits left that place it)")
            .only_when("shape", {"ellipsoid"}),
        choice("model", field(&ObjectConfig::model), ConstitutiveModel::newtonian,
               model_options(true),
@@ -514,8 +559,69 @@ CaseKeys build() {
 
 }  // namespace
 
+std::vector<std::string> petsc_option_words(std::string_view options) {
+  // As PetscOptionsInsertString's tokenizer: words separated by runs of
+  // spaces; a word that begins with '"' runs to the next '"' (without them).
+  std::vector<std::string> words;
+  std::size_t i = 0;
+  while (i < options.size()) {
+    while (i < options.size() && options[i] == ' ') ++i;
+    if (i == options.size()) break;
+    const char end = options[i] == '"' ? '"' : ' ';
+    if (end == '"') ++i;
+    const std::size_t stop = std::min(options.find(end, i), options.size());
+    words.emplace_back(options.substr(i, stop - i));
+    i = stop + 1;
+  }
+  return words;
+}
+
+bool is_petsc_option_name(std::string_view word) {
+  // PetscOptionsValidKey: "-" (or "--") and a letter, and not a number
+  // that strtod reads whole ("-inf", "-nan"; "-1e3" has no letter after
+  // the dash).
+  if (word.size() < 2 || word[0] != '-') return false;
+  std::string_view key = word;
+  if (key[1] == '-') key.remove_prefix(1);
+  if (key.size() < 2 || !std::isalpha(static_cast<unsigned char>(key[1]))) return false;
+  const std::string text(key);
+  char* end = nullptr;
+  (void)std::strtod(text.c_str(), &end);
+  if (end != text.c_str() && !(*end == '_' || std::isalnum(static_cast<unsigned char>(*end))))
+    return false;
+  return true;
+}
+
+std::string petsc_words_problem(const std::vector<std::string>& words) {
+  bool after_option = false;
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    if (is_petsc_option_name(words[i])) {
+      after_option = true;
+      continue;
+    }
+    if (after_option) {  // the value of the option before it
+      after_option = false;
+      continue;
+    }
+    // A stray word after a value follows an option and its value: a value
+    // needs an option before it, and an option would have taken this word.
+    const std::string where =
+        i == 0 ? "it comes first"
+               : fmt::format("'{}' already takes '{}'", words[i - 2], words[i - 1]);
+    const std::string fix = words[i][0] == '-' ? "correct or remove it"
+                                               : fmt::format("write '-{}' or remove it", words[i]);
+    return fmt::format(
+        "the word '{}' (word {}) is neither an option ('-' and a letter, e.g. "
+        "-stokes_ksp_monitor) nor the value of the option before it ({}): PETSc would skip it "
+        "silently; {}",
+        words[i], i + 1, where, fix);
+  }
+  return "";
+}
+
 bool is_plain_name(std::string_view name) {
   if (name.empty() || name == "." || name == "..") return false;
+  if (name.find_first_not_of(' ') == std::string_view::npos) return false;  // only spaces
   return std::none_of(name.begin(), name.end(), [](char c) {
     return c == '/' || c == '\\' || static_cast<unsigned char>(c) < 0x20;
   });

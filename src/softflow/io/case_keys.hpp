@@ -29,7 +29,7 @@ struct CaseKeys {
 };
 
 /// A plain file-name component (no '/', '\\', control characters, "." or
-/// ".."): a case name, since it names the output directory.
+/// "..", not only spaces): a case name, since it names the output directory.
 bool is_plain_name(std::string_view name);
 
 /// The declarations (built once).

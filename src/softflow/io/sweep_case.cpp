@@ -12,6 +12,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/io/case_keys.hpp"
+#include "softflow/io/key_schema.hpp"
 
 namespace softflow::io {
 
@@ -67,6 +68,20 @@ double number_of(const toml::value& v) {
   if (v.is_floating()) return v.as_floating();
   if (v.is_integer()) return static_cast<double>(v.as_integer());
   return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// The same value, reading 1 and 1.0 (and vectors of them) as one.
+bool same_value(const toml::value& a, const toml::value& b) {
+  if (a.is_array() && b.is_array()) {
+    const auto &x = a.as_array(), &y = b.as_array();
+    if (x.size() != y.size()) return false;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (!same_value(x[i], y[i])) return false;
+    return true;
+  }
+  const double p = number_of(a), q = number_of(b);
+  if (!std::isnan(p) || !std::isnan(q)) return p == q;
+  return a == b;
 }
 
 /// Whether `value` of `section`.`key` is a list of values rather than one value.
@@ -135,20 +150,68 @@ Found find_varied(const toml::value& root, const std::string& source) {
   return found;
 }
 
+/// What a sweep's lists must not do (issue 33): vary the names the sweep
+/// gives its cases, or list a value twice (it ran once and filled two
+/// identical rows) or two values that make one directory label. Checked by
+/// expand_sweep only: sweep_parameters merely tells a sweep file.
+void check_varied(const Found& found, const std::string& source) {
+  for (std::size_t k = 0; k < found.parameters.size(); ++k) {
+    const SweepParameter& p = found.parameters[k];
+    const Location& where = found.locations[k];
+    const auto& values = found.values[k];
+    const toml::value list(toml::array(values.begin(), values.end()));
+    if ((where.section == "case" && where.key == "name") ||
+        (where.section == "output" && where.key == "directory"))
+      throw InputError(fmt::format(
+          "{}: {} = {}: cannot be varied: the sweep names its cases itself, "
+          "<case.name>_<label> in <output.directory>/<label>; give one value",
+          source, p.path, schema::describe(list)));
+    for (std::size_t i = 0; i < values.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j) {
+        if (p.labels[j] != p.labels[i]) continue;
+        if (same_value(values[j], values[i]))
+          throw InputError(fmt::format(
+              "{}: {} = {}: lists {} twice (values {} and {}): each value of a sweep must "
+              "differ (the same case would run once and fill two identical rows); remove one",
+              source, p.path, schema::describe(list), schema::describe(values[i]), j + 1, i + 1));
+        throw InputError(fmt::format(
+            "{}: {} = {}: values {} and {} ({} and {}) both make the directory label '{}': give "
+            "values that differ in letters, digits, '.', '-' or '+'",
+            source, p.path, schema::describe(list), j + 1, i + 1, schema::describe(values[j]),
+            schema::describe(values[i]), p.labels[i]));
+      }
+  }
+}
+
 toml::value& at(toml::value& root, const Location& where) {
   toml::value& section = root.as_table().at(where.section);
   if (where.object >= 0) return section.as_array()[where.object].as_table().at(where.key);
   return section.as_table().at(where.key);
 }
 
-std::string string_or(const toml::value& root, const char* section, const char* key,
-                      const std::string& fallback) {
+/// root[section][key], or nullptr.
+const toml::value* find_key(const toml::value& root, const char* section, const char* key) {
   const auto& table = root.as_table();
   const auto s = table.find(section);
-  if (s == table.end() || !s->second.is_table()) return fallback;
+  if (s == table.end() || !s->second.is_table()) return nullptr;
   const auto k = s->second.as_table().find(key);
-  return k != s->second.as_table().end() && k->second.is_string() ? k->second.as_string().str
-                                                                  : fallback;
+  return k == s->second.as_table().end() ? nullptr : &k->second;
+}
+
+/// The sweep's [case] name or [output] directory, checked as a single case
+/// checks it (each generated case gets its own, so without this a name of
+/// "", true or 5 passed, and "" wrote into output/ itself); `fallback` when
+/// not given.
+std::string sweep_text(const toml::value& root, const char* section, const char* key,
+                       const std::string& fallback, const std::string& source) {
+  const toml::value* v = find_key(root, section, key);
+  if (!v) return fallback;
+  const auto* declared = case_keys().table(section)->find(key);
+  schema::Diagnostics diag(source);
+  CaseConfig scratch;
+  declared->read(scratch, *v, fmt::format("{}.{}", section, key), diag);
+  diag.throw_if_any();
+  return v->as_string().str;
 }
 
 }  // namespace
@@ -161,11 +224,22 @@ std::vector<SweepParameter> sweep_parameters(const std::string& toml_text,
 Sweep expand_sweep(const std::string& toml_text, const std::string& source_name) {
   const toml::value root = parse(toml_text, source_name);
   const Found found = find_varied(root, source_name);
+  check_varied(found, source_name);
   Sweep sweep;
   sweep.parameters = found.parameters;
   const std::string stem = std::filesystem::path(source_name).stem().string();
-  sweep.name = string_or(root, "case", "name", stem.empty() ? "sweep" : stem);
-  sweep.directory = string_or(root, "output", "directory", "output/" + sweep.name);
+  const std::string default_name =
+      is_plain_name(stem) && stem.size() <= kMaxDirectoryNameBytes ? stem : "sweep";
+  sweep.name = sweep_text(root, "case", "name", default_name, source_name);
+  sweep.directory = sweep_text(root, "output", "directory", "output/" + sweep.name, source_name);
+  if (const auto what = output_directory_problem(sweep.directory); !what.empty()) {
+    const bool given = find_key(root, "output", "directory") != nullptr;
+    throw InputError(fmt::format(
+        "{}: {} = {}: {}{}", source_name, given ? "output.directory" : "case.name",
+        schema::toml_string(given ? sweep.directory : sweep.name),
+        given ? what : "names the sweep's directory output/<name>, which " + what,
+        given ? "" : ", or give output.directory"));
+  }
 
   std::size_t n_cases = 1;
   for (const auto& v : found.values) n_cases *= v.size();
@@ -185,6 +259,19 @@ Sweep expand_sweep(const std::string& toml_text, const std::string& source_name)
                sweep.parameters[p].labels[choice[p]];
     }
     if (label.empty()) label = "case";
+    // The label names the case's directory (staged as <label>.partial-<pid>)
+    // and its file cases/<label>.toml (written as <label>.toml.tmp-<pid>).
+    constexpr std::size_t kMaxLabelBytes = 255 - std::string_view(".toml.tmp-").size() - 7;
+    if (label.size() > kMaxLabelBytes) {
+      std::string varied;
+      for (const auto& p : sweep.parameters) varied += (varied.empty() ? "" : ", ") + p.path;
+      throw InputError(fmt::format(
+          "{}: the sweep case '{}...' has a label of {} bytes (<key>_<value> of each varied key, "
+          "joined by '__'): it names the case's directory and cases/<label>.toml, at most {} "
+          "bytes (NAME_MAX, 255, less the 17 of '.toml.tmp-<pid>'); vary fewer keys or give "
+          "shorter values (varied: {})",
+          source_name, label.substr(0, 40), label.size(), kMaxLabelBytes, varied));
+    }
     auto& table = value.as_table();
     if (!table.count("case") || !table.at("case").is_table()) table["case"] = toml::table{};
     if (!table.count("output") || !table.at("output").is_table()) table["output"] = toml::table{};

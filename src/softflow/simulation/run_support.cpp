@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cstdlib>
+#include <exception>
 #include <optional>
 #include <string>
 
@@ -73,10 +74,14 @@ MeshedCase mesh_here(const io::CaseConfig& config) {
   return out;
 }
 
-/// The mesh made by mesh_before_mpi, with the case it was made for.
+/// The mesh made by mesh_before_mpi, with the case it was made for, or why
+/// it could not be made (then build_mesh reports that on every rank rather
+/// than meshing again: a failing mesh took twice its time, e.g. an
+/// ellipsoid gmsh meshes for 76 s before producing an inverted element).
 struct EarlyMesh {
   std::string case_toml;
   MeshedCase meshed;
+  std::exception_ptr failure;
 };
 std::optional<EarlyMesh>& early_mesh() {
   static std::optional<EarlyMesh> mesh;
@@ -87,9 +92,10 @@ std::optional<EarlyMesh>& early_mesh() {
 
 void mesh_before_mpi(const io::CaseConfig& config) {
   try {
-    early_mesh() = EarlyMesh{io::to_toml(config), mesh_here(config)};
+    early_mesh() = EarlyMesh{io::to_toml(config), mesh_here(config), nullptr};
   } catch (const std::exception&) {
-    early_mesh().reset();  // build_mesh meshes again and reports the failure on every rank
+    // build_mesh reports the failure on every rank
+    early_mesh() = EarlyMesh{io::to_toml(config), MeshedCase{}, std::current_exception()};
   }
 }
 
@@ -99,8 +105,10 @@ MeshedCase build_mesh(const io::CaseConfig& config) {
   on_root_sharing_failure([&] {
     auto& early = early_mesh();
     if (early && early->case_toml == io::to_toml(config)) {
+      const std::exception_ptr failure = early->failure;
       out = std::move(early->meshed);
       early.reset();
+      if (failure) std::rethrow_exception(failure);
     } else {
       out = mesh_here(config);
     }

@@ -39,7 +39,7 @@ MeshedCase build_mesh(const io::CaseConfig& config);
 /// `softflow run` and rank 0 of an MPI run each give their own mesh of a
 /// case, the same in every run but differing from each other in the last
 /// bits of some coordinates. A failure is not reported here: build_mesh
-/// meshes again and reports it on every rank.
+/// reports it on every rank (without meshing again).
 void mesh_before_mpi(const io::CaseConfig& config);
 
 /// The Stokes solver's settings for `config`. solver.type = "auto" stays

@@ -316,7 +316,7 @@ void check_cases(const io::Sweep& sweep, const std::string& source, const SweepO
     try {
       geometry::validate(c.config.shear_cell_spec());  // overlaps, walls: before any case runs
     } catch (const InputError& e) {
-      throw InputError(fmt::format("[sweep case {}] {}", c.label, e.what()));
+      throw InputError(fmt::format("{} [sweep case {}]: {}", source, c.label, e.what()));
     }
   }
   for (const auto& c : sweep.cases)
