@@ -12,7 +12,8 @@ duplicated key, the text cut short, random bytes inserted, or one of the
 inputs of issue 33 (names too long for a directory or of only spaces,
 PETSc option words PETSc would skip, extreme semi-axes and angles, relaxation
 times shorter than the step, oscillation frequencies the step cannot resolve,
-duplicated sweep values). `softflow check`
+duplicated sweep values, slip coefficients beyond what the mesh resolves).
+`softflow check`
 must, for each: end within 20 s, by itself (no signal), with exit code 0 or
 1, and on 1 print a message naming the file and a key (table.key, or
 objects[k].key) or a line (file:N:). The first failures are listed with
@@ -86,6 +87,11 @@ ISSUE_33 = [
     ("time", {"step": "[0.05, 0.05]"}, ()),
     ("objects", {"capillary_number": "[0.1, 0.2, 0.1]"}, ("interfacial_tension",)),
     ("case", {"name": '["a", "b"]'}, ()),
+    # defect 2: slip beyond what the interface mesh resolves, and free slip
+    ("objects", {"slip": "1e6"}, ()),
+    ("objects", {"slip": "1e3", "viscosity_ratio": "100.0"}, ()),
+    ("objects", {"slip": "inf"}, ()),
+    ("objects", {"slip": "1e308"}, ()),
 ]
 
 
@@ -170,7 +176,7 @@ def mutate(rng):
 
 
 NAMED = re.compile(r"([a-z_]+(\[\d+\])?\.[a-z_0-9]+|:\d+:|unknown key|unknown table|objects\[\d+\]"
-                   r"|\.toml: [a-z_]+ = )")
+                   r"|\.toml( \[sweep case [^\]]*\])?: [a-z_]+ = )")
 
 
 def main(softflow, work, count=300, seed=1):

@@ -2,6 +2,7 @@
 // from which the header, the rows and the documentation's column reference all follow.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 namespace softflow::io {
 
@@ -65,6 +67,20 @@ class ReportTable {
         out += fmt::format("{:.{}g}", v, digits);
     }
     return out + "\n";
+  }
+
+  /// One row as a JSON object {column name: value}, for summary.json; the
+  /// columns named in `skip` (e.g. step and t, said elsewhere) left out. NaN
+  /// becomes null, integer columns integers.
+  [[nodiscard]] nlohmann::json json_row(const Row& r, const std::vector<std::string>& skip = {}) const {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& c : columns_) {
+      if (std::find(skip.begin(), skip.end(), c.name) != skip.end()) continue;
+      const double v = c.value(r);
+      if (c.format.digits == 0) out[c.name] = static_cast<long long>(v);
+      else out[c.name] = std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+    }
+    return out;
   }
 
   /// The documentation's section on this file: what a row is, then a table

@@ -215,9 +215,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                               last.step % config.time.fields_interval == 0;
       const auto fields = fields_due ? sim.output_fields() : std::vector<io::FieldData>{};
       on_root_sharing_failure([&] {
-        files.series << timeseries_rows(last) << std::flush;
-        if (files.stress.is_open()) files.stress << stress_rows(last) << std::flush;
-        if (files.slip.is_open()) files.slip << slip_rows(last) << std::flush;
+        files.append(last);
         if (files.fields && fields_due) files.fields->write(sim.mesh(), fields, sim.time(), last.step);
         io::write_text_file_atomically(
             directory / "progress.json",
@@ -318,7 +316,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         directory / "progress.json",
         progress_json(last, n_steps, config, status, ledger.wall_seconds, 0.0, checkpoint).dump(2) +
             "\n");
-    files.series.close();
+    files.close();
     draw_plot("plot_timeseries.py", directory, "deformation.png", false);
   });
   // A failure says where the output is in its own message, after which "wrote" would mislead.
@@ -375,9 +373,8 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   RunFiles files;
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));
-    output->write_text("timeseries.csv", timeseries_header() + timeseries_rows(first));
-    if (sim.viscoelastic()) output->write_text("stress.csv", stress_header() + stress_rows(first));
-    if (sim.interface_slip()) output->write_text("slip.csv", slip_header() + slip_rows(first));
+    for (const auto& report : sim.report_files())
+      output->write_text(report.name, report.header + report.rows(first));
     output->commit();
     open_series(directory, sim, files);
     if (config.write_fields)
@@ -433,16 +430,9 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
         signal_name(signal), directory.string(), directory.string()));
   RunFiles files;
   on_root_sharing_failure([&] {
-    std::vector<std::pair<std::string, int>> missing;
-    missing.emplace_back("timeseries.csv", truncate_timeseries(directory / "timeseries.csv",
-                                                               checkpoint.step, timeseries_header()));
-    if (sim.viscoelastic())
-      missing.emplace_back("stress.csv", truncate_timeseries(directory / "stress.csv",
-                                                             checkpoint.step, stress_header()));
-    if (sim.interface_slip())
-      missing.emplace_back("slip.csv", truncate_timeseries(directory / "slip.csv",
-                                                           checkpoint.step, slip_header()));
-    for (const auto& [file, steps] : missing) {
+    for (const auto& report : sim.report_files()) {
+      const std::string& file = report.name;
+      const int steps = truncate_timeseries(directory / file, checkpoint.step, report.header);
       if (steps <= 0) continue;
       const std::string warning = fmt::format(
           "{}/{} has no rows for {} of the steps 0..{} the checkpoint covers (deleted or edited "

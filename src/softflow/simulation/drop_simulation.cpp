@@ -18,6 +18,8 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
 #include "softflow/simulation/case_flow.hpp"
+#include "softflow/simulation/modules/viscoelastic_module.hpp"
+#include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "softflow/time/bdf.hpp"
 
@@ -51,9 +53,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
   last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
   mesh_velocity_.assign(mesh_.n_nodes(), mesh::Point::Zero());
   last_quality_ = mesh::min_quality(mesh_);
-  if (auto models = phase_models(config_); ViscoelasticPhases::needed(models))
-    viscoelastic_ =
-        std::make_unique<ViscoelasticPhases>(mesh_, std::move(models), stokes_->interface_slip());
+  modules_ = make_modules({config_, mesh_, *stokes_});
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
   register_state();
@@ -61,12 +61,10 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
 
 DropSimulation::~DropSimulation() = default;
 
-StepReport DropSimulation::initial_report() const {
+StepReport DropSimulation::initial_report() {
   StepReport r;
   r.min_quality = mesh::min_quality(mesh_);
-  for (int k = 0; k < static_cast<int>(trackers_.size()); ++k) r.objects.push_back(measure(k, Vec3::Zero()));
-  r.stresses = measure_stresses();
-  r.slips = measure_slips();
+  measure_all(r, std::vector<Vec3>(trackers_.size(), Vec3::Zero()), 0.0, 0);
   return r;
 }
 
@@ -80,6 +78,7 @@ StepReport DropSimulation::step(double dt) {
   };
   StepReport r;
   r.dt = dt;
+  // The stages of step_module.hpp's Stage, in order; each module's hook after the driver's part.
   if (steps_ > 0 && wall_motion(config_).jumps_at(time_)) restart_time_histories();
   const auto x_hat = predict_interfaces(dt);                 // Step 1
   const auto centre_velocity = translate_mesh(x_hat, dt);    // Step 2
@@ -95,8 +94,9 @@ StepReport DropSimulation::step(double dt) {
   }
   check_solution_finite();
   lap();
-  if (viscoelastic_) {
-    viscoelastic_->advance(stokes_->dofs(), solution_.get(), dt, time_, steps_ + 1);
+  if (!modules_.empty()) {                                   // fields carried by the new flow
+    const StepContext now = context(dt, steps_ + 1);
+    for (auto& module : modules_) module->advance(now);
     r.stages.conformation = lap();
   }
   // BDF1's predictor x_hat = x_n (the first step, a step after a jump) estimates nothing.
@@ -104,23 +104,7 @@ StepReport DropSimulation::step(double dt) {
   correct_interfaces(x_hat, centre_velocity, dt);            // Step 5
   r.stages.correct = lap();
   if (extrapolated) r.interface_change = interface_change(x_hat);
-
-  for (int k = 0; k < static_cast<int>(trackers_.size()); ++k) {
-    try {
-      r.objects.push_back(measure(k, centre_velocity[k]));
-    } catch (const Error& e) {
-      // An interface that no longer fits an ellipsoid after one step has
-      // almost always blown up numerically rather than deformed. The step
-      // is not counted: it has no row in the time series.
-      throw AccuracyError(fmt::format(
-          "step {} (t = {:.4f}): object {}: {}. The interface left the range the method resolves; "
-          "try a smaller time.step or check the case's capillary number and viscosity ratio",
-          steps_ + 1, time_, k + 1, e.what()));
-    }
-  }
-  r.stresses = measure_stresses();
-  r.slips = measure_slips();
-  check_slip_dissipation(r.slips);
+  measure_all(r, centre_velocity, dt, steps_ + 1);
   ++steps_;
   last_centre_velocity_ = centre_velocity;
   r.step = steps_;
@@ -139,7 +123,7 @@ void DropSimulation::restart_time_histories() {
   // cessation converged at order 1.0 in dt).
   for (auto& tracker : trackers_) tracker.restart_history();
   previous_nodes_.clear();  // the mesh velocity by BDF1
-  if (viscoelastic_) viscoelastic_->restart_time_history();
+  for (auto& module : modules_) module->restart_time_history();
 }
 
 double DropSimulation::interface_change(const std::vector<std::vector<Vec3>>& x_hat) const {
@@ -170,16 +154,60 @@ void DropSimulation::restore_step_state(const StateRecord& state) {
   registry_.restore(state, {"stokes"});
 }
 
-StepReport DropSimulation::current_report() const {
+StepReport DropSimulation::current_report() {
   StepReport r;
   r.step = steps_;
   r.time = time_;
   r.min_quality = mesh::min_quality(mesh_);
-  for (int k = 0; k < static_cast<int>(trackers_.size()); ++k)
-    r.objects.push_back(measure(k, last_centre_velocity_[k]));
-  r.stresses = measure_stresses();
-  r.slips = measure_slips();
+  measure_all(r, last_centre_velocity_, last_dt_, steps_);
   return r;
+}
+
+StepContext DropSimulation::context(double dt, int step) const {
+  StepContext c{config_, mesh_, *stokes_};
+  c.solution = solution_ ? solution_.get() : nullptr;
+  c.interface_values = solution_ && !interface_values_.empty() ? &interface_values_ : nullptr;
+  c.mesh_velocity = mesh_velocity_;
+  c.time = time_;
+  c.dt = dt;
+  c.step = step;
+  return c;
+}
+
+void DropSimulation::measure_all(StepReport& r, const std::vector<Vec3>& centre_velocity,
+                                 double dt, int step) {
+  for (int k = 0; k < static_cast<int>(trackers_.size()); ++k) {
+    try {
+      r.objects.push_back(measure(k, centre_velocity[k]));
+    } catch (const Error& e) {
+      // An interface that no longer fits an ellipsoid after one step has
+      // almost always blown up numerically rather than deformed. The step
+      // is not counted: it has no row in the time series.
+      throw AccuracyError(fmt::format(
+          "step {} (t = {:.4f}): object {}: {}. The interface left the range the method resolves; "
+          "try a smaller time.step or check the case's capillary number and viscosity ratio",
+          step, time_, k + 1, e.what()));
+    }
+  }
+  const StepContext now = context(dt, step);
+  for (auto& module : modules_) module->measure(now, r);
+}
+
+std::vector<ReportFile> DropSimulation::report_files() const {
+  std::vector<ReportFile> files{{"timeseries.csv", timeseries_header(), timeseries_rows}};
+  for (const auto& module : modules_)
+    for (auto& file : module->report_files()) files.push_back(std::move(file));
+  return files;
+}
+
+void DropSimulation::summarise(nlohmann::json& summary) const {
+  for (const auto& module : modules_) module->summarise(summary);
+}
+
+const ViscoelasticPhases* DropSimulation::viscoelastic() const {
+  for (const auto& module : modules_)
+    if (const auto* v = dynamic_cast<const ViscoelasticModule*>(module.get())) return &v->phases();
+  return nullptr;
 }
 
 void DropSimulation::check_solution_finite() const {
@@ -261,9 +289,10 @@ void DropSimulation::register_state() {
                                            last_step});
                      last_centre_velocity_[k] = velocity[0];
                    }});
-  if (viscoelastic_) {
-    for (fem::Field* f : viscoelastic_->output_fields()) add_field(*f);
-    registry_.add(viscoelastic_->state_part());
+  // Each module's state saves and restores itself: the driver only lists it.
+  for (auto& module : modules_) {
+    for (fem::Field* f : module->fields()) add_field(*f);
+    for (auto& part : module->state_parts()) registry_.add(std::move(part));
   }
 }
 
@@ -540,7 +569,8 @@ int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, do
   // time_ is already t_{n+1}: the walls of the end of the step.
   physics::StokesProblem problem = stokes_problem(config_, mesh_, time_);
   problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
-  if (viscoelastic_) problem.viscoelastic = viscoelastic_->coupling(mesh_velocity_, dt);
+  const StepContext now = context(dt, steps_ + 1);
+  for (auto& module : modules_) module->contribute(problem, now);
   auto result = stokes_->solve(problem, physics::SolutionLayout::distributed);
   set_solution(std::move(result.distributed));
   stages.stokes_assembly = result.assembly_seconds;
@@ -581,37 +611,6 @@ ObjectState DropSimulation::measure(int k, const Vec3& centre_velocity) const {
   s.W = fit.W;
   s.ellipsoid_deviation = fit.max_relative_deviation;
   return s;
-}
-
-std::vector<physics::SlipMeasures> DropSimulation::measure_slips() const {
-  if (!stokes_->interface_slip()) return {};
-  if (!solution_)  // t = 0: the interface is there, nothing moves across it yet
-    return physics::slip_measures(mesh_, stokes_->dofs(), stokes_->slip_node_normals(mesh_),
-                                  [](int) { return 0.0; });
-  return physics::slip_measures(mesh_, stokes_->dofs(), stokes_->slip_node_normals(mesh_),
-                                [this](int dof) { return interface_values_[dof]; });
-}
-
-void DropSimulation::check_slip_dissipation(const std::vector<physics::SlipMeasures>& slips) const {
-  // Measured on the geometry the system was assembled on (mesh_ before
-  // Step 5 moves only the trackers' copies), so the identity holds.
-  for (std::size_t k = 0; k < slips.size(); ++k) {
-    const auto& s = slips[k];
-    if (!physics::dissipation_is_negative(s)) continue;
-    throw AccuracyError(fmt::format(
-        "step {} (t = {:.4f}): object {}: the slip dissipates {:.3e} < 0 (of |power| {:.3e}): "
-        "energy would be made at the interface, so the solution is wrong. Check the solver "
-        "(solver.type = \"direct\") and that objects[{}].slip is within what the mesh resolves",
-        steps_ + 1, time_, k + 1, s.dissipation, s.absolute_power, k + 1));
-  }
-}
-
-std::vector<RegionStress> DropSimulation::measure_stresses() const {
-  std::vector<RegionStress> out;
-  if (!viscoelastic_) return out;
-  for (int r = 0; r <= mesh_.n_objects; ++r)
-    if (viscoelastic_->models()[r].has_conformation()) out.push_back(viscoelastic_->region_stress(r));
-  return out;
 }
 
 bool DropSimulation::interface_slip() const { return stokes_->interface_slip(); }

@@ -19,6 +19,7 @@
 #include "softflow/physics/interface/interface_tracker.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
+#include "softflow/simulation/step_module.hpp"
 #include "softflow/simulation/viscoelastic_phases.hpp"
 
 namespace softflow::fem {
@@ -51,9 +52,9 @@ struct StageSeconds {
   double ale = 0.0;                    ///< Step 3, with the quality check
   double stokes_assembly = 0.0;        ///< Step 4
   double stokes_solve = 0.0;           ///< Step 4
-  double conformation = 0.0;           ///< log-conformation transport, c, tau, G (viscoelastic phases)
+  double conformation = 0.0;           ///< stage advance_fields: the modules' (log-conformation transport, c, tau, G)
   double correct = 0.0;                ///< Step 5 (redistribution potential included)
-  double analysis = 0.0;               ///< ellipsoid fit, volume, area
+  double analysis = 0.0;               ///< stage measure: ellipsoid fit, volume, area, the modules' measures
 };
 
 struct StepReport {
@@ -72,9 +73,9 @@ struct StepReport {
   double interface_change = std::numeric_limits<double>::quiet_NaN();
   std::vector<ObjectState> objects;
   /// The mean polymer/elastic stress of every region with a conformation
-  /// tensor (none for Newtonian runs).
+  /// tensor (none for Newtonian runs; ViscoelasticModule).
   std::vector<RegionStress> stresses;
-  /// Per object, the slip across its interface (runs with slip only).
+  /// Per object, the slip across its interface (runs with slip only; SlipModule).
   std::vector<physics::SlipMeasures> slips;
 };
 
@@ -95,10 +96,10 @@ class DropSimulation {
   ~DropSimulation();
 
   /// The state at t = 0 (after no step).
-  [[nodiscard]] StepReport initial_report() const;
+  [[nodiscard]] StepReport initial_report();
   /// The current state (no stage timings, no solver iterations): after a
   /// restart, what the last step reported.
-  [[nodiscard]] StepReport current_report() const;
+  [[nodiscard]] StepReport current_report();
   /// Advances one step of size dt (time.step if not given; it may change
   /// from step to step, every BDF2 then takes its variable-step form) and
   /// reports the new state. Stops the run with a diagnosis (step, time,
@@ -125,9 +126,10 @@ class DropSimulation {
   void restore(const io::Checkpoint& checkpoint);
   /// The parts whose state a checkpoint carries: "time_loop" (time, mesh,
   /// mesh velocity, solution, ALE reference), "stokes" (the solver's
-  /// factorisation reuse), "objects/<k>" (interface histories). Extra
-  /// fields and histories register here (e.g. fem::state_part of a Field)
-  /// and are checkpointed and restored with no further code.
+  /// factorisation reuse), "objects/<k>" (interface histories), then each
+  /// module's fields and state parts. Extra fields and histories register
+  /// here (e.g. fem::state_part of a Field) and are checkpointed and
+  /// restored with no further code.
   [[nodiscard]] StateRegistry& registry() { return registry_; }
   /// Adds a field to the run: registered for checkpoints (fem::state_part)
   /// and written with the ParaView output. The field must outlive the
@@ -158,7 +160,13 @@ class DropSimulation {
   /// Each object's volume at t = 0 (the reference for the volume drift).
   [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
   /// The viscoelastic phases (nullptr if every phase is Newtonian).
-  [[nodiscard]] const ViscoelasticPhases* viscoelastic() const { return viscoelastic_.get(); }
+  [[nodiscard]] const ViscoelasticPhases* viscoelastic() const;
+  /// The run's modules (step_module.hpp), in the order they are stepped.
+  [[nodiscard]] const std::vector<std::unique_ptr<StepModule>>& modules() const { return modules_; }
+  /// The per-step report files: timeseries.csv, then every module's.
+  [[nodiscard]] std::vector<ReportFile> report_files() const;
+  /// Adds every module's final values to summary.json.
+  void summarise(nlohmann::json& summary) const;
   /// Whether the run has interface slip (slip.csv, both velocity copies in the fields).
   [[nodiscard]] bool interface_slip() const;
 
@@ -189,11 +197,11 @@ class DropSimulation {
   [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;
   /// StepReport::interface_change of the corrected interfaces against x_hat.
   [[nodiscard]] double interface_change(const std::vector<std::vector<physics::Vec3>>& x_hat) const;
-  /// SlipMeasures of every object from the last solution (empty without slip).
-  [[nodiscard]] std::vector<physics::SlipMeasures> measure_slips() const;
-  /// AccuracyError if an object's slip dissipation is negative beyond round-off.
-  void check_slip_dissipation(const std::vector<physics::SlipMeasures>& slips) const;
-  [[nodiscard]] std::vector<RegionStress> measure_stresses() const;
+  /// What the modules see of the run: `step` is the step being taken (or the current one).
+  [[nodiscard]] StepContext context(double dt, int step) const;
+  /// Stage measure for every object and module: the state in `r`.
+  void measure_all(StepReport& r, const std::vector<physics::Vec3>& centre_velocity, double dt,
+                   int step);
   void check_solution_finite() const;
   /// The global Stokes dofs the interface stages read (interface_values_):
   /// both velocity copies, and with slip the multipliers, of every interface node.
@@ -217,7 +225,7 @@ class DropSimulation {
   std::unique_ptr<physics::StokesSystem> stokes_;
   std::unique_ptr<physics::AleMeshMotion> ale_;
   std::vector<physics::InterfaceTracker> trackers_;
-  std::unique_ptr<ViscoelasticPhases> viscoelastic_;
+  std::vector<std::unique_ptr<StepModule>> modules_;
   // The Stokes solution stays distributed; the trackers, the semi-implicit
   // tension and the slip measures read the interface dofs, copied to every
   // rank after each solve (interface_values_).

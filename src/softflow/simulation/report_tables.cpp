@@ -1,5 +1,7 @@
 #include "softflow/simulation/report_tables.hpp"
 
+#include "softflow/simulation/step_module.hpp"
+
 namespace softflow::simulation {
 
 namespace {
@@ -82,63 +84,7 @@ const io::ReportTable<ObjectRow>& timeseries_table() {
   return table;
 }
 
-const io::ReportTable<StressRow>& stress_table() {
-  using C = Column<StressRow>;
-  auto mean = [](int i, int j) {
-    return [i, j](const StressRow& r) { return r.stress.mean(i, j); };
-  };
-  static const io::ReportTable<StressRow> table(
-      "stress.csv", "region with a conformation tensor and step",
-      "Volume averages <tau> of the polymer or elastic stress tau = G (c - I) over the region "
-      "(0: the matrix, k: object k).",
-      join(step_and_time<StressRow>(),
-           std::vector<C>{
-               {"region", "", "region (0 the matrix, k object k)", kInteger,
-                [](const StressRow& r) { return r.stress.region; }},
-               {"volume", "length^3", "region volume", kFull,
-                [](const StressRow& r) { return r.stress.volume; }},
-               {"tau_xx", "stress", "<tau_xx>", kFull, mean(0, 0)},
-               {"tau_yy", "stress", "<tau_yy>", kFull, mean(1, 1)},
-               {"tau_zz", "stress", "<tau_zz>", kFull, mean(2, 2)},
-               {"tau_xy", "stress", "<tau_xy>", kFull, mean(0, 1)},
-               {"tau_yz", "stress", "<tau_yz>", kFull, mean(1, 2)},
-               {"tau_xz", "stress", "<tau_xz>", kFull, mean(0, 2)},
-               {"N1", "stress", "<tau_xx> - <tau_yy>", kFull,
-                [](const StressRow& r) { return r.stress.first_normal_stress_difference(); }},
-               {"tau_1", "stress", "largest eigenvalue of <tau>", kFull,
-                [](const StressRow& r) { return r.stress.principal(0); }},
-               {"tau_2", "stress", "middle eigenvalue of <tau>", kFull,
-                [](const StressRow& r) { return r.stress.principal(1); }},
-               {"tau_3", "stress", "smallest eigenvalue of <tau>", kFull,
-                [](const StressRow& r) { return r.stress.principal(2); }},
-               {"spread", "", "sqrt(<|tau - <tau>|^2>) / |<tau>|: 0 for a uniform stress", kShort,
-                [](const StressRow& r) { return r.stress.spread; }}}));
-  return table;
-}
-
-const io::ReportTable<SlipRow>& slip_table() {
-  using C = Column<SlipRow>;
-  static const io::ReportTable<SlipRow> table(
-      "slip.csv", "object and step",
-      "The slip across each interface with Navier slip (docs/slip.md).",
-      join(step_and_time<SlipRow>(),
-           std::vector<C>{
-               {"object", "", "object number", kInteger, [](const SlipRow& r) { return r.object; }},
-               {"area", "length^2", "interface area", kFull,
-                [](const SlipRow& r) { return r.slip.area; }},
-               {"mean_slip_speed", "length/time", "mean of |(I - nn)(u_m - u_d)| over the interface",
-                kFull, [](const SlipRow& r) { return r.slip.mean_slip_speed; }},
-               {"max_slip_speed", "length/time", "largest nodal |u_m - u_d|", kFull,
-                [](const SlipRow& r) { return r.slip.max_slip_speed; }},
-               {"slip_dissipation", "power", "integral of lambda . (u_m - u_d): the power the slip "
-                "dissipates (never negative)", kFull,
-                [](const SlipRow& r) { return r.slip.dissipation; }}}));
-  return table;
-}
-
 std::string timeseries_header() { return timeseries_table().header(); }
-std::string stress_header() { return stress_table().header(); }
-std::string slip_header() { return slip_table().header(); }
 
 std::string timeseries_rows(const StepReport& r) {
   std::string out;
@@ -146,24 +92,17 @@ std::string timeseries_rows(const StepReport& r) {
   return out;
 }
 
-std::string stress_rows(const StepReport& r) {
-  std::string out;
-  for (const auto& s : r.stresses) out += stress_table().row({r, s});
-  return out;
-}
-
-std::string slip_rows(const StepReport& r) {
-  std::string out;
-  for (std::size_t k = 0; k < r.slips.size(); ++k)
-    out += slip_table().row({r, static_cast<int>(k) + 1, r.slips[k]});
-  return out;
-}
-
 std::string output_columns_markdown() {
+  auto modules_markdown = [] {
+    std::string out;
+    for (const auto& type : module_types()) out += type.columns_markdown();
+    return out;
+  };
   return "# The columns of a run's report files\n\n"
-         "Generated from their declarations (`src/softflow/simulation/report_tables.cpp`) by "
+         "Generated from their declarations (`src/softflow/simulation/report_tables.cpp`, and each "
+         "module's in `src/softflow/simulation/modules/`) by "
          "`softflow columns`; lengths, times and stresses are in the case file's own units.\n\n" +
-         timeseries_table().markdown() + stress_table().markdown() + slip_table().markdown();
+         timeseries_table().markdown() + modules_markdown();
 }
 
 }  // namespace softflow::simulation

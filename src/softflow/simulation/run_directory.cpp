@@ -60,16 +60,21 @@ int truncate_timeseries(const fs::path& path, int step, const std::string& heade
   return step + 1 - static_cast<int>(steps_kept.size());
 }
 
-/// Opens timeseries.csv (and stress.csv for viscoelastic runs, slip.csv
-/// for runs with slip) for appending.
 void open_series(const fs::path& directory, const DropSimulation& sim, RunFiles& files) {
-  auto open = [&](std::ofstream& file, const char* name) {
-    file.open(directory / name, std::ios::app);
-    if (!file) throw Error(fmt::format("cannot append to {}/{}", directory.string(), name));
-  };
-  open(files.series, "timeseries.csv");
-  if (sim.viscoelastic()) open(files.stress, "stress.csv");
-  if (sim.interface_slip()) open(files.slip, "slip.csv");
+  files.reports = sim.report_files();
+  files.streams.clear();
+  for (const auto& report : files.reports) {
+    auto& file = files.streams.emplace_back(directory / report.name, std::ios::app);
+    if (!file) throw Error(fmt::format("cannot append to {}/{}", directory.string(), report.name));
+  }
+}
+
+void RunFiles::append(const StepReport& report) {
+  for (std::size_t i = 0; i < reports.size(); ++i) streams[i] << reports[i].rows(report) << std::flush;
+}
+
+void RunFiles::close() {
+  for (auto& stream : streams) stream.close();
 }
 
 /// The case of `directory`/case.toml must be the one the checkpoint was

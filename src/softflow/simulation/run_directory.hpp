@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -17,12 +18,15 @@
 
 namespace softflow::simulation {
 
-/// The files a run keeps open (rank 0 only).
+/// The files a run keeps open (rank 0 only): its report files
+/// (DropSimulation::report_files, timeseries.csv first) and the fields.
 struct RunFiles {
-  std::ofstream series;
-  std::ofstream stress;  ///< stress.csv, for runs with viscoelastic phases
-  std::ofstream slip;    ///< slip.csv, for runs with interface slip
+  std::vector<ReportFile> reports;
+  std::vector<std::ofstream> streams;  ///< one per report, for appending
   std::unique_ptr<io::FieldSeries> fields;
+  /// Appends each report's rows of `report`.
+  void append(const StepReport& report);
+  void close();
 };
 
 /// Keeps the header and the rows of steps <= `step`; a row cut short by a
@@ -31,8 +35,7 @@ struct RunFiles {
 /// or edited since: those rows cannot be computed again).
 int truncate_timeseries(const std::filesystem::path& path, int step, const std::string& header);
 
-/// Opens timeseries.csv (and stress.csv for viscoelastic runs, slip.csv
-/// for runs with slip) for appending.
+/// Opens the simulation's report files for appending.
 void open_series(const std::filesystem::path& directory, const DropSimulation& sim, RunFiles& files);
 
 /// The case of `directory`/case.toml must be the one the checkpoint was

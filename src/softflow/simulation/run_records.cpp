@@ -109,26 +109,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
                            {"step_bound", adaptive_step_bound(config)},
                            {"next_step", a.next_step}};
   }
-  if (!last.stresses.empty()) {
-    nlohmann::json stresses = nlohmann::json::array();
-    for (const auto& r : last.stresses)
-      stresses.push_back({{"region", r.region},
-                          {"tau_mean", {r.mean(0, 0), r.mean(1, 1), r.mean(2, 2), r.mean(0, 1),
-                                        r.mean(1, 2), r.mean(0, 2)}},
-                          {"N1", r.first_normal_stress_difference()},
-                          {"principal", {r.principal(0), r.principal(1), r.principal(2)}},
-                          {"spread", r.spread}});
-    summary["final_stress"] = stresses;
-  }
-  if (!last.slips.empty()) {
-    nlohmann::json slips = nlohmann::json::array();
-    for (std::size_t k = 0; k < last.slips.size(); ++k)
-      slips.push_back({{"object", k + 1},
-                       {"mean_slip_speed", last.slips[k].mean_slip_speed},
-                       {"max_slip_speed", last.slips[k].max_slip_speed},
-                       {"slip_dissipation", last.slips[k].dissipation}});
-    summary["final_slip"] = slips;
-  }
+  sim.summarise(summary);  // each module its own final values
   return summary;
 }
 
