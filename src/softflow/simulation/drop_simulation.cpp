@@ -13,8 +13,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/fem/field.hpp"
 #include "softflow/mesh/quality.hpp"
-#include "softflow/physics/ale/mesh_motion.hpp"
-#include "softflow/physics/ale/mesh_velocity.hpp"
+#include "softflow/physics/ale/moving_mesh.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
 #include "softflow/simulation/case_flow.hpp"
@@ -35,13 +34,12 @@ using Clock = std::chrono::steady_clock;
 DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
     : config_(config),
       mesh_(std::move(mesh)),
-      initial_nodes_(mesh_.nodes),
-      reference_nodes_(mesh_.nodes),
-      relocation_(mesh_.n_nodes(), mesh::Point::Zero()),
-      relocator_(std::make_unique<mesh::NodeRelocation>(mesh_)) {
+      initial_nodes_(mesh_.nodes) {
   stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_),
                                                     has_interface_slip(config_));
-  ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
+  moving_mesh_ = std::make_unique<physics::MovingMesh>(
+      mesh_, physics::MovingMeshSettings{config_.time.ale_rebuild_quality,
+                                         config_.time.relocation_quality});
   physics::InterfaceTrackerSettings tracking;
   tracking.redistribution_factor = redistribution_rate(config_);
   tracking.supg_beta = config_.interface.supg_beta;
@@ -51,8 +49,6 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
     trackers_.emplace_back(std::move(surface), std::move(x0), tracking);
   }
   last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
-  mesh_velocity_.assign(mesh_.n_nodes(), mesh::Point::Zero());
-  last_quality_ = mesh::min_quality(mesh_);
   modules_ = make_modules({config_, mesh_, *stokes_});
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
@@ -122,7 +118,7 @@ void DropSimulation::restart_time_histories() {
   // O(dt) error in what follows (measured before: a drop relaxing after
   // cessation converged at order 1.0 in dt).
   for (auto& tracker : trackers_) tracker.restart_history();
-  previous_nodes_.clear();  // the mesh velocity by BDF1
+  moving_mesh_->restart_history();  // the mesh velocity by BDF1
   for (auto& module : modules_) module->restart_time_history();
 }
 
@@ -159,7 +155,7 @@ StepReport DropSimulation::current_report() {
   r.step = steps_;
   r.time = time_;
   r.min_quality = mesh::min_quality(mesh_);
-  measure_all(r, last_centre_velocity_, last_dt_, steps_);
+  measure_all(r, last_centre_velocity_, moving_mesh_->last_step(), steps_);
   return r;
 }
 
@@ -167,7 +163,7 @@ StepContext DropSimulation::context(double dt, int step) const {
   StepContext c{config_, mesh_, *stokes_};
   c.solution = solution_ ? solution_.get() : nullptr;
   c.interface_values = solution_ && !interface_values_.empty() ? &interface_values_ : nullptr;
-  c.mesh_velocity = mesh_velocity_;
+  c.mesh_velocity = moving_mesh_->velocity();
   c.time = time_;
   c.dt = dt;
   c.step = step;
@@ -313,42 +309,16 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   r.set(p + "step", steps_);
   r.set(p + "time", time_);
   r.set(p + "dt", config_.time.step);
-  r.set(p + "last_step", last_dt_);
-  r.set(p + "translation_x", translation_x_);
-  r.set(p + "nodes", mesh_.nodes);
-  r.set(p + "previous_nodes", previous_nodes_);
-  r.set(p + "mesh_velocity", mesh_velocity_);
+  moving_mesh_->save(r, p);
   if (solution_) la::save_vector(r, p + "solution", solution_.get());
   else r.set(p + "solution", std::vector<double>{});
-  ale_->save_warm_start(r, p + "ale_");
-  r.set(p + "ale_reference_nodes", reference_nodes_);
-  r.set(p + "ale_rebuilt_at_quality", ale_rebuilt_at_quality_);
-  r.set(p + "ale_rebuilds", ale_rebuilds_);
-  r.set(p + "ale_relocation", relocation_);
-  r.set(p + "relocation_steps", relocation_steps_);
-  r.set(p + "relocated_nodes", relocated_nodes_);
 }
 
 void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& p) {
-  const auto n = mesh_.nodes.size();
-  auto nodes = r.get_points(p + "nodes");
-  auto previous = r.get_points(p + "previous_nodes");
-  auto velocity = r.get_points(p + "mesh_velocity");
-  auto reference = r.get_points(p + "ale_reference_nodes");
-  const auto& solution = r.get_array(p + "solution");
-  if (nodes.size() != n || (!previous.empty() && previous.size() != n) ||
-      (!velocity.empty() && velocity.size() != n) || reference.size() != n)
-    throw InputError("the checkpoint does not fit the mesh it carries");
   steps_ = r.get_int(p + "step");
   time_ = r.get_double(p + "time");
-  // Checkpoints from before variable steps: every step was time.step.
-  last_dt_ = r.contains(p + "last_step") ? r.get_double(p + "last_step")
-                                         : (steps_ > 0 ? config_.time.step : 0.0);
-  translation_x_ = r.get_double(p + "translation_x");
-  mesh_.nodes = std::move(nodes);
-  previous_nodes_ = std::move(previous);
-  mesh_velocity_ = velocity.empty() ? std::vector<mesh::Point>(n, mesh::Point::Zero())
-                                    : std::move(velocity);
+  moving_mesh_->restore(r, p, config_.time.step);
+  const auto& solution = r.get_array(p + "solution");
   if (solution.empty()) {
     solution_.reset();
   } else {
@@ -356,32 +326,6 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
     la::restore_vector(r, p + "solution", restored.get(), "Stokes solution");
     set_solution(std::move(restored));
   }
-  last_quality_ = mesh::min_quality(mesh_);
-  ale_rebuilt_at_quality_ = r.get_double(p + "ale_rebuilt_at_quality");
-  ale_rebuilds_ = r.get_int(p + "ale_rebuilds");
-  // Checkpoints from before vertex relocation: none.
-  if (r.contains(p + "ale_relocation")) {
-    auto relocation = r.get_points(p + "ale_relocation");
-    if (relocation.size() != n) throw InputError("the checkpoint does not fit the mesh it carries");
-    relocation_ = std::move(relocation);
-    relocation_steps_ = r.get_int(p + "relocation_steps");
-    relocated_nodes_ = r.get_int(p + "relocated_nodes");
-  } else {
-    std::fill(relocation_.begin(), relocation_.end(), mesh::Point::Zero());
-    relocation_steps_ = relocated_nodes_ = 0;
-  }
-  // The mesh-motion operator must be the one of the saved reference: the
-  // current one if they agree (always after a fresh start; usually after a
-  // step taken back), else built there again: a checkpoint of a run that
-  // rebuilt it, or a step taken back that had rebuilt it (the translation
-  // restored above counts from the saved reference).
-  if (reference != reference_nodes_) {
-    reference_nodes_ = std::move(reference);
-    mesh::Mesh rebuilt = mesh_;
-    rebuilt.nodes = reference_nodes_;
-    ale_ = std::make_unique<physics::AleMeshMotion>(rebuilt);
-  }
-  ale_->restore_warm_start(r, p + "ale_");
 }
 
 void DropSimulation::save(io::Checkpoint& c) const {
@@ -410,71 +354,16 @@ std::vector<Vec3> DropSimulation::translate_mesh(const std::vector<std::vector<V
   for (std::size_t k = 0; k < trackers_.size(); ++k) {
     const Vec3 before = trackers_[k].centre();
     u[k] = trackers_[k].centre_velocity(x_hat[k], dt);
-    if (trackers_.size() == 1) translation_x_ += trackers_[k].centre().x() - before.x();
+    if (trackers_.size() == 1) moving_mesh_->translate_x(trackers_[k].centre().x() - before.x());
   }
   return u;
 }
 
-void DropSimulation::rebuild_ale_if_degraded() {
-  // The thesis solves the mesh motion on the current mesh every step, so
-  // that k_e = 1/V_e stiffens the elements that have shrunk. softflow keeps
-  // the initial mesh's operator, factored once, while the mesh is good, and
-  // rebuilds it on the current mesh when the quality falls below
-  // time.ale_rebuild_quality, then after each further 5 % drop: the same
-  // effect at a few factorisations per run. The displacement is then taken
-  // from the current mesh (the new reference) and the translation restarts.
-  const double threshold = config_.time.ale_rebuild_quality;
-  if (threshold <= 0.0 || steps_ == 0 || last_quality_ >= threshold ||
-      last_quality_ >= 0.95 * ale_rebuilt_at_quality_)
-    return;
-  reference_nodes_ = mesh_.nodes;
-  std::fill(relocation_.begin(), relocation_.end(), mesh::Point::Zero());
-  translation_x_ = 0.0;
-  ale_ = std::make_unique<physics::AleMeshMotion>(mesh_);
-  ale_rebuilt_at_quality_ = last_quality_;
-  ++ale_rebuilds_;
-}
-
-std::optional<double> DropSimulation::relocate_vertices(std::vector<mesh::Point>& moved) {
-  // Part of this step's mesh motion, so the mesh velocity (and with it the
-  // ALE transport) sees the relocation; kept in relocation_ so that later
-  // steps, which extend the interface displacement from the reference
-  // again, keep it too.
-  const double target = config_.time.relocation_quality;
-  if (target <= 0.0) return std::nullopt;
-  const std::vector<mesh::Point> before = moved;
-  const auto report = relocator_->improve(moved, target);
-  if (report.nodes_moved == 0) return report.smallest_quality;
-  for (int i = 0; i < mesh_.n_nodes(); ++i) relocation_[i] += moved[i] - before[i];
-  ++relocation_steps_;
-  relocated_nodes_ += report.nodes_moved;
-  return report.smallest_quality;
-}
-
 double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat, double dt) {
-  rebuild_ale_if_degraded();
-  // Total displacement from the reference mesh: d1 (translation) + d2, with
-  // d2 = x_hat - x_ref - d1 on the interfaces and 0 on the outer boundary.
-  const Vec3 d1(translation_x_, 0.0, 0.0);
-  std::vector<Vec3> interface_displacement(mesh_.n_nodes(), Vec3::Zero());
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const auto& nodes = trackers_[k].surface().volume_node;
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-      interface_displacement[nodes[i]] = x_hat[k][i] - reference_nodes_[nodes[i]] - d1;
-  }
-  const auto d2 = ale_->solve(interface_displacement);
-  std::vector<mesh::Point> moved(mesh_.n_nodes());
-  for (int i = 0; i < mesh_.n_nodes(); ++i) moved[i] = reference_nodes_[i] + relocation_[i] + d1 + d2[i];
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {  // exactly on the predicted interface
-    const auto& nodes = trackers_[k].surface().volume_node;
-    for (std::size_t i = 0; i < nodes.size(); ++i) moved[nodes[i]] = x_hat[k][i];
-  }
-  const auto measured = relocate_vertices(moved);
-  mesh_velocity_ = physics::bdf_mesh_velocity(moved, mesh_.nodes, previous_nodes_, dt, last_dt_);
-  last_dt_ = dt;
-  previous_nodes_ = std::exchange(mesh_.nodes, std::move(moved));
-  const double quality = measured ? *measured : mesh::min_quality(mesh_);
-  last_quality_ = quality;
+  std::vector<physics::InterfacePlacement> placed;
+  for (std::size_t k = 0; k < trackers_.size(); ++k)
+    placed.push_back({trackers_[k].surface().volume_node, x_hat[k]});
+  const double quality = moving_mesh_->move(placed, dt);
   if (quality < config_.time.min_quality) {
     throw MeshError(fmt::format(
         "step {} (t = {:.4f}): the moving mesh degraded: {} has quality {:.3g} < "
@@ -495,6 +384,11 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   }
   return quality;
 }
+
+const std::vector<mesh::Point>& DropSimulation::mesh_velocity() const { return moving_mesh_->velocity(); }
+int DropSimulation::ale_rebuilds() const { return moving_mesh_->rebuilds(); }
+int DropSimulation::relocation_steps() const { return moving_mesh_->relocation_steps(); }
+int DropSimulation::relocated_nodes() const { return moving_mesh_->relocated_nodes(); }
 
 Vec3 DropSimulation::interface_velocity(int node, int object) const {
   // No slip: the shared copy. With slip the copies agree along the normal

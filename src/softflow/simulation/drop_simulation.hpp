@@ -15,7 +15,6 @@
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/la/vector_values.hpp"
 #include "softflow/mesh/mesh.hpp"
-#include "softflow/mesh/node_relocation.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
@@ -28,7 +27,7 @@ class Field;
 
 namespace softflow::physics {
 class StokesSystem;
-class AleMeshMotion;
+class MovingMesh;
 }  // namespace softflow::physics
 
 namespace softflow::simulation {
@@ -148,14 +147,14 @@ class DropSimulation {
   /// Collective; for analysis and tests: no stage of a step needs it.
   [[nodiscard]] std::vector<double> solution() const;
   /// u_m at every geometry node over the last step (BDF1, then BDF2; zero before any step).
-  [[nodiscard]] const std::vector<mesh::Point>& mesh_velocity() const { return mesh_velocity_; }
+  [[nodiscard]] const std::vector<mesh::Point>& mesh_velocity() const;
   [[nodiscard]] double time() const { return time_; }
   /// How often the mesh-motion operator was rebuilt on the current mesh.
-  [[nodiscard]] int ale_rebuilds() const { return ale_rebuilds_; }
+  [[nodiscard]] int ale_rebuilds() const;
   /// Steps whose mesh motion relocated vertices (time.relocation_quality),
   /// and the node moves over all of them (a node moved in two steps counts twice).
-  [[nodiscard]] int relocation_steps() const { return relocation_steps_; }
-  [[nodiscard]] int relocated_nodes() const { return relocated_nodes_; }
+  [[nodiscard]] int relocation_steps() const;
+  [[nodiscard]] int relocated_nodes() const;
   [[nodiscard]] int steps() const { return steps_; }
   /// Each object's volume at t = 0 (the reference for the volume drift).
   [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
@@ -177,13 +176,7 @@ class DropSimulation {
   /// BDF1 again for every history (interfaces, mesh velocity, conformation)
   /// after a jump in the wall speed.
   void restart_time_histories();
-  void rebuild_ale_if_degraded();
-  /// Relocates free vertices of elements below time.relocation_quality in
-  /// `moved` (the step's new mesh) and records the shift in relocation_.
-  /// Relocates free nodes of `moved` (time.relocation_quality); returns the
-  /// smallest element quality of the result when it was measured on the way
-  /// (relocation on), nothing otherwise.
-  std::optional<double> relocate_vertices(std::vector<mesh::Point>& moved);
+  /// Step 3 (physics::MovingMesh), then the quality check: MeshError below time.min_quality.
   double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
   int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
                    StageSeconds& stages);
@@ -215,15 +208,8 @@ class DropSimulation {
   io::CaseConfig config_;
   mesh::Mesh mesh_;
   std::vector<mesh::Point> initial_nodes_;    // the mesh as meshed: what a restart starts from
-  std::vector<mesh::Point> reference_nodes_;  // where the ALE operator was built
-  // Vertex relocations since then: the mesh sits at reference + relocation
-  // + the harmonic extension of the interface displacement.
-  std::vector<mesh::Point> relocation_;
-  std::unique_ptr<mesh::NodeRelocation> relocator_;
-  std::vector<mesh::Point> previous_nodes_;  // x at t_{n-1}: empty before the first step
-  std::vector<mesh::Point> mesh_velocity_;
   std::unique_ptr<physics::StokesSystem> stokes_;
-  std::unique_ptr<physics::AleMeshMotion> ale_;
+  std::unique_ptr<physics::MovingMesh> moving_mesh_;
   std::vector<physics::InterfaceTracker> trackers_;
   std::vector<std::unique_ptr<StepModule>> modules_;
   // The Stokes solution stays distributed; the trackers, the semi-implicit
@@ -233,14 +219,7 @@ class DropSimulation {
   la::SelectedEntries interface_values_;
   std::vector<physics::Vec3> last_centre_velocity_;
   std::vector<double> initial_volumes_;
-  double last_quality_ = 1.0;  // minimum element quality of the current mesh
-  double ale_rebuilt_at_quality_ = std::numeric_limits<double>::infinity();
-  int ale_rebuilds_ = 0;
-  int relocation_steps_ = 0;
-  int relocated_nodes_ = 0;
-  double translation_x_ = 0.0;
   double time_ = 0.0;
-  double last_dt_ = 0.0;  // t_n - t_{n-1}: the mesh velocity's BDF2 (0 before the first step)
   int steps_ = 0;
   StateRegistry registry_;
   std::vector<fem::Field*> added_fields_;
