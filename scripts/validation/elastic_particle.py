@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Validation of the neo-Hookean elastic particle in unbounded shear (thesis
-§2.5.4, Figs. 2.13-2.15): runs the cases below with the softflow binary (two at
+§2.5.3, Figs. 2.13-2.15): runs the cases below with the softflow binary (two at
 a time), then writes docs/validation/elastic_particle.{md,csv,png}.
 
 An initially spherical neo-Hookean particle (R = 1, no interfacial tension) in a
@@ -173,7 +173,7 @@ def interior_section(results):
 def report(work):
     os.makedirs(OUT, exist_ok=True)
     results = {name: load(os.path.join(work, name)) for name in all_cases()}
-    md = ["# Neo-Hookean elastic particle in unbounded shear (thesis §2.5.4, Figs. 2.13-2.15)", "",
+    md = ["# Neo-Hookean elastic particle in unbounded shear (thesis §2.5.3, Figs. 2.13-2.15)", "",
           "Unit sphere, no interfacial tension, Newtonian matrix (eta_m = 1, shear rate 1), box "
           "30 x 30 x 30 (15 diameters), periodic in x and z. Steady values: means over the last "
           "2 pi time units of each run (to the t shown in the status column); `D ampl.` is the "

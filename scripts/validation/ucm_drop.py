@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Validation of a viscoelastic (UCM) drop in a Newtonian matrix under unbounded
-shear (thesis §2.5.3, Fig. 2.12): runs the cases below with the softflow binary
+shear (thesis §2.5.2, Fig. 2.12): runs the cases below with the softflow binary
 (two at a time), then writes docs/validation/ucm_drop.{md,csv,png}.
 
 Unit drop, viscosity ratio lambda = eta_d / eta_m = 2 (UCM: eta_d = eta_p = G
@@ -319,7 +319,7 @@ def greco_shift(lam, ca, p, p_d):
 
 def report(work):
     os.makedirs(OUT, exist_ok=True)
-    md = ["# UCM drop in a Newtonian matrix under shear (thesis §2.5.3, Fig. 2.12)", "",
+    md = ["# UCM drop in a Newtonian matrix under shear (thesis §2.5.2, Fig. 2.12)", "",
           f"lambda = eta_d / eta_m = {LAMBDA:g}, p_d = {P_D:g} (relaxation time lambda_d = Ca here), "
           "box 30 x 30 x 30, 28 equator nodes, dt = lambda_d / 5, to t = 6. Steady values: means "
           "over the last 10 % of each run. The Newtonian twin has the same mesh and viscosity ratio. "

@@ -5,7 +5,7 @@
 #include <random>
 
 #include "softflow/fem/norms.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 
 namespace softflow::test_support {

@@ -15,7 +15,7 @@
 #include "softflow/fem/tabulation.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/mesh/quality.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 #include "softflow/physics/ale/mesh_motion.hpp"
 
 using namespace softflow;

@@ -19,7 +19,7 @@
 #include "softflow/common/xxh64.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/checkpoint.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 #include "softflow/simulation/drop_run.hpp"
 
 namespace softflow::io {

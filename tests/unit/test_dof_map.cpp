@@ -7,7 +7,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/space.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 
 using namespace softflow;

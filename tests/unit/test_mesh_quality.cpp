@@ -9,7 +9,7 @@
 #include "softflow/element/shape_functions.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/mesh/quality.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 
 using namespace softflow;
 using mesh::Point;

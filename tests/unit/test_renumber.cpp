@@ -4,7 +4,7 @@
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/mesh/renumber.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 
 using namespace softflow;
 

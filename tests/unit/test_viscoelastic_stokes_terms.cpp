@@ -16,7 +16,7 @@
 
 #include "softflow/element/isoparametric.hpp"
 #include "softflow/fem/field.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 #include "softflow/physics/stokes/viscoelastic_terms.hpp"
 #include "softflow/physics/viscoelastic/conformation_prediction.hpp"
 #include "softflow/physics/viscoelastic/conformation_transport.hpp"

@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "softflow/fem/field.hpp"
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 #include "softflow/physics/transport/ale_transport.hpp"
 #include "softflow/physics/viscoelastic/conformation_transport.hpp"
 

@@ -37,7 +37,9 @@
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
 #include "softflow/simulation/run_directory.hpp"
+#include "softflow/simulation/adaptive_stepping.hpp"
 #include "softflow/simulation/run_ledger.hpp"
+#include "softflow/simulation/run_progress.hpp"
 #include "softflow/simulation/run_records.hpp"
 #include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/stop_requests.hpp"
@@ -80,19 +82,6 @@ bool on_any_rank(bool local) {
   }
 }
 
-/// The size of the next adaptive step from t: the controller's, shortened
-/// to land on the end of the run and on a jump of the wall speed (where
-/// the BDF histories restart); a last step within 1 % of the end is
-/// stretched to it rather than leaving a sliver.
-double adaptive_step_size(double proposed, double t, double end, const physics::WallMotion& walls) {
-  double dt = proposed;
-  if (t + 1.01 * dt >= end) dt = end - t;
-  if (const auto jump = walls.jump_time(); jump && *jump > t + 1e-12 * std::max(1.0, std::abs(t)) &&
-                                           t + dt > *jump)
-    dt = *jump - t;
-  return dt;
-}
-
 /// The loop from the simulation's current step to time.end, shared by a
 /// fresh run and a restart: steps, output, checkpoints, stop requests and
 /// failures, then the summary.
@@ -100,16 +89,17 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                             const fs::path& directory, DropSimulation& sim, RunLedger ledger,
                             StepReport last, RunFiles& files, CheckpointMark checkpoint) {
   const bool root = is_root();
+  const bool console = !options.quiet && root;
   const auto session_start = Clock::now();
   const nlohmann::json n_steps = planned_steps(config);
-  const bool adaptive = ledger.adaptive.has_value();
-  const auto controller = adaptive ? std::optional(step_controller(config)) : std::nullopt;
   const int first_step = sim.steps();
   leave_startup();  // from here a stop request checkpoints after the step
   const physics::WallMotion walls = wall_motion(config);
-  auto last_checkpoint_clock = Clock::now();
-  double longest_step = 0.0, checkpoint_seconds = 0.0, checkpoint_bytes = 0.0;
   const double earlier_wall_seconds = ledger.wall_seconds;
+  StepTaker stepper(config, ledger.adaptive, options.quiet);
+  SessionPace pace(config, first_step, ledger.adaptive.has_value());
+  CheckpointSchedule schedule(config, options);
+  double checkpoint_bytes = 0.0;
 
   auto write_checkpoint = [&] {
     const auto begin = Clock::now();
@@ -127,89 +117,20 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       checkpoint_bytes = static_cast<double>(fs::file_size(directory / kCheckpointFile));
     });
     checkpoint = {sim.steps(), sim.time()};
-    last_checkpoint_clock = Clock::now();
-    checkpoint_seconds = seconds_since(begin);
+    schedule.record_checkpoint(seconds_since(begin));
   };
 
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
-  double first_step_seconds = 0.0, first_step_time = 0.0;
   try {
-    // One accepted step. Adaptive: a step whose estimate exceeds the
-    // tolerance, or that fails (solver, mesh quality, an interface that no
-    // longer fits), is taken back and tried again smaller.
-    auto take_step = [&]() -> StepReport {
-      if (!adaptive) return sim.step();
-      auto& a = *ledger.adaptive;
-      while (true) {
-        const double dt = adaptive_step_size(a.next_step, sim.time(), config.time.end, walls);
-        const StateRecord before = sim.save_step_state();
-        StepReport r;
-        time::StepDecision decision;
-        std::string why;
-        bool failed = false;
-        try {
-          r = sim.step(dt);
-          // A BDF1 step (the first, or the one after a jump) predicts x_n:
-          // no estimate (NaN); keep its size.
-          decision = std::isnan(r.interface_change) ? time::StepDecision{true, dt}
-                                                    : controller->judge(dt, r.interface_change);
-          if (!decision.accepted)
-            why = fmt::format("estimate {:.3g} > time.adaptive_tolerance = {:g}",
-                              r.interface_change, config.time.adaptive_tolerance);
-        } catch (const Error& e) {
-          if (dynamic_cast<const InputError*>(&e)) throw;
-          decision = controller->after_failure(dt);
-          if (decision.next_step == 0.0) throw;  // the smallest step failed too
-          why = e.what();
-          failed = true;
-        }
-        if (decision.accepted) {
-          a.next_step = time::next_planned_step(a.next_step, dt, decision.next_step);
-          a.smallest = std::min(a.smallest, dt);
-          a.largest = std::max(a.largest, dt);
-          return r;
-        }
-        if (decision.next_step == 0.0)
-          throw AccuracyError(fmt::format(
-              "step {} (t = {:.4f}): no step down to time.step / 1000 = {:g} meets "
-              "time.adaptive_tolerance = {:g} ({}): raise the tolerance or refine the mesh",
-              sim.steps() + 1, sim.time(), config.time.step / 1000.0,
-              config.time.adaptive_tolerance, why));
-        ++(failed ? a.failed : a.rejected);
-        sim.restore_step_state(before);
-        a.next_step = decision.next_step;
-        if (!options.quiet && root) {
-          fmt::print("step {} (t = {:.4f}) taken again with dt = {:.4g} instead of {:.4g}: {}\n",
-                     sim.steps() + 1, sim.time(), decision.next_step, dt, why);
-          std::fflush(stdout);
-        }
-      }
-    };
-
     while (!at_end(config, sim.steps(), sim.time())) {
-      last = take_step();
+      last = stepper.take(sim);
       add(ledger.total, last.stages);
       ledger.stokes_iterations += last.stokes_iterations;
       ++ledger.timed_steps;
-      longest_step = std::max(longest_step, last.step_seconds);
+      schedule.record_step(last.step_seconds);
       const double elapsed = seconds_since(session_start);
-      // The session's first step carries one-off costs (the first LU
-      // factorisation, a restart's refactorisation): the estimate comes from
-      // the steps after it, and is unknown ("--", null) until there is one.
-      if (last.step == first_step + 1) {
-        first_step_seconds = elapsed;
-        first_step_time = last.time;
-      }
-      const int later_steps = last.step - first_step - 1;
-      // Constant steps: the steps still to go at the pace of the later ones;
-      // adaptive steps: the time still to go at the pace simulated time advanced.
-      const double eta =
-          later_steps == 0 ? std::numeric_limits<double>::quiet_NaN()
-          : adaptive ? (elapsed - first_step_seconds) / (last.time - first_step_time) *
-                           (config.time.end - last.time)
-                     : (elapsed - first_step_seconds) / later_steps *
-                           static_cast<double>(n_steps.get<long>() - last.step);
+      const double eta = pace.eta(last, elapsed);
       // Gathering a field is collective: every rank takes part, rank 0 writes.
       const bool fields_due = config.write_fields && config.time.fields_interval > 0 &&
                               last.step % config.time.fields_interval == 0;
@@ -224,53 +145,20 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                     .dump(2) +
                 "\n");
       });
-      if (!options.quiet && root) {
-        // The first object's shape, or (no objects) the matrix's mean stress.
-        std::string state;
-        if (!last.objects.empty())
-          state = fmt::format("D = {:.5f}  theta = {:6.2f} deg", last.objects.front().deformation,
-                              last.objects.front().theta_deg);
-        else if (!last.stresses.empty())
-          state = fmt::format("tau_xy = {:.5g}  N1 = {:.5g}", last.stresses.front().mean(0, 1),
-                              last.stresses.front().first_normal_stress_difference());
-        fmt::print("step {:>6}{}  t = {:8.4f}  {}  dt = {:g}  quality {:.3f}  ETA {}\n",
-                   last.step, adaptive ? std::string() : fmt::format("/{}", n_steps.get<long>()),
-                   last.time, state, last.dt, last.min_quality, format_duration(eta));
-        std::fflush(stdout);
-      }
+      if (console) print_step(last, n_steps, eta);
       sim.check_volumes();
       if (ledger.steady) {
         ledger.steady->add(last.time, steady_sample(last, walls));
         if (ledger.steady->reached_at()) {  // set by add() at the first steady sample
-          if (!options.quiet && root) {
-            const auto c = ledger.steady->changes();
-            fmt::print("steady state at t = {:.4f}: over the last {:g} time units D changed by "
-                       "{:.2g}, theta by {:.2g} deg, the centre velocity by {:.2g} gamma_dot R "
-                       "(time.steady_tolerance = {:g})\n",
-                       last.time, config.time.steady_window, c.deformation,
-                       c.theta_rad * 180.0 / std::numbers::pi, c.velocity,
-                       config.time.steady_tolerance);
-            std::fflush(stdout);
-          }
+          if (console) print_steady(last, *ledger.steady, config);
           break;  // the final checkpoint follows the loop
         }
       }
       if (at_end(config, sim.steps(), sim.time())) break;  // the final checkpoint follows the loop
 
-      // Stop before the wall-time limit with room for the longest step seen
-      // and two checkpoint writes (the next may be slower than the last).
-      const bool limit_near =
-          options.wall_time_limit &&
-          seconds_since(options.started) + 1.5 * longest_step + 2.0 * checkpoint_seconds + 1.0 >
-              *options.wall_time_limit;
       const int signal = stop_requested();
-      const bool stop = signal != 0 || on_any_rank(limit_near);
-      const bool due =
-          (config.checkpoint.interval_steps > 0 &&
-           sim.steps() % config.checkpoint.interval_steps == 0) ||
-          (config.checkpoint.interval_minutes > 0 &&
-           seconds_since(last_checkpoint_clock) >= 60.0 * config.checkpoint.interval_minutes);
-      if (stop || due) write_checkpoint();
+      const bool stop = signal != 0 || on_any_rank(schedule.limit_near());
+      if (stop || schedule.due(sim.steps())) write_checkpoint();
       if (stop) {
         status = "interrupted";
         stop_reason = signal != 0 ? fmt::format("interrupted by {} at step {} (t = {:.4f})",
@@ -304,7 +192,8 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   auto summary = make_summary(config, sim, ledger, last, status, stop_reason, checkpoint);
   summary["peak_memory_mb"] = peak_memory_summary();  // collective
   if (checkpoint_bytes > 0)  // what a checkpoint costs: the last one written in this session
-    summary["checkpoint_cost"] = {{"bytes", checkpoint_bytes}, {"seconds", checkpoint_seconds}};
+    summary["checkpoint_cost"] = {{"bytes", checkpoint_bytes},
+                                  {"seconds", schedule.last_checkpoint_seconds()}};
   const bool written =
       config.time.fields_interval > 0 && sim.steps() % config.time.fields_interval == 0;
   const bool final_fields = config.write_fields && sim.steps() > first_step && !written && !failure;
@@ -320,7 +209,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
     draw_plot("plot_timeseries.py", directory, "deformation.png", false);
   });
   // A failure says where the output is in its own message, after which "wrote" would mislead.
-  if (!options.quiet && root && !failure) fmt::print("wrote {}\n", directory.string());
+  if (console && !failure) fmt::print("wrote {}\n", directory.string());
   if (failure) rethrow_with_message(failure, stop_reason);
   if (status == "interrupted")
     throw RunInterrupted(fmt::format("{}; checkpoint written: continue with `softflow restart {}`",

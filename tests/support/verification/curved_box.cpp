@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 
 namespace softflow::verification {
 

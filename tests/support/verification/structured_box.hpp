@@ -1,4 +1,5 @@
-// Structured P2 tetrahedral meshes of a box, for verification tests and benchmarks.
+// Structured P2 tetrahedral meshes of a box, for the verification and unit tests (not
+// shipped in softflow_core: the program meshes with gmsh, geometry/shear_cell).
 #pragma once
 
 #include <functional>

@@ -1,4 +1,4 @@
-#include "softflow/mesh/structured_box.hpp"
+#include "support/verification/structured_box.hpp"
 
 #include <algorithm>
 #include <array>
