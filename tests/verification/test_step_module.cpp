@@ -103,6 +103,32 @@ const bool kRegistered = [] {
   return true;
 }();
 
+// A module that ends the run at t >= 0.1: the run completes there, says why,
+// and a restart has nothing to do. Only for cases named "finishing".
+class FinishAtTenth final : public simulation::StepModule {
+ public:
+  explicit FinishAtTenth(const simulation::ModuleSetup&) {}
+  [[nodiscard]] std::string name() const override { return "finish_at_tenth"; }
+  void measure(const simulation::StepContext& context, simulation::StepReport&) override {
+    time_ = context.time;
+  }
+  [[nodiscard]] std::string finished() const override {
+    return time_ >= 0.1 - 1e-12 ? fmt::format("reached t = {:.2f}, the test's end", time_) : "";
+  }
+
+ private:
+  double time_ = 0.0;
+};
+
+const bool kFinisherRegistered = [] {
+  simulation::register_module_type(
+      {"finish_at_tenth", [](const io::CaseConfig& c) { return c.name == "finishing"; },
+       [](const simulation::ModuleSetup& s) -> std::unique_ptr<simulation::StepModule> {
+         return std::make_unique<FinishAtTenth>(s);
+       }});
+  return true;
+}();
+
 io::CaseConfig small_case(const std::string& name, const fs::path& directory) {
   return io::parse_case(
       "[cell]\nlength = 8.0\nheight = 8.0\nwidth = 8.0\n"
@@ -191,4 +217,22 @@ TEST(StepModule, RestartsToRoundOff) {
   ASSERT_EQ(differences.size(), 2u);  // Stokes, then the dye
   EXPECT_LT(differences[1], 1e-12);
   EXPECT_LT(differences[0], 1e-10);
+}
+
+TEST(StepModule, EndsTheRunWithItsReason) {
+  ASSERT_TRUE(kFinisherRegistered);
+  const fs::path directory = fs::temp_directory_path() / "softflow_step_module_finish";
+  fs::remove_all(directory);
+  auto config = small_case("finishing", directory);
+  config.write_fields = false;
+  simulation::RunOptions options;
+  options.quiet = true;
+  const auto summary = simulation::run_drop_case(config, options, simulation::build_mesh(config));
+  EXPECT_EQ(summary["status"], "completed");
+  EXPECT_EQ(summary["steps"], 2);  // t = 0.1 after two steps of 0.05, not time.end = 0.2
+  EXPECT_EQ(summary["stop_reason"], "reached t = 0.10, the test's end");
+  // The checkpoint knows: a restart has nothing to do and returns the summary.
+  const auto again = simulation::restart_drop_case(config, directory, options);
+  EXPECT_EQ(again["steps"], 2);
+  if (is_root()) fs::remove_all(directory);
 }

@@ -101,6 +101,9 @@ struct TimeConfig {
   /// (analysis::SteadyStateMonitor); `end` is then the latest time. 0 = off.
   double steady_tolerance = 0.0;
   double steady_window = 5.0;  ///< the time span steady_tolerance is measured over
+  /// > 0: the run ends once an object's interface is closer to a wall than
+  /// this many of its radii (MigrationModule::finished). 0 = never.
+  double min_wall_gap = 0.0;
   /// > 0: adaptive steps (time::StepController). `step` is then the first
   /// step; each later one keeps the largest predictor-corrector distance of
   /// the interface nodes (relative to the object's radius) near this,

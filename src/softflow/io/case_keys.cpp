@@ -339,6 +339,10 @@ Table<CaseConfig> time_table() {
        number("steady_window", time(&TimeConfig::steady_window), 5.0, Range::above(0),
               "the time span steady_tolerance is measured over: longer than any oscillation "
               "that should not count as steady"),
+       number("min_wall_gap", time(&TimeConfig::min_wall_gap), 0.0, Range::at_least(0),
+              "> 0: the run ends (completed, the reason in summary.json) once an object's "
+              "interface comes closer to a wall than this many of its radii (a migrating "
+              "particle before the wall region the mesh cannot follow); 0 = never"),
        number("adaptive_tolerance", time(&TimeConfig::adaptive_tolerance), 0.0,
               Range::at_least(0),
               "> 0: adaptive steps, step is the first one; each step's largest distance between "

@@ -154,6 +154,11 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
           break;  // the final checkpoint follows the loop
         }
       }
+      if (const std::string why = sim.finish_reason(); !why.empty()) {
+        stop_reason = ledger.finished = why;  // a module's end (e.g. a neutral height): completed
+        if (console) fmt::print("{}\n", why);
+        break;  // the final checkpoint follows the loop
+      }
       if (at_end(config, sim.steps(), sim.time())) break;  // the final checkpoint follows the loop
 
       const int signal = stop_requested();
@@ -296,7 +301,7 @@ nlohmann::json restart_drop_case(const io::CaseConfig& config, const fs::path& d
   check_same_case(config, checkpoint, directory);
   RunLedger ledger = ledger_from_json(checkpoint.run_json, config);
   const bool steady = ledger.steady && ledger.steady->reached_at();
-  if (at_end(config, checkpoint.step, checkpoint.time) || steady) {
+  if (at_end(config, checkpoint.step, checkpoint.time) || steady || !ledger.finished.empty()) {
     if (!options.quiet && root)
       fmt::print("{}: the run is complete ({}step {}, t = {:.4f}); nothing to do\n",
                  directory.string(), steady ? "steady state at " : "", checkpoint.step,

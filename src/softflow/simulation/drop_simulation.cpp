@@ -164,6 +164,7 @@ StepContext DropSimulation::context(double dt, int step) const {
   c.solution = solution_ ? solution_.get() : nullptr;
   c.interface_values = solution_ && !interface_values_.empty() ? &interface_values_ : nullptr;
   c.mesh_velocity = moving_mesh_->velocity();
+  c.interfaces = trackers_;
   c.time = time_;
   c.dt = dt;
   c.step = step;
@@ -198,6 +199,12 @@ std::vector<ReportFile> DropSimulation::report_files() const {
 
 void DropSimulation::summarise(nlohmann::json& summary) const {
   for (const auto& module : modules_) module->summarise(summary);
+}
+
+std::string DropSimulation::finish_reason() const {
+  for (const auto& module : modules_)
+    if (auto why = module->finished(); !why.empty()) return why;
+  return {};
 }
 
 const ViscoelasticPhases* DropSimulation::viscoelastic() const {

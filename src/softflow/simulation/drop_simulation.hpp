@@ -166,6 +166,8 @@ class DropSimulation {
   [[nodiscard]] std::vector<ReportFile> report_files() const;
   /// Adds every module's final values to summary.json.
   void summarise(nlohmann::json& summary) const;
+  /// The first module's reason to end the run now (StepModule::finished), or "".
+  [[nodiscard]] std::string finish_reason() const;
   /// Whether the run has interface slip (slip.csv, both velocity copies in the fields).
   [[nodiscard]] bool interface_slip() const;
 

@@ -143,7 +143,8 @@ nlohmann::json to_json(const RunLedger& l) {
           {"mesh", l.mesh_report},
           {"steady", l.steady ? steady_samples_json(*l.steady) : nlohmann::json()},
           {"adaptive", l.adaptive ? adaptive_json(*l.adaptive) : nlohmann::json()},
-          {"warnings", l.warnings}};
+          {"warnings", l.warnings},
+          {"finished", l.finished}};
 }
 
 RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config) {
@@ -168,6 +169,7 @@ RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config
     if (l.steady) restore_steady_samples(*l.steady, j.at("steady"));
     if (l.adaptive) l.adaptive = adaptive_from_json(j.at("adaptive"));
     l.warnings = j.value("warnings", std::vector<std::string>{});  // absent before 2026-12-03
+    l.finished = j.value("finished", std::string());                 // absent before 2026-12-04
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("the checkpoint's run record is damaged: {}", e.what()));
   }

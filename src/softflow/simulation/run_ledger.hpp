@@ -61,6 +61,9 @@ struct RunLedger {
   /// What a reader of the results must know (e.g. rows of the time series
   /// lost before a restart); in summary.json, kept across restarts.
   std::vector<std::string> warnings;
+  /// Why a module ended the run before time.end (StepModule::finished), or
+  /// "": a restart of such a run has nothing to do.
+  std::string finished;
 };
 
 /// The monitor of time.steady_tolerance, or none. Centre velocities are

@@ -15,6 +15,7 @@
 #include "softflow/io/case_config.hpp"
 #include "softflow/la/vector_values.hpp"
 #include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/interface/interface_tracker.hpp"
 
 namespace softflow::fem {
 class Field;
@@ -64,6 +65,10 @@ struct StepContext {
   /// multipliers), on every rank; indexed by global dof.
   const la::SelectedEntries* interface_values = nullptr;
   std::span<const mesh::Point> mesh_velocity;
+  /// Every object's interface (1-based object k is interfaces[k - 1]): at
+  /// stage measure its corrected positions x_{n+1}, while the mesh's
+  /// interface nodes are still at the predicted x_hat the flow was solved on.
+  std::span<const physics::InterfaceTracker> interfaces;
   double time = 0.0;
   double dt = 0.0;
   int step = 0;
@@ -109,6 +114,10 @@ class StepModule {
   [[nodiscard]] virtual std::vector<ReportFile> report_files() const { return {}; }
   /// Adds the module's final values to summary.json.
   virtual void summarise(nlohmann::json& /*summary*/) const {}
+  /// After measure: why the run is finished now (e.g. a particle reached a
+  /// neutral height or came too close to a wall), or "" to go on. The run
+  /// then ends as completed, with the reason in summary.json.
+  [[nodiscard]] virtual std::string finished() const { return {}; }
 };
 
 /// What a module is built from: the case, the run's mesh (which outlives the
