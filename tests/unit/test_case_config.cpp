@@ -76,6 +76,9 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.sizing.growth, b.sizing.growth);
   EXPECT_EQ(a.sizing.interior_growth, b.sizing.interior_growth);
   EXPECT_EQ(a.sizing.optimize_high_order, b.sizing.optimize_high_order);
+  EXPECT_EQ(a.sizing.wall_size, b.sizing.wall_size);
+  EXPECT_EQ(a.sizing.gap_elements, b.sizing.gap_elements);
+  EXPECT_EQ(a.blockage_ratio, b.blockage_ratio);
   EXPECT_EQ(a.solver, b.solver);
   EXPECT_EQ(a.rtol, b.rtol);
   EXPECT_EQ(a.max_iterations, b.max_iterations);
@@ -240,6 +243,8 @@ far_size = 2.5
 growth = 0.3
 interior_growth = 0.05
 optimize_high_order = false
+wall_size = 0.8
+gap_elements = 3
 [solver]
 type = "iterative"
 rtol = 1e-6
@@ -258,6 +263,46 @@ steady_window = 6.5
   const CaseConfig second = parse_case(to_toml(first), "another_name.toml");
   expect_same(first, second);
   EXPECT_EQ(to_toml(first), to_toml(second));
+}
+
+// ---- confinement: [cell] blockage_ratio (thesis ch. 3) ----
+
+TEST(CaseConfig, BlockageRatioSetsTheHeightFromTheFirstObject) {
+  // R = (abc)^(1/3) = (2 x 1 x 0.5)^(1/3) = 1: H = 2R / beta = 5.
+  const std::string text = R"(
+[cell]
+blockage_ratio = 0.4
+[[objects]]
+shape = "ellipsoid"
+semi_axes = [2.0, 1.0, 0.5]
+centre = [0.0, 1.35, 0.0]
+[[objects]]
+radius = 0.3
+centre = [5.0, 0.0, 0.0]
+)";
+  const CaseConfig c = parse_case(text, "c.toml");
+  EXPECT_DOUBLE_EQ(c.box.height, 5.0);
+  EXPECT_EQ(c.blockage_ratio, 0.4);
+  const std::string printed = to_toml(c);
+  EXPECT_EQ(printed.find("\nheight = "), std::string::npos) << printed;  // set, not given
+  EXPECT_NE(printed.find("blockage_ratio = 0.4  # height H = 2R / blockage_ratio = 5.0"),
+            std::string::npos)
+      << printed;
+  const CaseConfig again = parse_case(printed, "c.toml");
+  expect_same(c, again);
+  // The blockage the run reports is the one asked for.
+  for (const auto& g : dimensionless_groups(c))
+    if (g.symbol == "beta" && g.object == 1) EXPECT_NEAR(g.value, 0.4, 1e-15);
+}
+
+TEST(CaseConfigErrors, BlockageRatioAndHeightAreAlternatives) {
+  EXPECT_ERROR("[cell]\nheight = 5.0\nblockage_ratio = 0.4\n[[objects]]\n",
+               "cell gives both height = 5.0 and blockage_ratio = 0.4: give only one");
+  EXPECT_ERROR("[cell]\nblockage_ratio = 0.4\n",
+               "cell.blockage_ratio = 0.4: needs an [[objects]] entry");
+  EXPECT_ERROR("[cell]\nblockage_ratio = 1.0\n[[objects]]\n", "cell.blockage_ratio = 1.0: must be in (0, 1)");
+  EXPECT_ERROR("[mesh]\ngap_elements = 0\n", "mesh.gap_elements = 0");
+  EXPECT_ERROR("[mesh]\nwall_size = 0.0\n", "mesh.wall_size = 0.0");
 }
 
 TEST(CaseConfig, ToTomlOfDefaultsRoundTrips) {

@@ -1,6 +1,7 @@
 // gmsh shear cell: node order, volumes, interfaces, periodicity and input validation.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <string>
@@ -511,4 +512,117 @@ TEST(MeshFingerprint, EqualMeshesAgreeAndOneUlpOfOneCoordinateChangesIt) {
   auto regions = m;
   regions.tet_region.front() = 1 - regions.tet_region.front();
   EXPECT_NE(mesh::fingerprint(m), mesh::fingerprint(regions));
+}
+
+// ---------------------------------------------------------------------------
+// Confinement (thesis ch. 3, issue 35). beta = 2R/H = 0.4 and a sphere
+// starting at y_p0 = 0.27 H (R = 1, H = 5: y = 1.35) leave a gap of 0.03 H =
+// 0.15 to the upper wall: a seventh of an interface element at 12 equator
+// nodes (h = 4 pi / 12 = 1.05). The old rule (gap >= h) refused it below 84.
+
+namespace {
+ShearCellSpec confined_cell() {
+  auto spec = small_cell(6, 5, 6, {sphere(Vector3d(0, 1.35, 0), 1.0)});
+  spec.sizing.equator_nodes = 12;
+  return spec;
+}
+}  // namespace
+
+TEST(ShearCellConfinement, TheGapToAWallHasTheStatedElementsAcross) {
+  auto spec = confined_cell();
+  for (const auto [n, equator_nodes] : {std::pair{2, 12}, std::pair{3, 16}}) {
+    spec.sizing.gap_elements = n;
+    spec.sizing.equator_nodes = equator_nodes;  // 3 at 12 nodes: g_min = 0.196 > 0.15
+    geometry::MeshReport report;
+    const auto m = geometry::build_shear_cell(spec, &report);
+    const auto gap = geometry::measure_wall_gap(m, spec.objects[0]);
+    EXPECT_EQ(gap.side, 1);
+    EXPECT_NEAR(gap.gap, 0.15, 1e-12);
+    EXPECT_GE(gap.elements_across(), n) << "mean edge " << gap.mean_edge;
+    EXPECT_GE(gap.tets_crossed, n);
+    EXPECT_GT(report.min_quality, 0.0);
+    std::printf("gap_elements = %d, %d equator nodes: %d tetrahedra crossed, mean edge %.4f, %.2f "
+                "elements across, %d nodes, min quality %.3f, %.2f s\n",
+                n, equator_nodes, gap.tets_crossed, gap.mean_edge, gap.elements_across(), report.n_nodes,
+                report.min_quality, report.seconds);
+  }
+}
+
+TEST(ShearCellConfinement, FarFromTheWallsTheMeshIsTheOneOfBefore) {
+  // Gap 2 >= 3 h (h = 0.63): no gap refinement whatever gap_elements <= 3,
+  // and wall_size unset adds no term: the same mesh to the bit.
+  auto spec = small_cell(6, 6, 6, {sphere(Vector3d::Zero(), 1.0)});
+  geometry::MeshReport unset, one, three;
+  geometry::build_shear_cell(spec, &unset);
+  spec.sizing.gap_elements = 1;
+  geometry::build_shear_cell(spec, &one);
+  spec.sizing.gap_elements = 3;
+  geometry::build_shear_cell(spec, &three);
+  EXPECT_EQ(one.fingerprint, unset.fingerprint);
+  EXPECT_EQ(three.fingerprint, unset.fingerprint);
+  EXPECT_FALSE(unset.wall_gap);
+}
+
+TEST(ShearCellConfinement, UnsetOnlyGapsBelowOneInterfaceElementAreRefined) {
+  // Gap 1.4 = 1.8 h (h = 4 pi / 16 = 0.79), as tests/mpi/two_drops_time.toml: accepted and
+  // meshed before the rule, so unset it keeps that mesh; asked for, 2 across it.
+  auto spec = small_cell(8, 8, 8, {sphere(Vector3d(0, 1.6, 0), 1.0)});
+  spec.sizing.equator_nodes = 16;
+  spec.sizing.far_size = 2.5;
+  geometry::MeshReport unset, asked;
+  const auto m = geometry::build_shear_cell(spec, &unset);
+  EXPECT_FALSE(unset.wall_gap);
+  std::printf("gap 1.4 unset: %.2f elements across\n",
+              geometry::measure_wall_gap(m, spec.objects[0]).elements_across());
+  spec.sizing.gap_elements = 2;
+  geometry::build_shear_cell(spec, &asked);
+  ASSERT_TRUE(asked.wall_gap);
+  EXPECT_EQ(asked.wall_gap->object, 1);
+  EXPECT_GE(asked.wall_gap->elements_across(), 2.0);
+  EXPECT_NE(asked.fingerprint, unset.fingerprint);
+}
+
+TEST(ShearCellConfinement, WallSizeGradesTheMeshTowardsTheWalls) {
+  auto spec = small_cell(6, 6, 6, {sphere(Vector3d::Zero(), 1.0)});
+  auto mean_wall_edge = [](const mesh::Mesh& m) {
+    double sum = 0.0;
+    int count = 0;
+    for (std::size_t f = 0; f < m.boundary_faces.size(); ++f) {
+      const auto& tri = m.boundary_faces[f];
+      for (const auto& e : mesh::kTriangleEdges) {
+        sum += (m.nodes[tri[e[0]]] - m.nodes[tri[e[1]]]).norm();
+        ++count;
+      }
+    }
+    return sum / count;
+  };
+  const double coarse = mean_wall_edge(geometry::build_shear_cell(spec));
+  spec.sizing.wall_size = 0.3;
+  const double fine = mean_wall_edge(geometry::build_shear_cell(spec));
+  EXPECT_GT(coarse, 0.7);
+  EXPECT_LT(fine, 0.45);
+}
+
+TEST(ShearCellValidation, AcceptsTheThesisGapAndRefusesOneTheMeshCannotResolve) {
+  auto spec = confined_cell();
+  EXPECT_EQ(input_error_message(spec), "");
+  // g_min = gap_elements h / 16 = 2 (4 pi / 12) / 16 = 0.131 > 0.1.
+  spec.objects[0].centre.y() = 1.4;
+  const auto msg = input_error_message(spec);
+  EXPECT_NE(msg.find("objects[1]: sphere"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("too close to the wall y = 2.5 (gap 0.1 < g_min = 0.1309"), std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("objects[1].centre"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mesh.equator_nodes ≥ 16"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mesh.gap_elements"), std::string::npos) << msg;
+  // Fewer elements across, or a finer interface, resolve it.
+  spec.sizing.gap_elements = 1;
+  EXPECT_EQ(input_error_message(spec), "");
+  spec.sizing.gap_elements = 2;
+  spec.sizing.equator_nodes = 16;
+  EXPECT_EQ(input_error_message(spec), "");
+  // The lower wall, and an ellipsoid by its extent in y.
+  spec.objects[0] = ellipsoid(Vector3d(0, -1.45, 0), Vector3d(1.2, 1.0, 1.0), Vector3d(0, 0, 90));
+  const auto low = input_error_message(spec);  // extent 1.2: gap -0.15
+  EXPECT_NE(low.find("crosses the wall y = -2.5"), std::string::npos) << low;
 }

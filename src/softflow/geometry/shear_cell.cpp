@@ -13,6 +13,7 @@
 #include <thread>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -74,6 +75,10 @@ void validate_sizing(const MeshSizing& s) {
   if (!positive(s.growth)) throw InputError(fmt::format("mesh.growth = {}: must be > 0", num(s.growth)));
   if (s.interior_growth && !(*s.interior_growth >= 0.0 && std::isfinite(*s.interior_growth)))
     throw InputError(fmt::format("mesh.interior_growth = {}: must be >= 0", num(*s.interior_growth)));
+  if (s.wall_size && !positive(*s.wall_size))
+    throw InputError(fmt::format("mesh.wall_size = {}: must be > 0", num(*s.wall_size)));
+  if (s.gap_elements && *s.gap_elements < 1)
+    throw InputError(fmt::format("mesh.gap_elements = {}: must be an integer >= 1", *s.gap_elements));
 }
 
 void validate_shape(int k, const ObjectSpec& o) {
@@ -97,8 +102,9 @@ Vector3d half_extents(const ObjectSpec& o) {
 }
 
 // The object must stay at least one interface element away from the faces
-// normal to `axis`: closer, gmsh would need elements smaller than h there,
-// and an object cut by a periodic face cannot be meshed as one region.
+// normal to `axis` (x or z; the walls have check_wall): closer, gmsh would
+// need elements smaller than h there, and an object cut by a periodic face
+// cannot be meshed as one region.
 void check_axis(int k, const ObjectSpec& o, const mesh::Box& box, int axis, double h) {
   const double half = 0.5 * std::array{box.length, box.height, box.width}[axis];
   const bool periodic = (axis == 0 && box.periodic_x) || (axis == 2 && box.periodic_z);
@@ -121,6 +127,39 @@ void check_axis(int k, const ObjectSpec& o, const mesh::Box& box, int axis, doub
   throw InputError(
       fmt::format("{}: {} is too close to {} {} = {} (gap {} < h = {}); {}; move it or make it smaller",
                   label(k), describe(o), what, x, num(face), num(half - std::abs(reach)), num(h), rule));
+}
+
+// The walls y = +-H/2: an object may come as close as the mesh resolves with
+// mesh.gap_elements elements across the gap (smallest_wall_gap); the mesher
+// then sizes the gap's elements by its width (wall_gap_element_size).
+void check_wall(int k, const ObjectSpec& o, const mesh::Box& box, const MeshSizing& sizing) {
+  const double smallest = smallest_wall_gap(o, sizing);
+  for (int side : {1, -1}) {
+    const double gap = wall_gap(o, box, side);
+    if (gap >= smallest) continue;
+    const double wall = side * box.height / 2;
+    const double extent = half_extents(o).y();
+    const std::string rule = fmt::format(
+        "allowed: |y_c| + extent ≤ H/2 − g_min = {} with g_min = mesh.gap_elements h / {:g} = {} "
+        "(mesh.gap_elements = {} elements across the gap, each at most {:g} times smaller than "
+        "the interface element h = {} of mesh.equator_nodes = {})",
+        num(box.height / 2 - smallest), kMaxGapRefinement, num(smallest), sizing.elements_across_gaps(),
+        kMaxGapRefinement, num(interface_element_size(o, sizing)), sizing.equator_nodes);
+    if (gap <= 0.0)
+      throw InputError(fmt::format(
+          "{}: {} crosses the wall y = {} (it reaches y = {}); {}; move it ({}.centre), make it "
+          "smaller, or make the cell higher (cell.height or cell.blockage_ratio)",
+          label(k), describe(o), num(wall), num(o.centre.y() + side * extent), rule, label(k)));
+    // The fewest equator nodes that resolve this gap: h0 = 4 pi a_min / N.
+    const double needed = std::ceil(4.0 * M_PI * o.semi_axes.minCoeff() * sizing.elements_across_gaps() /
+                                    (kMaxGapRefinement * gap) - 1e-9);
+    throw InputError(fmt::format(
+        "{}: {} is too close to the wall y = {} (gap {} < g_min = {}, the narrowest gap the mesh "
+        "resolves); {}; move it ({}.centre), make it smaller, make the cell higher (cell.height "
+        "or cell.blockage_ratio), or refine the interface (mesh.equator_nodes ≥ {:.0f} for this "
+        "gap) or ask fewer elements across (mesh.gap_elements)",
+        label(k), describe(o), num(wall), num(gap), num(smallest), rule, label(k), needed));
+  }
 }
 
 // Distance from q (body coordinates, centred) to the ellipsoid with
@@ -245,6 +284,29 @@ double largest_ellipsoid_ratio(int equator_nodes) {
   return std::min(n / 8.0, kMaxLongestCircumferenceNodes / n);
 }
 
+double wall_gap(const ObjectSpec& object, const mesh::Box& box, int side, Vector3d* closest) {
+  // The ellipsoid x = c + M u, |u| = 1, M = R diag(a), reaches furthest along
+  // e_y at u = M^T e_y / |M^T e_y|: y_c + |M^T e_y| (half_extents' y).
+  const Matrix3d m = rotation_matrix(object) * object.semi_axes.asDiagonal();
+  const Vector3d direction = m.row(1).transpose();  // M^T e_y
+  const double extent = direction.norm();
+  if (closest) *closest = object.centre + side * m * direction / extent;
+  return box.height / 2 - side * object.centre.y() - extent;
+}
+
+double wall_gap_element_size(const ObjectSpec& object, const MeshSizing& sizing, double gap) {
+  const double h0 = interface_element_size(object, sizing);
+  const int n = sizing.elements_across_gaps();
+  // Unset, only the gaps the one-element rule of before refused are refined.
+  const double refined_below = sizing.gap_elements ? n * h0 : h0;
+  if (gap >= refined_below) return std::numeric_limits<double>::infinity();
+  return gap / n;
+}
+
+double smallest_wall_gap(const ObjectSpec& object, const MeshSizing& sizing) {
+  return sizing.elements_across_gaps() * interface_element_size(object, sizing) / kMaxGapRefinement;
+}
+
 void validate(const ShearCellSpec& spec) {
   validate_box(spec.box);
   validate_sizing(spec.sizing);
@@ -252,7 +314,8 @@ void validate(const ShearCellSpec& spec) {
     validate_shape(k, spec.objects[k]);
     check_resolution(k, spec.objects[k], spec.sizing);
     const double h = interface_element_size(spec.objects[k], spec.sizing);
-    for (int axis : {1, 0, 2}) check_axis(k, spec.objects[k], spec.box, axis, h);
+    check_wall(k, spec.objects[k], spec.box, spec.sizing);
+    for (int axis : {0, 2}) check_axis(k, spec.objects[k], spec.box, axis, h);
   }
   for (int j = 1; j < static_cast<int>(spec.objects.size()); ++j)
     for (int i = 0; i < j; ++i) check_pair(i, j, spec);
@@ -470,11 +533,35 @@ void set_periodicity(const mesh::Box& box, const CellEntities& e) {
 // the number of objects per query (50 objects: no mesh after 10 minutes);
 // here 50 objects mesh in seconds. The arithmetic is the expression's,
 // term by term, so meshes are unchanged.
+//
+// Two more terms, each only when asked for, so that the meshes of cases
+// without them stay the same to the bit:
+//  - walls (mesh.wall_size): wall_size + growth d_wall, d_wall = H/2 - |y|;
+//  - a gap between object k and a wall that needs refining
+//    (wall_gap_element_size): (d_wall + d_k) / gap_elements. In the
+//    gap, d_wall + d_k is its local width (the gap's narrowest g at the
+//    closest point, widening away from it), so the elements there follow the
+//    gap, on the object's surface as well (d_k = 0: the size is the distance
+//    to the wall over the count); away from the gap the term grows at most
+//    at rate 2 / gap_elements and soon exceeds the others. The count is
+//    asked kGapSizeFactor times over: gmsh's tetrahedra come out larger than
+//    asked there (mean edge 1.32 x the size at the gap's narrowest point,
+//    measured at 12 equator nodes and a gap of 0.15 R), so that the mean
+//    edge of the tetrahedra the gap's shortest segment crosses
+//    (measure_wall_gap) is at most gap / gap_elements.
 class SizeField {
  public:
-  explicit SizeField(const ShearCellSpec& spec) : far_(spec.sizing.far_size) {
+  explicit SizeField(const ShearCellSpec& spec)
+      : far_(spec.sizing.far_size),
+        half_height_(spec.box.height / 2),
+        growth_(spec.sizing.growth),
+        gap_divisor_(kGapSizeFactor * spec.sizing.elements_across_gaps()),
+        wall_size_(spec.sizing.wall_size) {
     for (const auto& o : spec.objects) {
       Term t;
+      for (int side : {1, -1})
+        if (std::isfinite(wall_gap_element_size(o, spec.sizing, wall_gap(o, spec.box, side))))
+          t.gap_walls.push_back(side);
       t.h0 = interface_element_size(o, spec.sizing);
       t.growth = spec.sizing.growth;
       t.interior_growth = spec.sizing.interior_growth.value_or(spec.sizing.growth);
@@ -517,7 +604,10 @@ class SizeField {
       const double distance = t.sphere ? std::abs(r - t.scale) : std::abs(r - 1.0) * t.scale;
       const bool inside = r < (t.sphere ? t.scale : 1.0);
       size = std::min(size, t.h0 + (inside ? t.interior_growth : t.growth) * distance);
+      for (int side : t.gap_walls)
+        size = std::min(size, (half_height_ - side * y + distance) / gap_divisor_);
     }
+    if (wall_size_) size = std::min(size, *wall_size_ + growth_ * (half_height_ - std::abs(y)));
     return size;
   }
 
@@ -528,8 +618,13 @@ class SizeField {
     Vector3d offset = Vector3d::Zero();
     double scale = 1.0;                    ///< sphere: radius; ellipsoid: min semi-axis
     double h0 = 0.0, growth = 0.0, interior_growth = 0.0;
+    std::vector<int> gap_walls;  ///< sides (+1 upper, -1 lower) of walls too close for h0
   };
   double far_;
+  double half_height_;
+  double growth_;
+  double gap_divisor_;  ///< kGapSizeFactor * gap_elements
+  std::optional<double> wall_size_;
   std::vector<Term> terms_;
 };
 
@@ -957,6 +1052,14 @@ MeshReport make_report(const mesh::Mesh& m, const ShearCellSpec& spec, double mi
   r.min_quality = min_quality;
   r.seconds = seconds;
   r.fingerprint = mesh::fingerprint(m);
+  for (int k = 0; k < static_cast<int>(spec.objects.size()); ++k) {
+    const ObjectSpec& o = spec.objects[k];
+    const double gap = std::min(wall_gap(o, spec.box, 1), wall_gap(o, spec.box, -1));
+    if (!std::isfinite(wall_gap_element_size(o, spec.sizing, gap))) continue;
+    if (r.wall_gap && r.wall_gap->gap <= gap) continue;
+    r.wall_gap = measure_wall_gap(m, o);
+    r.wall_gap->object = k + 1;
+  }
   return r;
 }
 
@@ -1073,6 +1176,49 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
     *report = make_report(m, spec, q,
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return m;
+}
+
+WallGapResolution measure_wall_gap(const mesh::Mesh& m, const ObjectSpec& object) {
+  WallGapResolution r;
+  r.side = wall_gap(object, m.box, 1) <= wall_gap(object, m.box, -1) ? 1 : -1;
+  Vector3d p;
+  r.gap = wall_gap(object, m.box, r.side, &p);
+  if (!(r.gap > 0.0)) return r;
+  const Vector3d q(p.x(), r.side * m.box.height / 2, p.z());  // the segment p -> q, along y
+  const double y_lo = std::min(p.y(), q.y()), y_hi = std::max(p.y(), q.y());
+  double edges = 0.0;
+  for (int t = 0; t < m.n_tets(); ++t) {
+    if (m.tet_region[t] != 0) continue;
+    std::array<Vector3d, 4> v;
+    for (int k = 0; k < 4; ++k) v[k] = m.nodes[m.tets[t][k]];
+    Vector3d lo = v[0], hi = v[0];
+    for (const auto& x : v) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    if (p.x() < lo.x() || p.x() > hi.x() || p.z() < lo.z() || p.z() > hi.z() || hi.y() < y_lo ||
+        lo.y() > y_hi)
+      continue;
+    // Barycentric coordinates along the segment, lambda(s) = l0 + s dl, s in [0, 1].
+    Matrix3d e;
+    for (int k = 0; k < 3; ++k) e.col(k) = v[k + 1] - v[0];
+    const Matrix3d inverse = e.inverse();
+    const Vector3d a = inverse * (p - v[0]), b = inverse * (q - v[0]);
+    const std::array<double, 4> l0{1.0 - a.sum(), a.x(), a.y(), a.z()};
+    const std::array<double, 4> l1{1.0 - b.sum(), b.x(), b.y(), b.z()};
+    double s0 = 0.0, s1 = 1.0;
+    for (int k = 0; k < 4; ++k) {
+      const double d = l1[k] - l0[k];
+      if (d > 0.0) s0 = std::max(s0, -l0[k] / d);
+      else if (d < 0.0) s1 = std::min(s1, -l0[k] / d);
+      else if (l0[k] < 0.0) s1 = -1.0;
+    }
+    if (s1 - s0 <= 1e-9) continue;
+    ++r.tets_crossed;
+    for (const auto& edge : mesh::kTetEdges) edges += (v[edge[0]] - v[edge[1]]).norm();
+  }
+  if (r.tets_crossed > 0) r.mean_edge = edges / (6.0 * r.tets_crossed);
+  return r;
 }
 
 }  // namespace softflow::geometry

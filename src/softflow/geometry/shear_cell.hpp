@@ -42,12 +42,40 @@ struct MeshSizing {
   std::optional<double> interior_growth;
   /// Run gmsh's high-order optimisation (fixes inverted curved elements).
   bool optimize_high_order = true;
+  /// Element size at the walls y = +-H/2, growing away from them like the
+  /// interface's: h(d_wall) = wall_size + growth * d_wall. Unset: no wall
+  /// grading (far_size reaches the walls), the meshes of before the key.
+  std::optional<double> wall_size;
+  /// At least this many elements across the gap between an object and a
+  /// wall narrower than gap_elements interface elements (see
+  /// wall_gap_element_size): the elements in such a gap follow its width,
+  /// also on the object's surface facing the wall, whatever the interface
+  /// size; only a gap narrower than smallest_wall_gap is refused. Unset:
+  /// kDefaultGapElements across the gaps narrower than one interface element
+  /// only (those validate() refused before the rule), so that every mesh
+  /// made before it stays the same to the bit.
+  std::optional<int> gap_elements;
+  static constexpr int kDefaultGapElements = 2;
+  [[nodiscard]] int elements_across_gaps() const { return gap_elements.value_or(kDefaultGapElements); }
 };
 
 struct ShearCellSpec {
   mesh::Box box;
   std::vector<ObjectSpec> objects;
   MeshSizing sizing;
+};
+
+/// How a mesh resolves the gap between an object and a wall, measured along
+/// the shortest segment from the object's surface to the wall.
+struct WallGapResolution {
+  int object = 0;        ///< 1-based
+  int side = 0;          ///< +1 upper wall, -1 lower
+  double gap = 0.0;      ///< the segment's length
+  int tets_crossed = 0;  ///< matrix tetrahedra the segment passes through
+  /// The mean edge length of those tetrahedra (their straight edges).
+  double mean_edge = 0.0;
+  /// gap / mean_edge: the elements across the gap, as mesh.gap_elements counts them.
+  [[nodiscard]] double elements_across() const { return mean_edge > 0.0 ? gap / mean_edge : 0.0; }
 };
 
 /// What the mesher reports.
@@ -65,6 +93,9 @@ struct MeshReport {
   /// mesh::fingerprint of the result: equal fingerprints, the same mesh to
   /// the bit (how a user checks that a case meshes reproducibly).
   std::uint64_t fingerprint = 0;
+  /// The narrowest object-wall gap that needed refining (narrower than
+  /// gap_elements interface elements), as meshed; empty when none did.
+  std::optional<WallGapResolution> wall_gap;
 };
 
 /// Body orientation of an object: R = Rz * Ry * Rx (rotation_deg, degrees);
@@ -73,7 +104,8 @@ Eigen::Matrix3d rotation_matrix(const ObjectSpec& object);
 
 /// Interface element size h0 = 2 pi r / (equator_nodes / 2), r the object's
 /// smallest semi-axis: the mesh size on the object's surface, and the
-/// minimum gap validate() demands between the object and anything else.
+/// minimum gap validate() demands between the object and another object or
+/// a periodic face (walls: smallest_wall_gap).
 double interface_element_size(const ObjectSpec& object, const MeshSizing& sizing);
 
 /// The most elongated ellipsoid (a_max / a_min) that `equator_nodes` mesh,
@@ -93,10 +125,48 @@ double interface_element_size(const ObjectSpec& object, const MeshSizing& sizing
 double largest_ellipsoid_ratio(int equator_nodes);
 inline constexpr double kMaxLongestCircumferenceNodes = 150.0;
 
-/// Checks the spec (objects inside the box, away from walls and periodic
-/// faces, not overlapping, ellipsoids the mesh resolves). Throws InputError
-/// naming the offending object (1-based index, as in the case file) and
-/// what is wrong.
+/// The gap between an object and the wall y = side * H/2 (side = +1 the
+/// upper wall, -1 the lower): H/2 - side * y_c - (the object's half extent in
+/// y); negative when the object crosses the wall. `closest` receives the
+/// object's point nearest that wall.
+double wall_gap(const ObjectSpec& object, const mesh::Box& box, int side,
+                Eigen::Vector3d* closest = nullptr);
+
+/// The element size across the gap g between an object and a wall when that
+/// gap needs refining: g / n, n = sizing.elements_across_gaps(), when g is
+/// narrower than n interface elements h0 (mesh.gap_elements given) or than
+/// one (unset, the default). The mesher then sizes elements near the gap as
+/// (d_wall + d_object) / (kGapSizeFactor n), the local gap width over the
+/// count, on the object's surface too. +inf otherwise: no gap term, the mesh
+/// of before the rule, to the bit.
+double wall_gap_element_size(const ObjectSpec& object, const MeshSizing& sizing, double gap);
+
+/// The mesher asks kGapSizeFactor * gap_elements elements across a narrow
+/// object-wall gap, so that gap_elements are there by measure_wall_gap's
+/// count (gap / mean edge of the tetrahedra its shortest segment crosses).
+inline constexpr double kGapSizeFactor = 1.5;
+
+/// Gap elements may be at most this many times smaller than the interface
+/// elements: the smallest wall gap validate() accepts is
+/// gap_elements h0 / kMaxGapRefinement (h0 the interface element size).
+/// Measured (docs/confinement.md): a sphere at 16 equator nodes with a gap of
+/// 0.15 R (the thesis's beta = 0.4, y_p0 = 0.27 H) refines 10.5x and meshes
+/// in about a second; see the table there for smaller gaps.
+inline constexpr double kMaxGapRefinement = 16.0;
+
+/// gap_elements h0 / kMaxGapRefinement: the narrowest gap between `object`
+/// and a wall the mesh resolves with `sizing`.
+double smallest_wall_gap(const ObjectSpec& object, const MeshSizing& sizing);
+
+/// The resolution of the gap between `object` and its nearer wall in `mesh`
+/// (`object` = 0 in the result: the caller knows which it is).
+WallGapResolution measure_wall_gap(const mesh::Mesh& mesh, const ObjectSpec& object);
+
+/// Checks the spec (objects inside the box, at least smallest_wall_gap from
+/// the walls and one interface element from periodic faces and each other,
+/// ellipsoids the mesh resolves). Throws InputError naming the offending
+/// object (1-based index, as in the case file), what is wrong and the keys
+/// that change it.
 void validate(const ShearCellSpec& spec);
 
 /// The note printed when gmsh has meshed `spec` for `seconds`: what in the

@@ -311,6 +311,43 @@ void check_slip(const TableRead& t, const CaseConfig& c, const ObjectConfig& o,
                          physics::viscoelastic::to_string(o.model)));
 }
 
+/// The height from [cell] blockage_ratio beta = 2R/H (thesis ch. 3), R the
+/// equivalent radius (abc)^(1/3) of objects[1]: H = 2R / beta. It replaces
+/// the height, so the two together are ambiguous and refused.
+void resolve_height(const TableRead& cell, const std::vector<TableRead>& objects, CaseConfig& c,
+                    Diagnostics& diag) {
+  const Read beta_read = cell.status("blockage_ratio");
+  if (beta_read != Read::ok) {
+    c.blockage_ratio.reset();  // absent, or bad (reported)
+    return;
+  }
+  const Value& beta = *cell.value("blockage_ratio");
+  if (cell.status("height") != Read::absent) {
+    diag.error(fmt::format(
+        "cell gives both height = {} and blockage_ratio = {}: give only one (blockage_ratio sets "
+        "the height, H = 2R / beta with R = (abc)^(1/3) of objects[1])",
+        schema::describe(*cell.value("height")), schema::describe(beta)));
+    return;
+  }
+  if (c.objects.empty()) {
+    diag.error(cell.path("blockage_ratio"), beta,
+               "needs an [[objects]] entry: beta = 2R / H with R = (abc)^(1/3), the equivalent "
+               "radius of objects[1]; without objects give cell.height");
+    return;
+  }
+  for (const char* key : {"shape", "radius", "semi_axes"})
+    if (objects[0].status(key) == Read::bad) return;  // R unknown (reported)
+  const double height = 2.0 * mean_radius(c.objects[0].geometry) / *c.blockage_ratio;
+  if (!(std::isfinite(height) && height > 0.0)) {
+    diag.error(cell.path("blockage_ratio"), beta,
+               fmt::format("gives the height H = 2R / beta = {}, beyond the range of a double: "
+                           "state the case in other units",
+                           height));
+    return;
+  }
+  c.box.height = height;
+}
+
 /// Stopping at steady state (time.steady_tolerance > 0) needs objects to
 /// watch, a latest time, a flow that can become steady, and a window the
 /// run can cover.
@@ -725,6 +762,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   }
 
   // 2. What several keys decide together.
+  resolve_height(read["cell"], objects_read, c, diag);
   check_output_directory(read["case"], read["output"], c, diag);
   check_time(read["time"], c, diag);
   const bool matrix_ok = resolve_matrix(read["matrix"], c, diag);

@@ -134,7 +134,11 @@ struct InterfaceConfig {
 /// A validated case. Every field holds a usable value: defaults are filled in.
 struct CaseConfig {
   std::string name;                             ///< [case] name; default: the file stem
-  mesh::Box box{30.0, 30.0, 30.0, true, true};  ///< [cell]
+  mesh::Box box{30.0, 30.0, 30.0, true, true};  ///< [cell]; height resolved from blockage_ratio if given
+  /// [cell] blockage_ratio beta = 2R/H as the file gives it (thesis ch. 3),
+  /// R = mean_radius of objects[1]; box.height = 2R / beta then. Empty when
+  /// the file gives the height (or neither: the default height).
+  std::optional<double> blockage_ratio;
   /// [matrix] model: Newtonian, Oldroyd-B, Giesekus or UCM.
   physics::viscoelastic::ConstitutiveModel matrix_model =
       physics::viscoelastic::ConstitutiveModel::newtonian;

@@ -75,7 +75,21 @@ Table<CaseConfig> cell_table() {
           {number("length", box(&mesh::Box::length), 30.0, Range::above(0),
                   "L along x, the flow direction"),
            number("height", box(&mesh::Box::height), 30.0, Range::above(0),
-                  "H along y, the velocity gradient; the walls are at y = +-H/2"),
+                  "H along y, the velocity gradient; the walls are at y = +-H/2. Give this or "
+                  "blockage_ratio, not both")
+               // Written only when it was not computed from blockage_ratio.
+               .printed_if([](const CaseConfig& c) { return !c.blockage_ratio; }),
+           optional_number("blockage_ratio", field(&CaseConfig::blockage_ratio),
+                           Computed{"2R / height"}, Range::open(0, 1),
+                           "beta = 2R / H, the confinement of thesis ch. 3: sets the height "
+                           "H = 2R / beta, R = (abc)^(1/3) the equivalent radius of objects[1] "
+                           "(needs an [[objects]] entry). Give this or height, not both; an "
+                           "off-centre start y_p0 (in units of H, as the thesis) is objects[1]."
+                           "centre = [0, y_p0 H, 0]")
+               .with_comment([](const CaseConfig& c) {
+                 return fmt::format("height H = 2R / blockage_ratio = {}",
+                                    toml_float(c.box.height));
+               }),
            number("width", box(&mesh::Box::width), 30.0, Range::above(0),
                   "W along z, the vorticity direction"),
            boolean("periodic_x", box(&mesh::Box::periodic_x), true,
@@ -260,7 +274,25 @@ Table<CaseConfig> mesh_table() {
                        "interface size throughout (resolves a particle's or viscoelastic drop's "
                        "stress, and gives a strongly deformed object interior vertices to move)"),
        boolean("optimize_high_order", sizing(&geometry::MeshSizing::optimize_high_order), true,
-               "let gmsh untangle curved P2 elements")}};
+               "let gmsh untangle curved P2 elements"),
+       optional_number("wall_size", sizing(&geometry::MeshSizing::wall_size),
+                       Computed{"none: far_size reaches the walls"}, Range::above(0),
+                       "element size at the walls y = +-H/2, growing away from them as "
+                       "wall_size + growth * distance (the mesh is graded towards the walls as "
+                       "towards the interfaces)"),
+       optional_integer("gap_elements", sizing(&geometry::MeshSizing::gap_elements),
+                        Computed{"2 across gaps narrower than one interface element"},
+                        Range::at_least(1),
+                        fmt::format("at least this many elements across the gap g between an "
+                                    "object and a wall narrower than gap_elements interface "
+                                    "elements: its elements follow its local width, on the "
+                                    "object's surface facing the wall too. Unset: 2 across gaps "
+                                    "narrower than one interface element only (wider ones keep "
+                                    "the mesh graded from the interface, as before the key). An "
+                                    "object closer to a wall than g_min = gap_elements h / {:g} "
+                                    "(h = 4 pi a_min / equator_nodes, the interface element "
+                                    "size) is refused",
+                                    geometry::kMaxGapRefinement))}};
 }
 
 Table<CaseConfig> solver_table() {

@@ -325,6 +325,25 @@ Key<Target> optional_number(std::string name, Field<Target, std::optional<double
   return k;
 }
 
+/// An integer that may stay unset (its meaning unset is described in words).
+template <class Target>
+Key<Target> optional_integer(std::string name, Field<Target, std::optional<int>> f, Computed d,
+                             Range range, std::string doc) {
+  Key<Target> k;
+  k.name = std::move(name);
+  k.type = KeyType::integer;
+  k.range = range;
+  k.default_text = std::move(d.how);
+  k.default_in_words = true;
+  k.doc = std::move(doc);
+  k.read = detail::ranged_reader<Target>(f.set, range, &detail::read_integer);
+  k.print = [get = f.get](const Target& t) -> std::optional<std::string> {
+    const auto x = get(t);
+    return x ? std::optional<std::string>(std::to_string(*x)) : std::nullopt;
+  };
+  return k;
+}
+
 /// An integer; a float is refused, even 40.0 (a count written as a float is
 /// usually a mistaken key, and truncating it would hide that).
 template <class Target>

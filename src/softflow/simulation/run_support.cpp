@@ -71,6 +71,13 @@ MeshedCase mesh_here(const io::CaseConfig& config) {
                 {"min_quality", r.min_quality},
                 {"seconds", r.seconds},
                 {"fingerprint", fmt::format("{:016x}", r.fingerprint)}};
+  if (r.wall_gap)  // an object close to a wall: how its gap was meshed
+    out.report["wall_gap"] = {{"object", r.wall_gap->object},
+                              {"wall_y", r.wall_gap->side * config.box.height / 2},
+                              {"gap", r.wall_gap->gap},
+                              {"elements_across", r.wall_gap->elements_across()},
+                              {"tetrahedra_crossed", r.wall_gap->tets_crossed},
+                              {"gap_elements_requested", config.sizing.elements_across_gaps()}};
   return out;
 }
 

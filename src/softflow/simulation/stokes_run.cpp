@@ -67,6 +67,14 @@ nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet) {
                meshed.report["object_interior_vertices"].get<int>(),
                meshed.report["min_quality"].get<double>(), meshed.report["seconds"].get<double>(),
                meshed.report["fingerprint"].get<std::string>());
+  if (!quiet && is_root() && meshed.report.contains("wall_gap")) {
+    const auto& g = meshed.report["wall_gap"];
+    fmt::print("wall gap: objects[{}] to the wall y = {:g}: {:.4g} wide, {:.2f} elements across "
+               "({} asked, mesh.gap_elements), {} tetrahedra crossed\n",
+               g["object"].get<int>(), g["wall_y"].get<double>(), g["gap"].get<double>(),
+               g["elements_across"].get<double>(), g["gap_elements_requested"].get<int>(),
+               g["tetrahedra_crossed"].get<int>());
+  }
   return meshed.report;
 }
 
