@@ -55,19 +55,19 @@ if "min quality" not in meshed:
     fail(f"softflow mesh: no report:\n{meshed}")
 print(meshed.strip())
 
-# 3. Too close for the mesh: gap 0.05 < g_min = 2 (4 pi / 16) / 16 = 0.098.
+# 3. Too close for the mesh: gap 0.02 < g_min = 2 (4 pi / 16) / 64 = 0.0245.
 close = write("too_close.toml", """
 [cell]
 blockage_ratio = 0.4
 [[objects]]
-centre = [0.0, 1.45, 0.0]
+centre = [0.0, 1.48, 0.0]
 [mesh]
 equator_nodes = 16
 """)
 refused = run([softflow, "check", close], expect=1).stderr
-for expected in ("objects[1]: sphere at (0, 1.45, 0) with radius 1 is too close to the wall y = 2.5",
-                 "gap 0.05 < g_min = 0.0981748", "objects[1].centre", "cell.blockage_ratio",
-                 "mesh.equator_nodes ≥ 32", "mesh.gap_elements"):
+for expected in ("objects[1]: sphere at (0, 1.48, 0) with radius 1 is too close to the wall y = 2.5",
+                 "gap 0.02 < g_min = 0.0245437", "objects[1].centre", "cell.blockage_ratio",
+                 "mesh.equator_nodes ≥ 20", "mesh.gap_elements"):
     if expected not in refused:
         fail(f"softflow check {close}: the refusal lacks '{expected}':\n{refused}")
 print("check refuses a gap the mesh cannot resolve:", refused.strip())

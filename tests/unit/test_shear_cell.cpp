@@ -606,20 +606,20 @@ TEST(ShearCellConfinement, WallSizeGradesTheMeshTowardsTheWalls) {
 TEST(ShearCellValidation, AcceptsTheThesisGapAndRefusesOneTheMeshCannotResolve) {
   auto spec = confined_cell();
   EXPECT_EQ(input_error_message(spec), "");
-  // g_min = gap_elements h / 16 = 2 (4 pi / 12) / 16 = 0.131 > 0.1.
-  spec.objects[0].centre.y() = 1.4;
+  // g_min = gap_elements h / 64 = 2 (4 pi / 12) / 64 = 0.0327 > 0.02.
+  spec.objects[0].centre.y() = 1.48;
   const auto msg = input_error_message(spec);
   EXPECT_NE(msg.find("objects[1]: sphere"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("too close to the wall y = 2.5 (gap 0.1 < g_min = 0.1309"), std::string::npos)
+  EXPECT_NE(msg.find("too close to the wall y = 2.5 (gap 0.02 < g_min = 0.0327249"), std::string::npos)
       << msg;
   EXPECT_NE(msg.find("objects[1].centre"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("mesh.equator_nodes ≥ 16"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mesh.equator_nodes ≥ 20"), std::string::npos) << msg;
   EXPECT_NE(msg.find("mesh.gap_elements"), std::string::npos) << msg;
   // Fewer elements across, or a finer interface, resolve it.
   spec.sizing.gap_elements = 1;
   EXPECT_EQ(input_error_message(spec), "");
   spec.sizing.gap_elements = 2;
-  spec.sizing.equator_nodes = 16;
+  spec.sizing.equator_nodes = 20;
   EXPECT_EQ(input_error_message(spec), "");
   // The lower wall, and an ellipsoid by its extent in y.
   spec.objects[0] = ellipsoid(Vector3d(0, -1.45, 0), Vector3d(1.2, 1.0, 1.0), Vector3d(0, 0, 90));

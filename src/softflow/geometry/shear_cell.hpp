@@ -149,10 +149,14 @@ inline constexpr double kGapSizeFactor = 1.5;
 /// Gap elements may be at most this many times smaller than the interface
 /// elements: the smallest wall gap validate() accepts is
 /// gap_elements h0 / kMaxGapRefinement (h0 the interface element size).
-/// Measured (docs/confinement.md): a sphere at 16 equator nodes with a gap of
-/// 0.15 R (the thesis's beta = 0.4, y_p0 = 0.27 H) refines 10.5x and meshes
-/// in about a second; see the table there for smaller gaps.
-inline constexpr double kMaxGapRefinement = 16.0;
+/// Measured (docs/confinement.md; beta = 0.4, L = W = 20 R): gmsh meshes
+/// such gaps well at any refinement tried (min quality 0.19-0.31 down to a
+/// gap of 0.01 R at 16 equator nodes, 157 times smaller elements), but the
+/// mesh grows like R / gap, the gap's refinement soon outweighing the
+/// interface's: 17k nodes at a gap of 0.15 R (the thesis's y_p0 = 0.27 H),
+/// 43k at 0.05 R, 80k at 0.025 R, 191k at 0.01 R. 64 keeps a sphere's mesh
+/// below about 100k nodes at 16-28 equator nodes.
+inline constexpr double kMaxGapRefinement = 64.0;
 
 /// gap_elements h0 / kMaxGapRefinement: the narrowest gap between `object`
 /// and a wall the mesh resolves with `sizing`.
