@@ -52,6 +52,7 @@
 #include "softflow/io/run_lock.hpp"
 #include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/drop_run.hpp"
+#include "softflow/simulation/migration_curves.hpp"
 #include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "softflow/simulation/stokes_run.hpp"
@@ -384,6 +385,23 @@ int main(int argc, char** argv) {
   converge->add_option("--wall-time-limit", wall_time_limit,
                        "stop before this much wall time has passed; run again to resume");
 
+  std::vector<std::string> migration_runs;
+  double migration_transient = 5.0;
+  std::string migration_out = "migration";
+  auto* migration = app.add_subcommand(
+      "migration",
+      "combine runs of one particle started at different heights into the migration master "
+      "curves v_p(y_p) and Delta S(y_p), the neutral heights and the near-centre slope against "
+      "eq. 3.8 (migration.md, migration_curves.csv, migration.png)");
+  migration->add_option("directories", migration_runs, "run output directories (each with migration.csv)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  migration->add_option("--transient", migration_transient,
+                        "drop each run's rows before this time: the start, where the particle "
+                        "deforms from a sphere")
+      ->capture_default_str();
+  migration->add_option("-o,--output", migration_out, "where the curves go")->capture_default_str();
+
   double lambda = 1.0, ca = 0.1;
   auto* theory = app.add_subcommand(
       "theory", "small-deformation theory: Taylor D (eq. 1.1), Chaffey-Brenner theta (eq. 2.59), ...");
@@ -509,6 +527,22 @@ int main(int argc, char** argv) {
       if (*converge)
         return softflow::simulation::run_convergence(case_file, converge_options, sweep_options);
       return softflow::simulation::run_sweep(case_file, sweep_options);
+    } catch (const softflow::InputError& e) {
+      error_stream() << "softflow: " << e.what() << "\n";
+      return kInputError;
+    } catch (const std::exception& e) {
+      error_stream() << "softflow: error: " << e.what() << "\n";
+      return kOtherError;
+    }
+  }
+
+  if (*migration) {  // no PETSc: post-processing of finished runs
+    try {
+      std::vector<std::filesystem::path> dirs(migration_runs.begin(), migration_runs.end());
+      const auto curves = softflow::simulation::assemble_migration(dirs, migration_transient);
+      softflow::simulation::write_migration(curves, migration_out);
+      if (!quiet) std::cout << fmt::format("wrote {}/migration.md\n", migration_out);
+      return kOk;
     } catch (const softflow::InputError& e) {
       error_stream() << "softflow: " << e.what() << "\n";
       return kInputError;

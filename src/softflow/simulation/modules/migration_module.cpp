@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include <fmt/format.h>
 
@@ -28,8 +27,9 @@ const io::ReportTable<MigrationRow>& migration_table() {
           {"object", "", "object number", kInteger, [](const MigrationRow& r) { return r.object.object; }},
           {"y_p", "length", "centre of volume, y (0: the centre plane)", kFull,
            [](const MigrationRow& r) { return r.object.centre.y(); }},
-          {"y_p_over_H", "", "y_p / H: the thesis's height (eqs. 3.7-3.8)", kFull,
-           [](const MigrationRow& r) { return r.object.centre.y() / r.object.height; }},
+          {"y_p_rel", "", "y_p / y_p,max, y_p,max = H/2 - R the highest centre a sphere of the "
+           "object's volume can reach (the abscissa of eqs. 3.7-3.8)", kFull,
+           [](const MigrationRow& r) { return r.object.centre.y() / (0.5 * r.object.height - r.object.radius); }},
           {"v_p", "length/time", "migration velocity dy_p/dt (the BDF derivative of the centre)", kFull,
            [](const MigrationRow& r) { return r.object.migration_velocity; }},
           {"delta_s", "", "Delta S = (S(n_y > 0) - S(n_y < 0)) / (S / 2), eq. 3.6: > 0 when more "
@@ -47,7 +47,12 @@ const io::ReportTable<MigrationRow>& migration_table() {
 }
 
 MigrationModule::MigrationModule(const ModuleSetup& setup)
-    : half_height_(setup.config.box.height / 2.0), min_wall_gap_(setup.config.time.min_wall_gap) {}
+    : half_height_(setup.config.box.height / 2.0), min_wall_gap_(setup.config.time.min_wall_gap) {
+  for (const auto& object : setup.config.objects) {
+    const auto& a = object.geometry.semi_axes;
+    radii_.push_back(std::cbrt(a.x() * a.y() * a.z()));
+  }
+}
 
 bool MigrationModule::wanted(const io::CaseConfig& config) { return !config.objects.empty(); }
 
@@ -62,7 +67,7 @@ void MigrationModule::measure(const StepContext& context, StepReport& report) {
     s.object = static_cast<int>(k) + 1;
     s.centre = m.centre;
     s.imbalance = m.imbalance;
-    s.radius = std::cbrt(3.0 * m.volume / (4.0 * std::numbers::pi));
+    s.radius = radii_.at(k);
     s.height = 2.0 * half_height_;
     for (const auto& o : report.objects)
       if (o.object == s.object) s.migration_velocity = o.centre_velocity.y();

@@ -22,7 +22,7 @@ struct MigrationState {
   /// (+1 the upper, y = H/2; -1 the lower).
   double wall_gap = 0.0;
   int nearest_wall = 1;
-  double radius = 1.0;  ///< (3 V / 4 pi)^(1/3) of the object now
+  double radius = 1.0;  ///< R = (abc)^(1/3) of the case's object
   double height = 1.0;  ///< H, the distance between the walls
 };
 
@@ -56,6 +56,7 @@ class MigrationModule final : public StepModule {
 
  private:
   double half_height_;
+  std::vector<double> radii_;  // R = (abc)^(1/3) per object, as the case gives it
   double min_wall_gap_;  // in radii; 0 = off
   double time_ = 0.0;
   std::vector<MigrationState> last_;

@@ -1,0 +1,172 @@
+#include "softflow/simulation/migration_curves.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/io/case_config.hpp"
+#include "softflow/io/output_directory.hpp"
+#include "softflow/simulation/run_support.hpp"
+
+namespace softflow::simulation {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The rows of a CSV file as name -> value maps.
+std::vector<std::map<std::string, double>> read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot read it (a run of softflow with objects writes it)", path.string()));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::stringstream header(line); std::getline(header, line, ',');) names.push_back(line);
+  std::vector<std::map<std::string, double>> rows;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::map<std::string, double> row;
+    std::stringstream cells(line);
+    std::string cell;
+    for (std::size_t c = 0; c < names.size() && std::getline(cells, cell, ','); ++c) {
+      try {
+        row[names[c]] = std::stod(cell);
+      } catch (const std::exception&) {
+        row[names[c]] = std::nan("");
+      }
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+double field(const std::map<std::string, double>& row, const std::string& name, const fs::path& file) {
+  const auto it = row.find(name);
+  if (it == row.end())
+    throw InputError(fmt::format("{}: no column '{}' (written by an older softflow?)", file.string(), name));
+  return it->second;
+}
+
+}  // namespace
+
+MigrationCurves assemble_migration(const std::vector<fs::path>& directories, double transient) {
+  if (directories.empty()) throw InputError("softflow migration: give the run directories to combine");
+  if (!(transient >= 0.0))
+    throw InputError(fmt::format("--transient = {:g}: must be a time >= 0", transient));
+  MigrationCurves curves;
+  curves.transient = transient;
+  for (std::size_t r = 0; r < directories.size(); ++r) {
+    const fs::path& dir = directories[r];
+    const auto config = io::read_case_file(dir / "case.toml");
+    if (config.objects.empty())
+      throw InputError(fmt::format("{}: the case has no object", dir.string()));
+    const auto& object = config.objects.front();
+    const auto& a = object.geometry.semi_axes;
+    const double radius = std::cbrt(a.x() * a.y() * a.z());
+    const double beta = 2.0 * radius / config.box.height;
+    const double ca_e = io::elastic_capillary_number(config, object).value_or(0.0);
+    if (r == 0) {
+      curves.blockage_ratio = beta;
+      curves.capillary_number = ca_e;
+    } else if (std::abs(beta - curves.blockage_ratio) > 1e-9 ||
+               std::abs(ca_e - curves.capillary_number) > 1e-12) {
+      throw InputError(fmt::format(
+          "{}: beta = {:g}, Ca_e = {:g}, but {} has beta = {:g}, Ca_e = {:g}: a master curve "
+          "combines runs of one particle and flow from different starts",
+          dir.string(), beta, ca_e, directories.front().string(), curves.blockage_ratio,
+          curves.capillary_number));
+    }
+    curves.runs.push_back(dir);
+    const fs::path file = dir / "migration.csv";
+    for (const auto& row : read_csv(file)) {
+      if (field(row, "object", file) != 1.0) continue;
+      MigrationPoint p;
+      p.run = static_cast<int>(r);
+      p.t = field(row, "t", file);
+      if (p.t < transient) continue;
+      p.y_p = field(row, "y_p", file);
+      p.y_rel = field(row, "y_p_rel", file);
+      p.v_p = field(row, "v_p", file);
+      p.delta_s = field(row, "delta_s", file);
+      if (std::isfinite(p.v_p) && std::isfinite(p.y_rel)) curves.points.push_back(p);
+    }
+  }
+  std::sort(curves.points.begin(), curves.points.end(),
+            [](const MigrationPoint& a, const MigrationPoint& b) { return a.y_rel < b.y_rel; });
+  const auto& pts = curves.points;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    const auto& a = pts[i];
+    const auto& b = pts[i + 1];
+    if (a.v_p == 0.0 || (a.v_p > 0.0) == (b.v_p > 0.0)) continue;
+    NeutralHeight n;
+    n.y_rel = a.y_rel + (b.y_rel - a.y_rel) * a.v_p / (a.v_p - b.v_p);
+    n.error = 0.5 * (b.y_rel - a.y_rel);
+    n.stable = a.v_p > 0.0;
+    curves.neutral.push_back(n);
+  }
+  // Eq. 3.7: v_p linear in y_rel near the centre plane, through the origin.
+  double syy = 0.0, syv = 0.0;
+  for (const auto& p : pts)
+    if (std::abs(p.y_rel) <= 0.1) {
+      syy += p.y_rel * p.y_rel;
+      syv += p.y_rel * p.v_p;
+      ++curves.slope_points;
+    }
+  if (curves.slope_points >= 2 && syy > 0.0) {
+    const double s = syv / syy;
+    double residual = 0.0, scale = 0.0;
+    for (const auto& p : pts)
+      if (std::abs(p.y_rel) <= 0.1) {
+        residual += std::pow(p.v_p - s * p.y_rel, 2);
+        scale += p.v_p * p.v_p;
+      }
+    curves.slope = s;
+    curves.slope_residual = scale > 0.0 ? std::sqrt(residual / scale) : 0.0;
+  }
+  curves.theory_slope = -2.0 * std::pow(curves.blockage_ratio, 3) * curves.capillary_number;  // eq. 3.8
+  return curves;
+}
+
+void write_migration(const MigrationCurves& c, const fs::path& out) {
+  std::string csv = "run,t,y_p,y_p_rel,v_p,delta_s\n";
+  for (const auto& p : c.points)
+    csv += fmt::format("{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", p.run, p.t, p.y_p, p.y_rel,
+                       p.v_p, p.delta_s);
+  std::string md = fmt::format(
+      "# Migration master curves\n\nbeta = 2R/H = {:.4g}, Ca_e = {:g}; rows with t < {:g} dropped "
+      "(the initial transient); {} points from {} runs. Generated by `softflow migration`.\n\n"
+      "| run | directory | points kept |\n|---|---|---|\n",
+      c.blockage_ratio, c.capillary_number, c.transient, c.points.size(), c.runs.size());
+  for (std::size_t r = 0; r < c.runs.size(); ++r)
+    md += fmt::format("| {} | {} | {} |\n", r, c.runs[r].string(),
+                      std::count_if(c.points.begin(), c.points.end(),
+                                    [r](const MigrationPoint& p) { return p.run == static_cast<int>(r); }));
+  md += "\n## Neutral heights (v_p = 0)\n\n";
+  if (c.neutral.empty()) md += "None among the kept points.\n";
+  else {
+    md += "| y_p / y_p,max | +- | kind |\n|---|---|---|\n";
+    for (const auto& n : c.neutral)
+      md += fmt::format("| {:.4f} | {:.4f} | {} |\n", n.y_rel, n.error,
+                        n.stable ? "stable (particles gather)" : "unstable");
+  }
+  md += "\n## Near the centre plane (|y_p / y_p,max| <= 0.1, eq. 3.7)\n\n";
+  if (c.slope)
+    md += fmt::format("v_p = {:.4g} y_p / y_p,max (least squares through the origin, {} points, relative "
+                      "rms residual {:.2g}); eq. 3.8 gives -2 beta^3 Ca_e = {:.4g} (ratio {:.3g}).\n",
+                      *c.slope, c.slope_points, c.slope_residual, c.theory_slope,
+                      c.theory_slope != 0.0 ? *c.slope / c.theory_slope : std::nan(""));
+  else
+    md += "Fewer than two points there: no slope.\n";
+  md += "\n![migration](migration.png)\n";
+  fs::create_directories(out);
+  io::write_text_file_atomically(out / "migration_curves.csv", csv);
+  io::write_text_file_atomically(out / "migration.md", md);
+  draw_plot("plot_migration.py", out, "migration.png", false);
+}
+
+}  // namespace softflow::simulation

@@ -1,0 +1,60 @@
+// `softflow migration DIR...`: the master curves of cross-stream migration from several
+// runs of one particle started at different heights (thesis §3.2.2, Figs. 3.6-3.10):
+// v_p(y_p) and Delta S(y_p), the neutral heights where v_p changes sign, and the
+// near-centre slope against eq. 3.8.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace softflow::simulation {
+
+/// One row of a run's migration.csv kept for the curves.
+struct MigrationPoint {
+  int run = 0;             ///< index into MigrationCurves::runs
+  double t = 0.0;
+  double y_p = 0.0;        ///< centre height
+  double y_rel = 0.0;      ///< y_p / y_p,max
+  double v_p = 0.0;        ///< migration velocity
+  double delta_s = 0.0;    ///< eq. 3.6
+};
+
+/// A height where the master curve v_p(y_rel) changes sign, between two
+/// neighbouring points (linear interpolation); `error` is half their distance.
+struct NeutralHeight {
+  double y_rel = 0.0;
+  double error = 0.0;
+  bool stable = false;  ///< v_p goes from + below to - above: particles gather there
+};
+
+struct MigrationCurves {
+  std::vector<std::filesystem::path> runs;
+  double blockage_ratio = 0.0;       ///< beta = 2R/H, of the first run (all must agree)
+  double capillary_number = 0.0;     ///< Ca_e of the first object (0 for a drop)
+  double transient = 0.0;            ///< time dropped at the start of each run
+  std::vector<MigrationPoint> points;  ///< every kept row, sorted by y_rel
+  std::vector<NeutralHeight> neutral;
+  /// Least squares v_p = slope * y_rel over |y_rel| <= 0.1 (eq. 3.7), with its
+  /// point count and relative rms residual; none if fewer than 2 points.
+  std::optional<double> slope;
+  int slope_points = 0;
+  double slope_residual = 0.0;
+  /// Eq. 3.8's slope -2 beta^3 Ca_e (for a neo-Hookean particle in a Newtonian liquid).
+  double theory_slope = 0.0;
+};
+
+/// Reads each directory's case.toml and migration.csv (object 1), drops the
+/// rows with t < `transient` (the start, where the particle deforms from a
+/// sphere and v_p is not yet the master curve's: the thesis drops "the very
+/// early stages"), and assembles the curves. InputError names the directory
+/// and what is wrong (no migration.csv, runs of different beta or Ca_e).
+MigrationCurves assemble_migration(const std::vector<std::filesystem::path>& directories,
+                                   double transient);
+
+/// migration_curves.csv (the points), migration.md (runs, neutral heights,
+/// the slope beside eq. 3.8) in `out`; migration.png by scripts/plot_migration.py.
+void write_migration(const MigrationCurves& curves, const std::filesystem::path& out);
+
+}  // namespace softflow::simulation
