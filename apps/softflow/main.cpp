@@ -321,8 +321,9 @@ int main(int argc, char** argv) {
 
   int jobs = 1;
   auto* columns = app.add_subcommand(
-      "columns", "every column of the report files a run writes (timeseries.csv, stress.csv, "
-                 "slip.csv): unit and meaning, as docs/output_columns.md");
+      "columns", "every column of the report files a run writes (timeseries.csv and each "
+                 "module's: stress.csv, slip.csv, migration.csv): unit and meaning, as "
+                 "docs/output_columns.md");
   auto* sweep = app.add_subcommand(
       "sweep",
       "run every combination of the parameters a case file gives as lists (e.g. capillary_number "
