@@ -32,6 +32,7 @@ using Clock = std::chrono::steady_clock;
 
 DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
     : config_(config),
+      models_(phase_models(config_)),
       mesh_(std::move(mesh)),
       initial_nodes_(mesh_.nodes),
       reference_nodes_(mesh_.nodes),
@@ -51,9 +52,8 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
   last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
   mesh_velocity_.assign(mesh_.n_nodes(), mesh::Point::Zero());
   last_quality_ = mesh::min_quality(mesh_);
-  if (auto models = phase_models(config_); ViscoelasticPhases::needed(models))
-    viscoelastic_ =
-        std::make_unique<ViscoelasticPhases>(mesh_, std::move(models), stokes_->interface_slip());
+  if (ViscoelasticPhases::needed(models_))
+    viscoelastic_ = std::make_unique<ViscoelasticPhases>(mesh_, models_, stokes_->interface_slip());
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
   register_state();
@@ -538,7 +538,7 @@ physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
 int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, double dt,
                                  StageSeconds& stages) {
   // time_ is already t_{n+1}: the walls of the end of the step.
-  physics::StokesProblem problem = stokes_problem(config_, mesh_, time_);
+  physics::StokesProblem problem = stokes_problem(config_, models_, mesh_, time_);
   problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
   if (viscoelastic_) problem.viscoelastic = viscoelastic_->coupling(mesh_velocity_, dt);
   auto result = stokes_->solve(problem, physics::SolutionLayout::distributed);
