@@ -6,6 +6,8 @@
 //   viscoelastic liquid  T = 2 mu D + tau,  tau = G (c - I)            eqs. 2.5-2.6
 //     Giesekus           lambda c_UC + (c - I) + alpha (c - I)^2 = 0   eq. 2.7
 //     Oldroyd-B          alpha = 0;  UCM: alpha = 0 and mu = 0
+//     FENE-P             tau = G (f c - I), lambda c_UC + (f c - I) = 0,
+//                        f = (L^2 - 3) / (L^2 - tr c)                  (fene_p.cpp)
 //   elastic solid        c_UC = 0 (lambda -> infinity): c is the Finger
 //                        tensor B, tau = G (B - I)                     eqs. 2.21-2.22
 //     neo-Hookean        mu = 0;  Kelvin-Voigt: mu > 0
@@ -20,12 +22,12 @@
 //
 //   dc/dt = L c + c L^T + r(c),   r(c) = -(1/lambda) ((c - I) + alpha (c - I)^2)   (eq. 2.7)
 //
-// (r = 0 for the solids, eq. 2.21). Every
+// (r = -(1/lambda)(f c - I) for FENE-P, r = 0 for the solids, eq. 2.21). Every
 // flow starts from c = I (eq. 2.20).
 //
 // Each model family is a ConstitutiveLaw (constitutive_law.hpp) in a file of
 // its own: newtonian.cpp, giesekus.cpp (Oldroyd-B, Giesekus, UCM),
-// elastic_solids.cpp (neo-Hookean, Kelvin-Voigt). A run builds
+// elastic_solids.cpp (neo-Hookean, Kelvin-Voigt), fene_p.cpp. A run builds
 // each phase's law once from the case (Constitutive::create) and hands the
 // same immutable object to the Stokes kernel, the log-conformation source and
 // the stress update. A new model is a new family file plus, here, its name
@@ -45,10 +47,10 @@ namespace softflow::physics::viscoelastic {
 
 /// The models a case file names. Values are saved in checkpoints: append,
 /// never reorder.
-enum class ConstitutiveModel { newtonian, oldroyd_b, giesekus, ucm, neo_hookean, kelvin_voigt };
+enum class ConstitutiveModel { newtonian, oldroyd_b, giesekus, ucm, neo_hookean, kelvin_voigt, fene_p };
 
-/// "newtonian", "oldroyd_b", "giesekus", "ucm", "neo_hookean", "kelvin_voigt":
-/// the names a case file uses.
+/// "newtonian", "oldroyd_b", "giesekus", "ucm", "neo_hookean", "kelvin_voigt",
+/// "fene_p": the names a case file uses.
 [[nodiscard]] std::string_view to_string(ConstitutiveModel model);
 /// The inverse of to_string. Throws softflow::InputError listing the names.
 [[nodiscard]] ConstitutiveModel constitutive_model_from_string(std::string_view name);
@@ -63,6 +65,7 @@ struct ConstitutiveValues {
   std::optional<double> polymer_viscosity = std::nullopt;  ///< eta_p = G lambda, instead of G
   std::optional<double> relaxation_time = std::nullopt;    ///< lambda: liquids only
   std::optional<double> mobility = std::nullopt;           ///< alpha: Giesekus only
+  std::optional<double> extensibility = std::nullopt;      ///< L^2 = max tr c: FENE-P only
 };
 
 /// Calls f(key, words, value) for every parameter of ConstitutiveValues:
@@ -76,6 +79,7 @@ void for_each_parameter(Values& values, F&& f) {
   f("polymer_viscosity", "polymer viscosity eta_p", values.polymer_viscosity);
   f("relaxation_time", "relaxation time lambda", values.relaxation_time);
   f("mobility", "mobility alpha", values.mobility);
+  f("extensibility", "extensibility L^2", values.extensibility);
 }
 
 class ConstitutiveLaw;  // constitutive_law.hpp
@@ -91,6 +95,7 @@ using ConstitutiveLawFactory = ConstitutiveLawPtr (*)(ConstitutiveModel model,
 [[nodiscard]] ConstitutiveLawPtr make_giesekus_law(ConstitutiveModel, const ConstitutiveValues&);
 [[nodiscard]] ConstitutiveLawPtr make_elastic_solid_law(ConstitutiveModel,
                                                         const ConstitutiveValues&);
+[[nodiscard]] ConstitutiveLawPtr make_fene_p_law(ConstitutiveModel, const ConstitutiveValues&);
 
 /// One row of the registry: a model, its case-file name, its family's
 /// factory, and the parameter only this model has (a key of
@@ -104,13 +109,14 @@ struct ConstitutiveModelEntry {
   std::optional<double> neutral_value = std::nullopt;
 };
 
-inline constexpr std::array<ConstitutiveModelEntry, 6> kConstitutiveModels{{
+inline constexpr std::array<ConstitutiveModelEntry, 7> kConstitutiveModels{{
     {ConstitutiveModel::newtonian, "newtonian", make_newtonian_law},
     {ConstitutiveModel::oldroyd_b, "oldroyd_b", make_giesekus_law},
     {ConstitutiveModel::giesekus, "giesekus", make_giesekus_law, "mobility", 0.0},
     {ConstitutiveModel::ucm, "ucm", make_giesekus_law},
     {ConstitutiveModel::neo_hookean, "neo_hookean", make_elastic_solid_law},
     {ConstitutiveModel::kelvin_voigt, "kelvin_voigt", make_elastic_solid_law},
+    {ConstitutiveModel::fene_p, "fene_p", make_fene_p_law, "extensibility"},
 }};
 
 /// A phase's validated constitutive model: a handle to its immutable
@@ -130,6 +136,7 @@ class Constitutive {
   ///   oldroyd_b      solvent_viscosity >= 0, G > 0 or eta_p > 0, lambda > 0
   ///   giesekus       as oldroyd_b, and mobility in [0, 1]
   ///   ucm            G > 0 or eta_p > 0, lambda > 0 (solvent viscosity 0 if given)
+  ///   fene_p         as oldroyd_b, and extensibility L^2 > 3
   ///   neo_hookean    G > 0 (solvent viscosity 0 if given)
   ///   kelvin_voigt   solvent_viscosity > 0, G > 0
   /// G and eta_p are alternatives (G = eta_p / lambda); a parameter the model
@@ -187,8 +194,8 @@ class Constitutive {
   ConstitutiveLawPtr law_;
 };
 
-/// tau(c): G (c - I) (eq. 2.6; eq. 2.22 for a solid); zero for a Newtonian
-/// phase.
+/// tau(c): G (c - I) (eq. 2.6; eq. 2.22 for a solid), G (f c - I) for
+/// FENE-P; zero for a Newtonian phase.
 [[nodiscard]] Mat3 polymer_stress(const Constitutive& model, const Mat3& c);
 
 /// T = 2 mu D + tau (eqs. 2.4-2.5), D the rate of strain; c is not read for
