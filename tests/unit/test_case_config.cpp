@@ -990,7 +990,7 @@ TEST(ConstitutiveKeysErrors, NewtonianKeysWithAnotherModel) {
 TEST(ConstitutiveKeysErrors, ElasticParticlesHaveNoInterfacialTension) {
   EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1\ncapillary_number = 0.1\n",
                "objects[1].capillary_number = 0.1: only for model = \"newtonian\", "
-               "\"oldroyd_b\", \"giesekus\" or \"ucm\" (model = \"neo_hookean\" takes 'modulus' "
+               "\"oldroyd_b\", \"giesekus\", \"ucm\" or \"fene_p\" (model = \"neo_hookean\" takes 'modulus' "
                "and 'elastic_capillary_number'); an elastic particle has no interfacial tension");
   EXPECT_ERROR("[[objects]]\nmodel = \"kelvin_voigt\"\nsolvent_viscosity = 1\nmodulus = 1\n"
                "interfacial_tension = 0\n",
@@ -1007,7 +1007,7 @@ TEST(ConstitutiveKeysErrors, ModelNames) {
                "\"giesekus\", \"ucm\"");
   EXPECT_ERROR("[[objects]]\nmodel = \"oldroydb\"\n",
                "objects[1].model = \"oldroydb\": must be one of \"newtonian\", \"oldroyd_b\", "
-               "\"giesekus\", \"ucm\", \"neo_hookean\", \"kelvin_voigt\" (did you mean "
+               "\"giesekus\", \"ucm\", \"fene_p\", \"neo_hookean\", \"kelvin_voigt\" (did you mean "
                "\"oldroyd_b\"?)");
   // With the model unknown, which parameters belong is unknown: no follow-up.
   const std::string e = error_of("[[objects]]\nmodel = \"maxwell\"\nrelaxation_time = 1\n");
@@ -1018,19 +1018,20 @@ TEST(ConstitutiveKeysErrors, ModelNames) {
 TEST(ConstitutiveKeysErrors, ParametersOfAnotherModel) {
   EXPECT_ERROR("[matrix]\nmodel = \"ucm\"\nsolvent_viscosity = 0.1\nmodulus = 1\n"
                "relaxation_time = 1\n",
-               "matrix.solvent_viscosity = 0.1: only for model = \"oldroyd_b\" or \"giesekus\"");
+               "matrix.solvent_viscosity = 0.1: only for model = \"oldroyd_b\", \"giesekus\" or "
+               "\"fene_p\"");
   EXPECT_ERROR("[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.1\nmodulus = 1\n"
                "relaxation_time = 1\nmobility = 0.1\n",
                "matrix.mobility = 0.1: only for model = \"giesekus\"");
   EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1\nrelaxation_time = 2\n",
-               "objects[1].relaxation_time = 2: only for model = \"oldroyd_b\", \"giesekus\" or "
-               "\"ucm\"");
+               "objects[1].relaxation_time = 2: only for model = \"oldroyd_b\", \"giesekus\", "
+               "\"ucm\" or \"fene_p\"");
   EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\npolymer_viscosity = 2\n",
-               "objects[1].polymer_viscosity = 2: only for model = \"oldroyd_b\", \"giesekus\" "
-               "or \"ucm\"");
+               "objects[1].polymer_viscosity = 2: only for model = \"oldroyd_b\", \"giesekus\", "
+               "\"ucm\" or \"fene_p\"");
   EXPECT_ERROR("[[objects]]\nmodel = \"neo_hookean\"\nsolvent_viscosity = 0.5\nmodulus = 1\n",
                "objects[1].solvent_viscosity = 0.5: only for model = \"oldroyd_b\", "
-               "\"giesekus\" or \"kelvin_voigt\"");
+               "\"giesekus\", \"fene_p\" or \"kelvin_voigt\"");
   EXPECT_ERROR("[[objects]]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 1\nmodulus = 1\n"
                "relaxation_time = 1\nelastic_capillary_number = 0.1\n",
                "objects[1].elastic_capillary_number = 0.1: only for model = \"neo_hookean\" or "
@@ -1038,7 +1039,7 @@ TEST(ConstitutiveKeysErrors, ParametersOfAnotherModel) {
   // Parameters without a model: the Newtonian default takes none of them.
   EXPECT_ERROR("[[objects]]\nmodulus = 1\n",
                "objects[1].modulus = 1: only for model = \"oldroyd_b\", \"giesekus\", \"ucm\", "
-               "\"neo_hookean\" or \"kelvin_voigt\" (model = \"newtonian\" takes "
+               "\"fene_p\", \"neo_hookean\" or \"kelvin_voigt\" (model = \"newtonian\" takes "
                "'viscosity_ratio', 'capillary_number' and 'interfacial_tension')");
 }
 

@@ -96,7 +96,7 @@ class PassiveDye final : public simulation::StepModule {
 // The one line a new module needs (here at run time, as a program of its own would).
 const bool kRegistered = [] {
   simulation::register_module_type(
-      {"dye", [](const io::CaseConfig&) { return true; },
+      {"dye", [](const simulation::ModuleSetup&) { return true; },
        [](const simulation::ModuleSetup& s) -> std::unique_ptr<simulation::StepModule> {
          return std::make_unique<PassiveDye>(s);
        }});
@@ -122,7 +122,7 @@ class FinishAtTenth final : public simulation::StepModule {
 
 const bool kFinisherRegistered = [] {
   simulation::register_module_type(
-      {"finish_at_tenth", [](const io::CaseConfig& c) { return c.name == "finishing"; },
+      {"finish_at_tenth", [](const simulation::ModuleSetup& s) { return s.config.name == "finishing"; },
        [](const simulation::ModuleSetup& s) -> std::unique_ptr<simulation::StepModule> {
          return std::make_unique<FinishAtTenth>(s);
        }});

@@ -44,10 +44,19 @@ struct FlowState {
 
 // ---- constitutive models ----
 
-/// The keys that make a phase's constitutive model (a table has some of them).
-constexpr std::array<std::string_view, 9> kModelKeys{
-    "model",   "viscosity",       "viscosity_ratio", "solvent_viscosity",       "polymer_viscosity",
-    "modulus", "relaxation_time", "mobility",        "elastic_capillary_number"};
+/// The keys that make a phase's constitutive model (a table has some of
+/// them): the model, its parameters (physics::viscoelastic::for_each_parameter)
+/// and the dimensionless alternatives.
+const std::vector<std::string_view>& model_keys() {
+  static const std::vector<std::string_view> keys = [] {
+    std::vector<std::string_view> k{"model", "viscosity_ratio", "elastic_capillary_number"};
+    ConstitutiveValues values;
+    physics::viscoelastic::for_each_parameter(
+        values, [&](std::string_view key, std::string_view, auto&) { k.push_back(key); });
+    return k;
+  }();
+  return keys;
+}
 
 /// Whether the model keys of a table were read without a problem: a bad
 /// value or a missing required key is reported already, and a check built
@@ -55,7 +64,7 @@ constexpr std::array<std::string_view, 9> kModelKeys{
 template <class Target>
 bool model_keys_read(const schema::Table<Target>& declared, const TableRead& t,
                      const Target& target) {
-  for (const std::string_view name : kModelKeys) {
+  for (const std::string_view name : model_keys()) {
     const auto* key = declared.find(name);
     if (!key) continue;
     const Read r = t.status(name);
@@ -85,18 +94,24 @@ bool one_of(const TableRead& t, std::string_view first, std::string_view second,
 }
 
 /// The case-file key of each parameter Constitutive::create names in its
-/// messages ("the solvent viscosity mu = 0 must be positive").
+/// messages ("the solvent viscosity mu = 0 must be positive"), but the
+/// Newtonian viscosity (its words are within "polymer viscosity eta_p").
 struct ParameterKey {
   std::string_view words;
   std::string_view key;
 };
-constexpr std::array<ParameterKey, 5> kParameterKeys{{
-    {"solvent viscosity mu", "solvent_viscosity"},
-    {"modulus G", "modulus"},
-    {"polymer viscosity eta_p", "polymer_viscosity"},
-    {"relaxation time lambda", "relaxation_time"},
-    {"mobility alpha", "mobility"},
-}};
+const std::vector<ParameterKey>& parameter_keys() {
+  static const std::vector<ParameterKey> keys = [] {
+    std::vector<ParameterKey> k;
+    ConstitutiveValues values;
+    physics::viscoelastic::for_each_parameter(
+        values, [&](std::string_view key, std::string_view words, auto&) {
+          if (key != "viscosity") k.push_back({words, key});
+        });
+    return k;
+  }();
+  return keys;
+}
 
 /// The phase's model by Constitutive::create, where the rules of each model
 /// live (the keys' ranges only repeat those that hold for every model). A
@@ -114,7 +129,7 @@ std::optional<Constitutive> make_model(const TableRead& t, ConstitutiveModel mod
     const std::string what = e.what();
     std::size_t first = std::string::npos;
     std::string_view key;
-    for (const auto& [words, k] : kParameterKeys) {
+    for (const auto& [words, k] : parameter_keys()) {
       const auto at = what.find(words);
       if (at < first && t.value(k)) {
         first = at;

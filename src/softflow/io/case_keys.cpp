@@ -103,8 +103,8 @@ Table<CaseConfig> cell_table() {
 using physics::viscoelastic::ConstitutiveModel;
 using physics::viscoelastic::ConstitutiveValues;
 
-const std::vector<std::string> kLiquids{"newtonian", "oldroyd_b", "giesekus", "ucm"};
-const std::vector<std::string> kViscoelasticLiquids{"oldroyd_b", "giesekus", "ucm"};
+const std::vector<std::string> kLiquids{"newtonian", "oldroyd_b", "giesekus", "ucm", "fene_p"};
+const std::vector<std::string> kViscoelasticLiquids{"oldroyd_b", "giesekus", "ucm", "fene_p"};
 
 /// The words of `model`: the liquids, and for objects also the elastic solids.
 std::vector<Option<ConstitutiveModel>> model_options(bool solids) {
@@ -114,7 +114,10 @@ std::vector<Option<ConstitutiveModel>> model_options(bool solids) {
        "T = 2 mu D + G (c - I) with lambda c_UC + (c - I) = 0 (eqs. 2.5-2.7, alpha = 0)"},
       {"giesekus", ConstitutiveModel::giesekus,
        "T = 2 mu D + G (c - I) with lambda c_UC + (c - I) + alpha (c - I)^2 = 0 (eqs. 2.5-2.7)"},
-      {"ucm", ConstitutiveModel::ucm, "Oldroyd-B without solvent (mu = 0)"}};
+      {"ucm", ConstitutiveModel::ucm, "Oldroyd-B without solvent (mu = 0)"},
+      {"fene_p", ConstitutiveModel::fene_p,
+       "T = 2 mu D + G (f c - I) with lambda c_UC + (f c - I) = 0, f = (L^2 - 3) / (L^2 - tr c) "
+       "(FENE-P; Oldroyd-B as L^2 -> infinity)"}};
   if (solids) {
     options.push_back({"neo_hookean", ConstitutiveModel::neo_hookean,
                        "elastic particle T = G (B - I), B the Finger tensor (eqs. 2.21-2.22); no "
@@ -140,7 +143,7 @@ std::vector<Key<Target>> viscoelastic_keys(ConstitutiveValues Target::*values,
   const auto parameter = [values](std::optional<double> ConstitutiveValues::*member) {
     return field(values, member);
   };
-  std::vector<std::string> with_solvent{"oldroyd_b", "giesekus"};
+  std::vector<std::string> with_solvent{"oldroyd_b", "giesekus", "fene_p"};
   std::vector<std::string> with_modulus = kViscoelasticLiquids;
   if (solids) {
     with_solvent.push_back("kelvin_voigt");
@@ -182,7 +185,13 @@ std::vector<Key<Target>> viscoelastic_keys(ConstitutiveValues Target::*values,
       optional_number("mobility", parameter(&ConstitutiveValues::mobility), required,
                       Range{0.0, 1.0, false, false},
                       fmt::format("alpha_{}, the Giesekus mobility (0 is Oldroyd-B)", sub))
-          .only_when("model", {"giesekus"})};
+          .only_when("model", {"giesekus"}),
+      optional_number("extensibility", parameter(&ConstitutiveValues::extensibility), required,
+                      Range::above(3),
+                      fmt::format("L_{}^2, the FENE-P extensibility: the bound of tr c, whose "
+                                  "rest value is 3 (f = (L^2 - 3) / (L^2 - tr c))",
+                                  sub))
+          .only_when("model", {"fene_p"})};
 }
 
 bool is_newtonian(ConstitutiveModel m) { return m == ConstitutiveModel::newtonian; }

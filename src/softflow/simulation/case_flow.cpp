@@ -34,10 +34,16 @@ bool has_interface_slip(const io::CaseConfig& config) {
 
 physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh,
                                       double t) {
+  return stokes_problem(config, phase_models(config), mesh, t);
+}
+
+physics::StokesProblem stokes_problem(const io::CaseConfig& config,
+                                      const std::vector<physics::viscoelastic::Constitutive>& models,
+                                      const mesh::Mesh& mesh, double t) {
   physics::StokesProblem p;
   // The Newtonian viscosity, or a viscoelastic phase's solvent viscosity
   // (its polymer stress is the time loop's: physics::ViscoelasticCoupling).
-  for (const auto& m : phase_models(config)) p.viscosity.push_back(m.solvent_viscosity());
+  for (const auto& m : models) p.viscosity.push_back(m.solvent_viscosity());
   for (const auto& o : config.objects) p.interfacial_tension.push_back(o.interfacial_tension);
   // Navier slip, dimensional (the case's alpha is made dimensionless with R / eta_m).
   if (has_interface_slip(config))

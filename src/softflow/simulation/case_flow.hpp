@@ -35,5 +35,10 @@ bool has_interface_slip(const io::CaseConfig& config);
 /// added by the caller.
 physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh,
                                       double t);
+/// The same with the run's constitutive models (phase_models(config), built
+/// once per run), which give each region's viscosity.
+physics::StokesProblem stokes_problem(const io::CaseConfig& config,
+                                      const std::vector<physics::viscoelastic::Constitutive>& models,
+                                      const mesh::Mesh& mesh, double t);
 
 }  // namespace softflow::simulation

@@ -33,6 +33,7 @@ using Clock = std::chrono::steady_clock;
 
 DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
     : config_(config),
+      models_(phase_models(config_)),
       mesh_(std::move(mesh)),
       initial_nodes_(mesh_.nodes) {
   stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_),
@@ -49,7 +50,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
     trackers_.emplace_back(std::move(surface), std::move(x0), tracking);
   }
   last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
-  modules_ = make_modules({config_, mesh_, *stokes_});
+  modules_ = make_modules({config_, mesh_, *stokes_, models_});
   for (const auto& tracker : trackers_)
     initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
   register_state();
@@ -468,7 +469,7 @@ physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
 int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, double dt,
                                  StageSeconds& stages) {
   // time_ is already t_{n+1}: the walls of the end of the step.
-  physics::StokesProblem problem = stokes_problem(config_, mesh_, time_);
+  physics::StokesProblem problem = stokes_problem(config_, models_, mesh_, time_);
   problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
   const StepContext now = context(dt, steps_ + 1);
   for (auto& module : modules_) module->contribute(problem, now);

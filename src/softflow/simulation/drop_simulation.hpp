@@ -208,6 +208,8 @@ class DropSimulation {
   void restore_time_loop(const StateRecord& record, const std::string& prefix);
 
   io::CaseConfig config_;
+  // Each region's constitutive model, built once from config_ (0 = matrix).
+  std::vector<physics::viscoelastic::Constitutive> models_;
   mesh::Mesh mesh_;
   std::vector<mesh::Point> initial_nodes_;    // the mesh as meshed: what a restart starts from
   std::unique_ptr<physics::StokesSystem> stokes_;

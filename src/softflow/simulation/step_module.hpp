@@ -16,6 +16,7 @@
 #include "softflow/la/vector_values.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_tracker.hpp"
+#include "softflow/physics/viscoelastic/constitutive.hpp"
 
 namespace softflow::fem {
 class Field;
@@ -121,18 +122,21 @@ class StepModule {
 };
 
 /// What a module is built from: the case, the run's mesh (which outlives the
-/// module) and its Stokes system.
+/// module), its Stokes system and its constitutive models.
 struct ModuleSetup {
   const io::CaseConfig& config;
   const mesh::Mesh& mesh;
   const physics::StokesSystem& stokes;
+  /// The constitutive model of every region ([0] the matrix, [k] object k),
+  /// built once per run (phase_models).
+  std::span<const physics::viscoelastic::Constitutive> models;
 };
 
 /// A kind of module: whether a case needs it, how to build it, and its
 /// report files' column reference (docs/output_columns.md).
 struct ModuleType {
   std::string name;
-  std::function<bool(const io::CaseConfig&)> wanted;
+  std::function<bool(const ModuleSetup&)> wanted;
   std::function<std::unique_ptr<StepModule>(const ModuleSetup&)> make;
   std::function<std::string()> columns_markdown = [] { return std::string(); };
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -9,6 +10,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/physics/viscoelastic/constitutive_law.hpp"
 #include "softflow/physics/viscoelastic/conformation_transport.hpp"
 
 namespace softflow::simulation {
@@ -91,7 +93,7 @@ void ViscoelasticPhases::advance(const fem::DofMap& stokes_dofs, Vec solution,
   check_finite(t_new, step);
   transport_->step(velocity_, &mesh_velocity_, source_, dt, t_new);
   check_finite(t_new, step);
-  update_conformation_and_stress();
+  update_conformation_and_stress(t_new, step);
   update_velocity_gradient();
 }
 
@@ -102,7 +104,6 @@ void ViscoelasticPhases::restart_time_history() {
 
 void ViscoelasticPhases::check_finite(double t_new, int step) {
   // s must be finite; c = exp(s) is then positive definite by construction.
-  const auto& dofs = log_conformation_.dofs();
   int bad = -1;
   for_each_owned_block(log_conformation_, [&](int dof, auto s) {
     if (bad < 0 && !s.allFinite()) bad = dof;
@@ -110,19 +111,28 @@ void ViscoelasticPhases::check_finite(double t_new, int step) {
   int any_bad = bad;
   MPI_Allreduce(&bad, &any_bad, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
   if (any_bad >= 0) {
-    const int node = dofs.node_of(any_bad), region = dofs.region_of(any_bad);
-    const auto& x = mesh_.nodes[node];
+    const int region = log_conformation_.dofs().region_of(any_bad);
     throw SolverError(fmt::format(
-        "step {} (t = {:.4f}): the log-conformation tensor is not finite at node {} {}, near "
-        "({:.3f}, {:.3f}, {:.3f}) ({} phase). The conformation equation was not resolved "
-        "there: try a smaller time.step or a finer mesh (more mesh.equator_nodes)",
-        step, t_new, node, region == 0 ? std::string("in the matrix") : fmt::format("in object {}", region),
-        x.x(), x.y(), x.z(), ve::to_string(models_.at(region).model())));
+        "step {} (t = {:.4f}): the log-conformation tensor is not finite at {} ({} phase). The "
+        "conformation equation was not resolved there: try a smaller time.step or a finer mesh "
+        "(more mesh.equator_nodes)",
+        step, t_new, place(any_bad), ve::to_string(models_.at(region).model())));
   }
 }
 
-void ViscoelasticPhases::update_conformation_and_stress() {
+std::string ViscoelasticPhases::place(int dof) const {
   const auto& dofs = log_conformation_.dofs();
+  const int node = dofs.node_of(dof), region = dofs.region_of(dof);
+  const auto& x = mesh_.nodes[node];
+  return fmt::format("node {} {}, near ({:.3f}, {:.3f}, {:.3f})", node,
+                     region == 0 ? std::string("in the matrix") : fmt::format("in object {}", region),
+                     x.x(), x.y(), x.z());
+}
+
+void ViscoelasticPhases::update_conformation_and_stress(double t_new, int step) {
+  const auto& dofs = log_conformation_.dofs();
+  int bad = -1;  // the first dof whose c the model does not admit (FENE-P: tr c >= L^2)
+  std::string why;
   PetscScalar* c = nullptr;
   PetscScalar* tau = nullptr;
   const PetscScalar* s = nullptr;
@@ -138,12 +148,41 @@ void ViscoelasticPhases::update_conformation_and_stress() {
                                   Eigen::Map<const Eigen::VectorXd>(s + i, ve::kSymmetricComponents)))
                             : ve::Mat3::Identity();
     Eigen::Map<Eigen::VectorXd>(c + i, ve::kSymmetricComponents) = ve::pack_symmetric(cn);
-    Eigen::Map<Eigen::VectorXd>(tau + i, ve::kSymmetricComponents) =
-        ve::pack_symmetric(ve::polymer_stress(model, cn));
+    auto stress = Eigen::Map<Eigen::VectorXd>(tau + i, ve::kSymmetricComponents);
+    if (auto reason = model.law().inadmissible(cn); reason.empty()) {
+      stress = ve::pack_symmetric(ve::polymer_stress(model, cn));
+    } else {
+      stress.setConstant(std::nan(""));
+      if (bad < 0) {
+        bad = dof;
+        why = std::move(reason);
+      }
+    }
   }
   check(VecRestoreArrayRead(log_conformation_.vector(), &s), "VecRestoreArrayRead");
   check(VecRestoreArray(conformation_.vector(), &c), "VecRestoreArray");
   check(VecRestoreArray(stress_.vector(), &tau), "VecRestoreArray");
+  // The log-conformation keeps c positive definite, not inside every
+  // model's domain: stop where the step left it, naming the place.
+  int any_bad = bad;
+  MPI_Allreduce(&bad, &any_bad, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  if (any_bad >= 0) {
+    // The reason, from the rank that found it.
+    int rank = 0, owner = -1;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    const int mine = any_bad == bad ? rank : -1;
+    MPI_Allreduce(&mine, &owner, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+    int length = static_cast<int>(why.size());
+    MPI_Bcast(&length, 1, MPI_INT, owner, PETSC_COMM_WORLD);
+    why.resize(static_cast<std::size_t>(length));
+    MPI_Bcast(why.data(), length, MPI_CHAR, owner, PETSC_COMM_WORLD);
+    throw SolverError(fmt::format(
+        "step {} (t = {:.4f}): the conformation left the domain of the {} model at {}: {}. The "
+        "conformation equation was not resolved there: try a smaller time.step or a finer mesh "
+        "(more mesh.equator_nodes)",
+        step, t_new, ve::to_string(models_.at(dofs.region_of(any_bad)).model()), place(any_bad),
+        why));
+  }
   conformation_.update_ghosts();
   stress_.update_ghosts();
 }

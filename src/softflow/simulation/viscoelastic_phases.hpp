@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -36,7 +37,7 @@ struct RegionStress {
 ///                     discontinuous at interfaces; zero (c = I) at t = 0;
 ///   conformation      c = exp(s) node by node (eq. 2.42 lumped: the nodal
 ///                     interpolant of exp(s_h), which keeps c positive definite);
-///   polymer_stress    tau = G (c - I) (eqs. 2.6, 2.22);
+///   polymer_stress    tau(c): G (c - I) (eqs. 2.6, 2.22), G (f c - I) for FENE-P;
 /// and, internally, the velocity and mesh velocity as fields and the
 /// projected velocity gradient G_n (DEVSS-G).
 ///
@@ -92,7 +93,12 @@ class ViscoelasticPhases {
   /// Throws SolverError (step, time, node, region, position, what to try)
   /// if s has a non-finite value anywhere. Collective.
   void check_finite(double t_new, int step);
-  void update_conformation_and_stress();
+  /// "node N in the matrix (in object k), near (x, y, z)": where a dof of s is.
+  [[nodiscard]] std::string place(int dof) const;
+  /// c = exp(s), tau = tau(c) node by node; throws SolverError (step, time,
+  /// node, region, position, the model's reason) where the model does not
+  /// admit c (FENE-P: tr c >= L^2). Collective.
+  void update_conformation_and_stress(double t_new, int step);
   void update_velocity_gradient();
 
   const mesh::Mesh& mesh_;

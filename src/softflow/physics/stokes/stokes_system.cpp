@@ -4,6 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -854,12 +858,21 @@ void save_matrix_record(StateRecord& out, const std::string& prefix,
   out.set(prefix + "slip", problem.slip.coefficient);
   out.set(prefix + "theta_dt", problem.semi_implicit_tension.theta_dt);
   out.set(prefix + "node_normal", problem.semi_implicit_tension.node_normal);
-  // Each region's model as (model, mu, G, lambda, alpha); dt.
-  std::vector<double> models;
-  for (const auto& m : problem.viscoelastic.models)
-    models.insert(models.end(), {static_cast<double>(m.model()), m.solvent_viscosity(),
-                                 m.modulus(), m.relaxation_time(), m.mobility()});
-  out.set(prefix + "viscoelastic_models", models, 5);
+  // Each region's model by its identity: the model and the values that
+  // rebuild it (Constitutive::create), one array per parameter, NaN where
+  // unset; dt.
+  std::vector<double> kinds;
+  std::map<std::string, std::vector<double>> values;
+  for (const auto& m : problem.viscoelastic.models) {
+    kinds.push_back(static_cast<double>(m.model()));
+    const viscoelastic::ConstitutiveValues identity = m.values();
+    viscoelastic::for_each_parameter(identity, [&](std::string_view key, std::string_view,
+                                                    const std::optional<double>& v) {
+      values[std::string(key)].push_back(v.value_or(std::nan("")));
+    });
+  }
+  out.set(prefix + "viscoelastic_model", kinds);
+  for (auto& [key, v] : values) out.set(prefix + "viscoelastic_values/" + key, std::move(v));
   out.set(prefix + "viscoelastic_dt", problem.viscoelastic.dt);
 }
 
@@ -920,11 +933,29 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
       // Checkpoints of Newtonian runs from before the viscoelastic phases
       // have no such entries: nothing viscoelastic in their matrices.
       if (!in.contains(p + "conformation")) return r;
-      const auto& models = in.get_array(p + "viscoelastic_models", 5);
-      for (std::size_t i = 0; i + 5 <= models.size(); i += 5)
-        r.problem.viscoelastic.models.push_back(viscoelastic::Constitutive::from_parameters(
-            static_cast<viscoelastic::ConstitutiveModel>(std::lround(models[i])), models[i + 1],
-            models[i + 2], models[i + 3], models[i + 4]));
+      if (in.contains(p + "viscoelastic_model")) {
+        const auto& kinds = in.get_array(p + "viscoelastic_model");
+        for (std::size_t region = 0; region < kinds.size(); ++region) {
+          viscoelastic::ConstitutiveValues values;
+          viscoelastic::for_each_parameter(
+              values, [&](std::string_view key, std::string_view, std::optional<double>& v) {
+                const std::string name = p + "viscoelastic_values/" + std::string(key);
+                if (!in.contains(name)) return;  // a parameter newer than the checkpoint
+                const auto& saved = in.get_array(name);
+                if (region < saved.size() && !std::isnan(saved[region])) v = saved[region];
+              });
+          r.problem.viscoelastic.models.push_back(viscoelastic::Constitutive::create(
+              static_cast<viscoelastic::ConstitutiveModel>(std::lround(kinds[region])), values));
+        }
+      } else {
+        // Checkpoints from before the identity was saved by values():
+        // rows (model, mu, G, lambda, alpha).
+        const auto& models = in.get_array(p + "viscoelastic_models", 5);
+        for (std::size_t i = 0; i + 5 <= models.size(); i += 5)
+          r.problem.viscoelastic.models.push_back(viscoelastic::Constitutive::from_parameters(
+              static_cast<viscoelastic::ConstitutiveModel>(std::lround(models[i])), models[i + 1],
+              models[i + 2], models[i + 3], models[i + 4]));
+      }
       r.problem.viscoelastic.dt = in.get_double(p + "viscoelastic_dt");
       const auto& conformation = in.get_array(p + "conformation");
       if (!conformation.empty()) {

@@ -3,6 +3,7 @@
 #include <array>
 
 #include "softflow/physics/viscoelastic/conformation_prediction.hpp"
+#include "softflow/physics/viscoelastic/constitutive_law.hpp"
 #include "softflow/physics/viscoelastic/conformation_transport.hpp"
 
 namespace softflow::physics {
@@ -26,7 +27,7 @@ void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
                                 TetVector& load) {
   const int region = points.front().region;
   const auto& model = coupling.models.at(region);
-  const double modulus = model.modulus();
+  const auto& law = model.law();
   const double theta = coupling.devss_theta(region);
   const double dt = coupling.dt;
   for (const auto& p : points) {
@@ -44,13 +45,19 @@ void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
     const ve::ConformationPrediction prediction(model, c, ve::convective_derivative(-um, grad_c),
                                                 dt);
     const double w = p.weight;
+    // tau at the prediction, linearised at c_n (exact for a stress affine
+    // in c): tau(c_n) + tau'(c_n)[dc], tau'(c_n)[dc] = A dc + tr(dc) B.
+    const ve::StressDerivative derivative = law.stress_derivative(c);
 
-    // Matrix. For v = N_k e_a and u = N_l e_b (L = e_b (x) grad N_l):
+    // Matrix. For v = N_k e_a and u = N_l e_b (L = e_b (x) grad N_l), the
+    // prediction's velocity part dc = dt (L c + c L^T - u.grad c) gives
     //   D(v) : (L c + c L^T) = 2 D(v) : (L c) = delta_ab g_k.(c g_l) + g_k,b (c g_l)_a,
-    //   D(v) : (u.grad c)    = N_l (dc/dx_b g_k)_a.
+    //   D(v) : (u.grad c)    = N_l (dc/dx_b g_k)_a,
+    // and with a trace part also tr(dc) = dt (2 (c g_l)_b - N_l tr(dc/dx_b)),
+    //   D(v) : B = (B g_k)_a.
     const Eigen::Matrix<double, 10, 3> cg = g * c;  // row l: (c g_l)^T, c symmetric
     const Eigen::Matrix<double, 10, 10> gcg = g * cg.transpose();
-    const double scale = modulus * dt * w;
+    const double scale = derivative.scale * dt * w;
     for (int k = 0; k < 10; ++k) {
       Eigen::Matrix3d convection;  // column b: dc/dx_b g_k
       for (int b = 0; b < 3; ++b) convection.col(b) = grad_c[b] * g.row(k).transpose();
@@ -62,9 +69,22 @@ void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
             matrix(3 * k + a, 3 * l + b) += scale * entry;
           }
     }
+    if (derivative.has_trace_part) {
+      const Eigen::Matrix<double, 10, 3> bg = g * derivative.trace_part;  // row k: (B g_k)^T
+      Eigen::Vector3d trace_gradient;  // tr(dc/dx_b)
+      for (int b = 0; b < 3; ++b) trace_gradient(b) = grad_c[b].trace();
+      const double trace_scale = dt * w;
+      for (int k = 0; k < 10; ++k)
+        for (int l = 0; l < 10; ++l)
+          for (int b = 0; b < 3; ++b) {
+            const double trace = 2.0 * cg(l, b) - n[l] * trace_gradient(b);
+            for (int a = 0; a < 3; ++a)
+              matrix(3 * k + a, 3 * l + b) += trace_scale * trace * bg(k, a);
+          }
+    }
 
     // Load: D(v) : A = (sym(A) g_k)_a for v = N_k e_a.
-    const ve::Mat3 stress = modulus * (prediction.constant() - ve::Mat3::Identity());
+    const ve::Mat3 stress = law.linearized_stress(c, prediction.constant());
     ve::Mat3 rhs = -stress;
     if (theta > 0.0) {
       const Eigen::VectorXd gv = coupling.velocity_gradient->value(p);

@@ -6,11 +6,16 @@
 //   (D(v), 2 (mu + theta) D(u)) + (D(v), tau_{n+1}) - (div v, p)
 //       = (D(v), theta (G_n + G_n^T)) + tension,
 //
-// with tau_{n+1} = G_mod (c_{n+1} - I) and c_{n+1} the D'Avino-Hulsen
-// prediction (physics/viscoelastic/conformation_prediction.hpp), affine in u:
+// with tau_{n+1} = tau(c_{n+1}) (G (c_{n+1} - I) for Oldroyd-B, Giesekus and
+// the solids, eq. 2.6) and c_{n+1} the D'Avino-Hulsen prediction
+// (physics/viscoelastic/conformation_prediction.hpp), affine in u:
 //
-//   c_{n+1} = c_n + dt [ -(u - u_m).grad c_n + L c_n + c_n L^T
-//                        - (1/lambda) ((c_n - I) + alpha (c_n - I)^2) ],   L = grad u^T.
+//   c_{n+1} = c_n + dt [ -(u - u_m).grad c_n + L c_n + c_n L^T + r(c_n) ],   L = grad u^T,
+//
+// r the model's relaxation (eq. 2.37 corrected: -(1/lambda)((c_n - I) + alpha (c_n - I)^2)
+// for Giesekus). The kernel asks the model's law (physics/viscoelastic/
+// constitutive_law.hpp) for tau at c_{n+1}, linearised at c_n where tau is not
+// affine in c (FENE-P): tau(c_n) + A dc + tr(dc) B, an O(dt^2) error.
 //
 // The parts linear in u = u_{n+1} (L c_n + c_n L^T and u.grad c_n, as in
 // eq. 2.37, where the convection is implicit) go to the matrix; c_n, the

@@ -8,7 +8,9 @@
 //   c_{n+1} ~ c_n + dt [ -(u - u_m).grad c_n + L c_n + c_n L^T
 //                        - (1/lambda) ((c_n - I) + alpha (c_n - I)^2) ],
 //
-// L_ij = du_i/dx_j of u = u_{n+1}, u_m the mesh velocity. Eq. 2.7 with the
+// L_ij = du_i/dx_j of u = u_{n+1}, u_m the mesh velocity; for another model
+// the relaxation is its own r(c_n) (ConstitutiveLaw::relaxation, e.g.
+// -(1/lambda)(f c_n - I) for FENE-P). Eq. 2.7 with the
 // upper-convected derivative of eq. 2.8 gives the relaxation term with a
 // minus sign and a factor 1/lambda; the printed eq. 2.37 has "+ c_n - I +
 // alpha (c_n - I)^2" without either (SPEC §9). The prediction is affine in
@@ -43,7 +45,7 @@ class ConformationPrediction {
   ConformationPrediction(const Constitutive& model, const Mat3& c_n, const Mat3& convection,
                          double dt);
 
-  /// c_n + dt [ -convection - (1/lambda)((c_n - I) + alpha (c_n - I)^2) ].
+  /// c_n + dt [ -convection + r(c_n) ], r the model's relaxation.
   [[nodiscard]] const Mat3& constant() const { return constant_; }
   /// dt (L c_n + c_n L^T): linear in L, the part that goes to the left-hand side.
   [[nodiscard]] Mat3 linear(const Mat3& velocity_gradient) const;

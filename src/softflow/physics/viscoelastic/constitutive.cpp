@@ -1,13 +1,13 @@
 #include "softflow/physics/viscoelastic/constitutive.hpp"
 
-#include <array>
 #include <cmath>
 #include <limits>
-#include <utility>
+#include <string>
 
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/physics/viscoelastic/constitutive_law.hpp"
 
 namespace softflow::physics::viscoelastic {
 
@@ -15,138 +15,111 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-constexpr std::array<std::pair<ConstitutiveModel, std::string_view>, 6> kNames{{
-    {ConstitutiveModel::newtonian, "newtonian"},
-    {ConstitutiveModel::oldroyd_b, "oldroyd_b"},
-    {ConstitutiveModel::giesekus, "giesekus"},
-    {ConstitutiveModel::ucm, "ucm"},
-    {ConstitutiveModel::neo_hookean, "neo_hookean"},
-    {ConstitutiveModel::kelvin_voigt, "kelvin_voigt"},
-}};
+const ConstitutiveModelEntry& entry(ConstitutiveModel model) {
+  for (const auto& e : kConstitutiveModels)
+    if (e.model == model) return e;
+  throw Error(fmt::format("constitutive model {}: not registered", static_cast<int>(model)));
+}
 
-// One parameter of ConstitutiveValues with the words its messages use.
-struct Parameter {
-  const std::optional<double>& value;
-  std::string_view name;  // e.g. "mobility alpha"
-};
-
-// Checks one model's parameters and builds every message, so that each
-// names the model, the parameter with its symbol, and the offending value.
-class Checker {
- public:
-  explicit Checker(ConstitutiveModel model) : model_(model) {}
-
-  [[noreturn]] void fail(std::string_view message) const {
-    throw InputError(fmt::format("constitutive model '{}': {}", to_string(model_), message));
+// "a, b or c" of the registered names, for messages.
+std::string registered_names() {
+  std::string out;
+  for (std::size_t i = 0; i < kConstitutiveModels.size(); ++i) {
+    if (i > 0) out += i + 1 == kConstitutiveModels.size() ? " or " : ", ";
+    out += kConstitutiveModels[i].name;
   }
-
-  // A parameter the model needs: given and finite.
-  double required(const Parameter& p) const {
-    if (!p.value) fail(fmt::format("the {} is required", p.name));
-    if (!std::isfinite(*p.value)) fail(fmt::format("the {} = {} is not finite", p.name, *p.value));
-    return *p.value;
-  }
-  double positive(const Parameter& p) const {
-    const double v = required(p);
-    if (!(v > 0.0)) fail(fmt::format("the {} = {} must be positive", p.name, v));
-    return v;
-  }
-  double non_negative(const Parameter& p) const {
-    const double v = required(p);
-    if (!(v >= 0.0)) fail(fmt::format("the {} = {} must not be negative", p.name, v));
-    return v;
-  }
-  // A parameter the model does not have. `zero_allowed`: a zero is the
-  // model's own value (e.g. mu = 0 for UCM) and may be stated.
-  void absent(const Parameter& p, std::string_view why, bool zero_allowed = false) const {
-    if (!p.value || (zero_allowed && *p.value == 0.0)) return;
-    fail(fmt::format("the {} = {} is not a parameter of this model ({})", p.name, *p.value, why));
-  }
-  // G or eta_p = G lambda, exactly one of them.
-  double modulus(const Parameter& g, const Parameter& eta_p, double lambda) const {
-    if (g.value && eta_p.value)
-      fail(fmt::format("give the {} or the {} (= G lambda), not both", g.name, eta_p.name));
-    if (eta_p.value) return positive(eta_p) / lambda;
-    if (!g.value)
-      fail(fmt::format("the {} (or the {} = G lambda) is required", g.name, eta_p.name));
-    return positive(g);
-  }
-
- private:
-  ConstitutiveModel model_;
-};
+  return out;
+}
 
 }  // namespace
 
+// ---- names ----
+
 std::string_view to_string(ConstitutiveModel model) {
-  for (const auto& [m, name] : kNames)
-    if (m == model) return name;
+  for (const auto& e : kConstitutiveModels)
+    if (e.model == model) return e.name;
   return "unknown";
 }
 
 ConstitutiveModel constitutive_model_from_string(std::string_view name) {
-  for (const auto& [m, n] : kNames)
-    if (n == name) return m;
-  throw InputError(fmt::format(
-      "unknown constitutive model '{}': use newtonian, oldroyd_b, giesekus, ucm, neo_hookean or "
-      "kelvin_voigt",
-      name));
+  for (const auto& e : kConstitutiveModels)
+    if (e.name == name) return e.model;
+  throw InputError(
+      fmt::format("unknown constitutive model '{}': use {}", name, registered_names()));
 }
 
-Constitutive Constitutive::create(ConstitutiveModel model, const ConstitutiveValues& v) {
-  const Checker check(model);
-  const Parameter eta{v.viscosity, "viscosity eta"};
-  const Parameter mu{v.solvent_viscosity, "solvent viscosity mu"};
-  const Parameter g{v.modulus, "modulus G"};
-  const Parameter eta_p{v.polymer_viscosity, "polymer viscosity eta_p"};
-  const Parameter lambda{v.relaxation_time, "relaxation time lambda"};
-  const Parameter alpha{v.mobility, "mobility alpha"};
+// ---- ParameterCheck ----
 
-  const bool newtonian = model == ConstitutiveModel::newtonian;
-  if (!newtonian) check.absent(eta, "a viscoelastic phase has a solvent viscosity mu");
-  if (model != ConstitutiveModel::giesekus)
-    check.absent(alpha, "only the Giesekus model has one", true);
+void ParameterCheck::fail(std::string_view message) const {
+  throw InputError(fmt::format("constitutive model '{}': {}", to_string(model_), message));
+}
 
-  switch (model) {
-    case ConstitutiveModel::newtonian: {
-      for (const auto& p : {mu, g, eta_p, lambda})
-        check.absent(p, "a Newtonian phase has the viscosity eta only");
-      return {model, check.positive(eta), 0.0, 0.0, 0.0};
-    }
-    case ConstitutiveModel::oldroyd_b:
-    case ConstitutiveModel::giesekus:
-    case ConstitutiveModel::ucm: {
-      double solvent = 0.0;
-      if (model == ConstitutiveModel::ucm)
-        check.absent(mu, "UCM is the liquid without solvent, mu = 0; use oldroyd_b", true);
-      else
-        solvent = check.non_negative(mu);
-      // lambda = 0 would make the relaxation term 1/lambda infinite: the
-      // liquid is then Newtonian and should be declared so.
-      const double time = check.positive(lambda);
-      const double modulus = check.modulus(g, eta_p, time);
-      double mobility = 0.0;
-      if (model == ConstitutiveModel::giesekus) {
-        mobility = check.required(alpha);
-        if (!(mobility >= 0.0 && mobility <= 1.0))
-          check.fail(fmt::format("the mobility alpha = {} must lie in [0, 1]", mobility));
-      }
-      return {model, solvent, modulus, time, mobility};
-    }
-    case ConstitutiveModel::neo_hookean:
-    case ConstitutiveModel::kelvin_voigt: {
-      const char* solid = "an elastic solid is the limit lambda -> infinity";
-      check.absent(lambda, solid);
-      check.absent(eta_p, "an elastic solid's G lambda is infinite; give the modulus G");
-      double solvent = 0.0;
-      if (model == ConstitutiveModel::neo_hookean)
-        check.absent(mu, "the neo-Hookean solid has mu = 0; use kelvin_voigt", true);
-      else
-        solvent = check.positive(mu);  // mu = 0 is the neo-Hookean solid
-      return {model, solvent, check.positive(g), kInfinity, 0.0};
-    }
+double ParameterCheck::required(const Parameter& p) const {
+  if (!p.value) fail(fmt::format("the {} is required", p.name));
+  if (!std::isfinite(*p.value)) fail(fmt::format("the {} = {} is not finite", p.name, *p.value));
+  return *p.value;
+}
+
+double ParameterCheck::positive(const Parameter& p) const {
+  const double v = required(p);
+  if (!(v > 0.0)) fail(fmt::format("the {} = {} must be positive", p.name, v));
+  return v;
+}
+
+double ParameterCheck::non_negative(const Parameter& p) const {
+  const double v = required(p);
+  if (!(v >= 0.0)) fail(fmt::format("the {} = {} must not be negative", p.name, v));
+  return v;
+}
+
+void ParameterCheck::absent(const Parameter& p, std::string_view why, bool zero_allowed) const {
+  if (!p.value || (zero_allowed && *p.value == 0.0)) return;
+  fail(fmt::format("the {} = {} is not a parameter of this model ({})", p.name, *p.value, why));
+}
+
+double ParameterCheck::modulus(const Parameter& g, const Parameter& eta_p, double lambda) const {
+  if (g.value && eta_p.value)
+    fail(fmt::format("give the {} or the {} (= G lambda), not both", g.name, eta_p.name));
+  if (eta_p.value) return positive(eta_p) / lambda;
+  if (!g.value) fail(fmt::format("the {} (or the {} = G lambda) is required", g.name, eta_p.name));
+  return positive(g);
+}
+
+// ---- ConstitutiveLaw defaults ----
+
+double ConstitutiveLaw::polymer_viscosity() const {
+  if (!has_conformation()) return 0.0;
+  return relaxes() ? modulus() * relaxation_time() : kInfinity;
+}
+
+Mat3 ConstitutiveLaw::linearized_stress(const Mat3& /*c_n*/, const Mat3& c) const {
+  return polymer_stress(c);
+}
+
+StressDerivative ConstitutiveLaw::stress_derivative(const Mat3& /*c_n*/) const {
+  return {modulus(), Mat3::Zero(), false};
+}
+
+// ---- Constitutive ----
+
+Constitutive Constitutive::create(ConstitutiveModel model, const ConstitutiveValues& values) {
+  const ParameterCheck check(model);
+  if (model != ConstitutiveModel::newtonian)
+    check.absent({values.viscosity, "viscosity eta"},
+                 "a viscoelastic phase has a solvent viscosity mu");
+  // A parameter only some other model has (the Giesekus mobility, the
+  // FENE-P extensibility) is refused here, so that the families need not
+  // know of each other; its neutral value (alpha = 0) may be stated.
+  for (const auto& owner : kConstitutiveModels) {
+    if (owner.own_parameter.empty() || owner.model == model) continue;
+    for_each_parameter(values, [&](std::string_view key, std::string_view words,
+                                   const std::optional<double>& value) {
+      if (key != owner.own_parameter || !value) return;
+      if (owner.neutral_value && *value == *owner.neutral_value) return;
+      check.absent({value, words}, fmt::format("only the {} model has one", owner.name));
+    });
   }
-  check.fail("unknown model");
+  return Constitutive(entry(model).make(model, values));
 }
 
 Constitutive Constitutive::newtonian(double viscosity) {
@@ -190,27 +163,29 @@ Constitutive Constitutive::from_parameters(ConstitutiveModel model, double mu, d
     case ConstitutiveModel::ucm: return ucm(g, lambda);
     case ConstitutiveModel::neo_hookean: return neo_hookean(g);
     case ConstitutiveModel::kelvin_voigt: return kelvin_voigt(mu, g);
+    default: break;  // later models were saved by values()
   }
-  throw Error("Constitutive::from_parameters: unknown model");
+  throw Error(fmt::format("Constitutive::from_parameters: model '{}' needs its values()",
+                          to_string(model)));
 }
 
-double Constitutive::polymer_viscosity() const {
-  if (!has_conformation()) return 0.0;
-  return relaxes() ? modulus_ * relaxation_time_ : kInfinity;
-}
-
+ConstitutiveModel Constitutive::model() const { return law_->model(); }
+ConstitutiveValues Constitutive::values() const { return law_->values(); }
+double Constitutive::solvent_viscosity() const { return law_->solvent_viscosity(); }
+double Constitutive::modulus() const { return law_->modulus(); }
+double Constitutive::relaxation_time() const { return law_->relaxation_time(); }
+double Constitutive::mobility() const { return law_->values().mobility.value_or(0.0); }
+double Constitutive::polymer_viscosity() const { return law_->polymer_viscosity(); }
 double Constitutive::zero_shear_viscosity() const {
-  return solvent_viscosity_ + polymer_viscosity();
+  return law_->solvent_viscosity() + law_->polymer_viscosity();
 }
+bool Constitutive::has_conformation() const { return law_->has_conformation(); }
+bool Constitutive::relaxes() const { return law_->relaxes(); }
 
-bool Constitutive::relaxes() const {
-  return model_ == ConstitutiveModel::oldroyd_b || model_ == ConstitutiveModel::giesekus ||
-         model_ == ConstitutiveModel::ucm;
-}
+// ---- pointwise ----
 
 Mat3 polymer_stress(const Constitutive& model, const Mat3& c) {
-  if (!model.has_conformation()) return Mat3::Zero();
-  return model.modulus() * (c - Mat3::Identity());
+  return model.law().polymer_stress(c);
 }
 
 Mat3 extra_stress(const Constitutive& model, const Mat3& rate_of_strain, const Mat3& c) {
@@ -225,9 +200,7 @@ Mat3 upper_convected_terms(const Mat3& velocity_gradient, const Mat3& c) {
 Mat3 conformation_relaxation(const Constitutive& model, const Mat3& c) {
   if (!model.has_conformation())
     throw Error("conformation_relaxation: a Newtonian phase has no conformation tensor");
-  if (!model.relaxes()) return Mat3::Zero();  // eq. 2.21: the solid does not relax
-  const Mat3 a = c - Mat3::Identity();
-  return -(a + model.mobility() * a * a) / model.relaxation_time();  // eq. 2.7
+  return model.law().relaxation(c);
 }
 
 Mat3 conformation_rate(const Constitutive& model, const Mat3& velocity_gradient, const Mat3& c) {

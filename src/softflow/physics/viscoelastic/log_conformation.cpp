@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "softflow/common/error.hpp"
+#include "softflow/physics/viscoelastic/constitutive_law.hpp"
 
 namespace softflow::physics::viscoelastic {
 
@@ -57,17 +58,6 @@ EigenbasisDecomposition decompose(const Mat3& velocity_gradient, const Symmetric
   return d;
 }
 
-Vec3 relaxation_eigenvalues(double mobility, const Vec3& sigma) {
-  Vec3 g;
-  for (int i = 0; i < 3; ++i) {
-    // (1 - Lambda)/Lambda = e^{-sigma} - 1 and (Lambda - 1)^2/Lambda =
-    // expm1(sigma)^2 e^{-sigma}: no cancellation as Lambda -> 1.
-    const double stretch = std::expm1(sigma(i));
-    g(i) = std::expm1(-sigma(i)) - mobility * stretch * stretch * std::exp(-sigma(i));
-  }
-  return g;
-}
-
 }  // namespace
 
 FattalKupferman fattal_kupferman(const Mat3& velocity_gradient,
@@ -82,8 +72,9 @@ FattalKupferman fattal_kupferman(const Mat3& velocity_gradient, const Mat3& log_
 }
 
 Mat3 relaxation_function(double mobility, const SymmetricEigen& log_conformation) {
-  return from_eigen(log_conformation.vectors,
-                    relaxation_eigenvalues(mobility, log_conformation.values));
+  // The Giesekus law's own g at lambda = 1 (giesekus.cpp).
+  const auto law = Constitutive::giesekus(0.0, 1.0, 1.0, mobility);
+  return from_eigen(log_conformation.vectors, law.law().log_relaxation(log_conformation.values));
 }
 
 Mat3 log_conformation_rate(const Constitutive& model, const Mat3& velocity_gradient,
@@ -92,10 +83,10 @@ Mat3 log_conformation_rate(const Constitutive& model, const Mat3& velocity_gradi
     throw Error("log_conformation_rate: a Newtonian phase has no conformation tensor");
   const auto s = symmetric_eigen(log_conformation);
   const auto d = decompose(velocity_gradient, s);
-  // (*) in the eigenbasis: (W s~ - s~ W) + 2 B~ + diag(g_i) / lambda.
+  // (*) in the eigenbasis: (W s~ - s~ W) + 2 B~ + diag(g_i) / lambda, the
+  // last the model's own (ConstitutiveLaw::log_relaxation).
   Mat3 rate = d.w_gap + 2.0 * d.b;
-  if (model.relaxes())
-    rate.diagonal() += relaxation_eigenvalues(model.mobility(), s.values) / model.relaxation_time();
+  if (model.relaxes()) rate.diagonal() += model.law().log_relaxation(s.values);
   return s.vectors * rate * s.vectors.transpose();
 }
 

@@ -24,8 +24,11 @@
 //   ds/dt = (Omega s - s Omega) + 2 B + g(s) / lambda,                       (*)
 //   g(s)  = R diag((1 - Lambda_i - alpha (Lambda_i - 1)^2) / Lambda_i) R^T,
 //
-// with g = 0 for the elastic solids. Eq. 2.10's h(grad u, s) is minus the
-// right-hand side of (*), and the convected equation is
+// with g = 0 for the elastic solids. For any model, g(s)/lambda = c^{-1} r(c)
+// with r the relaxation of its conformation equation (constitutive.hpp), and
+// log_conformation_rate takes its eigenvalues from the model
+// (ConstitutiveLaw::log_relaxation; FENE-P: (e^{-sigma_i} - f)/lambda).
+// Eq. 2.10's h(grad u, s) is minus the right-hand side of (*), and the convected equation is
 // ds/dt + (u - u_m).grad s - (Omega s - s Omega) - 2 B - g(s)/lambda = 0.
 //
 // Equal eigenvalues. When Lambda_i = Lambda_j, W_ij has a zero denominator:
@@ -77,15 +80,17 @@ struct FattalKupferman {
 [[nodiscard]] FattalKupferman fattal_kupferman(const Mat3& velocity_gradient,
                                                const Mat3& log_conformation);
 
-/// g(s) = R diag((1 - Lambda_i - alpha (Lambda_i - 1)^2) / Lambda_i) R^T,
+/// The Giesekus g(s) = R diag((1 - Lambda_i - alpha (Lambda_i - 1)^2) / Lambda_i) R^T,
 /// Lambda_i = exp(sigma_i) (alpha = 0: Oldroyd-B/UCM), formed with expm1 so
-/// that g stays accurate near c = I.
+/// that g stays accurate near c = I (the law of giesekus.cpp at lambda = 1).
 [[nodiscard]] Mat3 relaxation_function(double mobility, const SymmetricEigen& log_conformation);
 
 /// ds/dt = (Omega s - s Omega) + 2 B + g(s)/lambda: eq. (*) above, the
 /// log-conformation equation without convection, i.e. minus eq. 2.10's
-/// h(grad u, s). g = 0 for the solids. Throws softflow::Error for a
-/// Newtonian phase, and as symmetric_eigen for a non-symmetric s.
+/// h(grad u, s), g(s)/lambda the model's log_relaxation. g = 0 for the
+/// solids. Throws softflow::Error for a Newtonian phase, as symmetric_eigen
+/// for a non-symmetric s, and SolverError for an s outside the model's
+/// domain (FENE-P: tr exp(s) >= L^2).
 [[nodiscard]] Mat3 log_conformation_rate(const Constitutive& model, const Mat3& velocity_gradient,
                                          const Mat3& log_conformation);
 

@@ -54,7 +54,7 @@ MigrationModule::MigrationModule(const ModuleSetup& setup)
   }
 }
 
-bool MigrationModule::wanted(const io::CaseConfig& config) { return !config.objects.empty(); }
+bool MigrationModule::wanted(const ModuleSetup& setup) { return !setup.config.objects.empty(); }
 
 void MigrationModule::measure(const StepContext& context, StepReport& report) {
   time_ = context.time;

@@ -44,7 +44,7 @@ const io::ReportTable<MigrationRow>& migration_table();
 class MigrationModule final : public StepModule {
  public:
   explicit MigrationModule(const ModuleSetup& setup);
-  [[nodiscard]] static bool wanted(const io::CaseConfig& config);
+  [[nodiscard]] static bool wanted(const ModuleSetup& setup);
 
   [[nodiscard]] std::string name() const override { return "migration"; }
   void measure(const StepContext& context, StepReport& report) override;

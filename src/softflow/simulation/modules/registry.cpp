@@ -16,7 +16,7 @@ namespace {
 
 template <class M>
 ModuleType built_in(std::string name, std::function<std::string()> columns) {
-  return {std::move(name), [](const io::CaseConfig& c) { return M::wanted(c); },
+  return {std::move(name), [](const ModuleSetup& s) { return M::wanted(s); },
           [](const ModuleSetup& s) -> std::unique_ptr<StepModule> { return std::make_unique<M>(s); },
           std::move(columns)};
 }
@@ -45,7 +45,7 @@ void register_module_type(ModuleType type) {
 std::vector<std::unique_ptr<StepModule>> make_modules(const ModuleSetup& setup) {
   std::vector<std::unique_ptr<StepModule>> modules;
   for (const auto& type : module_types())
-    if (type.wanted(setup.config)) modules.push_back(type.make(setup));
+    if (type.wanted(setup)) modules.push_back(type.make(setup));
   return modules;
 }
 

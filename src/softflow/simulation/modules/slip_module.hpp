@@ -27,7 +27,7 @@ class SlipModule final : public StepModule {
  public:
   explicit SlipModule(const ModuleSetup& setup);
   /// Whether some object of the case has Navier slip.
-  [[nodiscard]] static bool wanted(const io::CaseConfig& config);
+  [[nodiscard]] static bool wanted(const ModuleSetup& setup);
 
   [[nodiscard]] std::string name() const override { return "slip"; }
   void measure(const StepContext& context, StepReport& report) override;

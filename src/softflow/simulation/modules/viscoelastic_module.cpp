@@ -47,10 +47,10 @@ const io::ReportTable<StressRow>& stress_table() {
 }
 
 ViscoelasticModule::ViscoelasticModule(const ModuleSetup& setup)
-    : phases_(setup.mesh, phase_models(setup.config), setup.stokes.interface_slip()) {}
+    : phases_(setup.mesh, {setup.models.begin(), setup.models.end()}, setup.stokes.interface_slip()) {}
 
-bool ViscoelasticModule::wanted(const io::CaseConfig& config) {
-  return ViscoelasticPhases::needed(phase_models(config));
+bool ViscoelasticModule::wanted(const ModuleSetup& setup) {
+  return ViscoelasticPhases::needed({setup.models.begin(), setup.models.end()});
 }
 
 void ViscoelasticModule::restart_time_history() { phases_.restart_time_history(); }

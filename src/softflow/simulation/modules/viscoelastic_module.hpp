@@ -27,7 +27,7 @@ class ViscoelasticModule final : public StepModule {
  public:
   explicit ViscoelasticModule(const ModuleSetup& setup);
   /// Whether some phase of the case has a conformation tensor.
-  [[nodiscard]] static bool wanted(const io::CaseConfig& config);
+  [[nodiscard]] static bool wanted(const ModuleSetup& setup);
 
   [[nodiscard]] std::string name() const override { return "viscoelastic"; }
   void restart_time_history() override;
