@@ -828,6 +828,7 @@ ale_rebuild_quality = 0.2
 relocation_quality = 0.2
 steady_tolerance = 0.0
 steady_window = 5.0
+min_wall_gap = 0.0
 adaptive_tolerance = 0.0
 
 [checkpoint]
