@@ -66,8 +66,7 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
     if (config.objects.empty())
       throw InputError(fmt::format("{}: the case has no object", dir.string()));
     const auto& object = config.objects.front();
-    const auto& a = object.geometry.semi_axes;
-    const double radius = std::cbrt(a.x() * a.y() * a.z());
+    const double radius = io::mean_radius(object.geometry);
     const double beta = 2.0 * radius / config.box.height;
     const double ca_e = io::elastic_capillary_number(config, object).value_or(0.0);
     if (r == 0) {

@@ -8,25 +8,10 @@ namespace {
 
 using io::Column;
 using io::ColumnFormat;
-constexpr ColumnFormat kInteger = ColumnFormat::integer();
-constexpr ColumnFormat kFull = ColumnFormat::real(10);  // state: enough digits to compare runs
+constexpr ColumnFormat kInteger = kIntegerColumn;
+constexpr ColumnFormat kFull = kStateColumn;
 constexpr ColumnFormat kShort = ColumnFormat::real(6);  // diagnostics
 constexpr ColumnFormat kTiming = ColumnFormat::real(4);
-
-// Columns every file starts with.
-template <class Row>
-std::vector<Column<Row>> step_and_time() {
-  return {{"step", "", "step number (0: the initial state)", kInteger,
-           [](const Row& r) { return r.report.step; }},
-          {"t", "time", "time at the end of the step", kFull,
-           [](const Row& r) { return r.report.time; }}};
-}
-
-template <class Row>
-std::vector<Column<Row>> join(std::vector<Column<Row>> a, std::vector<Column<Row>> b) {
-  for (auto& c : b) a.push_back(std::move(c));
-  return a;
-}
 
 }  // namespace
 
@@ -36,7 +21,7 @@ const io::ReportTable<ObjectRow>& timeseries_table() {
       "timeseries.csv", "object and step",
       "Shape from the least-squares ellipsoid through the interface nodes (eq. 2.57); "
       "volume, area and centre of volume on the curved P2 surface.",
-      join(step_and_time<ObjectRow>(),
+      with_step_and_time<ObjectRow>(
            std::vector<C>{
                {"object", "", "object number (1-based, as [[objects]])", kInteger,
                 [](const ObjectRow& r) { return r.object.object; }},

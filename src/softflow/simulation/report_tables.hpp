@@ -3,11 +3,30 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "softflow/io/report_table.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
 
 namespace softflow::simulation {
+
+/// Column formats shared by every report file: counts, and state (enough
+/// digits to compare runs).
+inline constexpr io::ColumnFormat kIntegerColumn = io::ColumnFormat::integer();
+inline constexpr io::ColumnFormat kStateColumn = io::ColumnFormat::real(10);
+
+/// `columns` after the two every report file starts with: step and t, from
+/// the row's `report` (a StepReport).
+template <class Row>
+std::vector<io::Column<Row>> with_step_and_time(std::vector<io::Column<Row>> columns) {
+  std::vector<io::Column<Row>> out{
+      {"step", "", "step number (0: the initial state)", kIntegerColumn,
+       [](const Row& r) { return r.report.step; }},
+      {"t", "time", "time at the end of the step", kStateColumn,
+       [](const Row& r) { return r.report.time; }}};
+  for (auto& c : columns) out.push_back(std::move(c));
+  return out;
+}
 
 /// What one row is made from.
 struct ObjectRow {

@@ -7,23 +7,20 @@
 #include <fmt/format.h>
 
 #include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/report_tables.hpp"
 
 namespace softflow::simulation {
 
 const io::ReportTable<MigrationRow>& migration_table() {
   using C = io::Column<MigrationRow>;
-  constexpr auto kInteger = io::ColumnFormat::integer();
-  constexpr auto kFull = io::ColumnFormat::real(10);
+  constexpr auto kInteger = kIntegerColumn;
+  constexpr auto kFull = kStateColumn;
   static const io::ReportTable<MigrationRow> table(
       "migration.csv", "object and step",
       "Cross-stream migration (thesis chapter 3): the centre of volume y_p, the migration velocity "
       "v_p = dy_p/dt and the surface imbalance Delta S of eq. 3.6 on the curved P2 interface, and "
       "the object's gap to the walls y = +-H/2.",
-      std::vector<C>{
-          {"step", "", "step number (0: the initial state)", kInteger,
-           [](const MigrationRow& r) { return r.report.step; }},
-          {"t", "time", "time at the end of the step", kFull,
-           [](const MigrationRow& r) { return r.report.time; }},
+      with_step_and_time<MigrationRow>(std::vector<C>{
           {"object", "", "object number", kInteger, [](const MigrationRow& r) { return r.object.object; }},
           {"y_p", "length", "centre of volume, y (0: the centre plane)", kFull,
            [](const MigrationRow& r) { return r.object.centre.y(); }},
@@ -42,16 +39,13 @@ const io::ReportTable<MigrationRow>& migration_table() {
           {"wall_gap", "length", "smallest distance from an interface node to a wall", kFull,
            [](const MigrationRow& r) { return r.object.wall_gap; }},
           {"nearest_wall", "", "+1 the upper wall (y = H/2), -1 the lower", kInteger,
-           [](const MigrationRow& r) { return r.object.nearest_wall; }}});
+           [](const MigrationRow& r) { return r.object.nearest_wall; }}}));
   return table;
 }
 
 MigrationModule::MigrationModule(const ModuleSetup& setup)
     : half_height_(setup.config.box.height / 2.0), min_wall_gap_(setup.config.time.min_wall_gap) {
-  for (const auto& object : setup.config.objects) {
-    const auto& a = object.geometry.semi_axes;
-    radii_.push_back(std::cbrt(a.x() * a.y() * a.z()));
-  }
+  for (const auto& object : setup.config.objects) radii_.push_back(io::mean_radius(object.geometry));
 }
 
 bool MigrationModule::wanted(const ModuleSetup& setup) { return !setup.config.objects.empty(); }

@@ -6,21 +6,18 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/report_tables.hpp"
 
 namespace softflow::simulation {
 
 const io::ReportTable<SlipRow>& slip_table() {
   using C = io::Column<SlipRow>;
-  constexpr auto kInteger = io::ColumnFormat::integer();
-  constexpr auto kFull = io::ColumnFormat::real(10);
+  constexpr auto kInteger = kIntegerColumn;
+  constexpr auto kFull = kStateColumn;
   static const io::ReportTable<SlipRow> table(
       "slip.csv", "object and step",
       "The slip across each interface with Navier slip (docs/slip.md).",
-      std::vector<C>{
-          {"step", "", "step number (0: the initial state)", kInteger,
-           [](const SlipRow& r) { return r.report.step; }},
-          {"t", "time", "time at the end of the step", kFull,
-           [](const SlipRow& r) { return r.report.time; }},
+      with_step_and_time<SlipRow>(std::vector<C>{
           {"object", "", "object number", kInteger, [](const SlipRow& r) { return r.object; }},
           {"area", "length^2", "interface area", kFull,
            [](const SlipRow& r) { return r.slip.area; }},
@@ -30,7 +27,7 @@ const io::ReportTable<SlipRow>& slip_table() {
            [](const SlipRow& r) { return r.slip.max_slip_speed; }},
           {"slip_dissipation", "power", "integral of lambda . (u_m - u_d): the power the slip "
            "dissipates (never negative)", kFull,
-           [](const SlipRow& r) { return r.slip.dissipation; }}});
+           [](const SlipRow& r) { return r.slip.dissipation; }}}));
   return table;
 }
 

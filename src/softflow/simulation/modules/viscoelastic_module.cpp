@@ -3,13 +3,14 @@
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/report_tables.hpp"
 
 namespace softflow::simulation {
 
 const io::ReportTable<StressRow>& stress_table() {
   using C = io::Column<StressRow>;
-  constexpr auto kInteger = io::ColumnFormat::integer();
-  constexpr auto kFull = io::ColumnFormat::real(10);
+  constexpr auto kInteger = kIntegerColumn;
+  constexpr auto kFull = kStateColumn;
   constexpr auto kShort = io::ColumnFormat::real(6);
   auto mean = [](int i, int j) {
     return [i, j](const StressRow& r) { return r.stress.mean(i, j); };
@@ -18,11 +19,7 @@ const io::ReportTable<StressRow>& stress_table() {
       "stress.csv", "region with a conformation tensor and step",
       "Volume averages <tau> of the polymer or elastic stress tau = G (c - I) over the region "
       "(0: the matrix, k: object k).",
-      std::vector<C>{
-          {"step", "", "step number (0: the initial state)", kInteger,
-           [](const StressRow& r) { return r.report.step; }},
-          {"t", "time", "time at the end of the step", kFull,
-           [](const StressRow& r) { return r.report.time; }},
+      with_step_and_time<StressRow>(std::vector<C>{
           {"region", "", "region (0 the matrix, k object k)", kInteger,
            [](const StressRow& r) { return r.stress.region; }},
           {"volume", "length^3", "region volume", kFull,
@@ -42,7 +39,7 @@ const io::ReportTable<StressRow>& stress_table() {
           {"tau_3", "stress", "smallest eigenvalue of <tau>", kFull,
            [](const StressRow& r) { return r.stress.principal(2); }},
           {"spread", "", "sqrt(<|tau - <tau>|^2>) / |<tau>|: 0 for a uniform stress", kShort,
-           [](const StressRow& r) { return r.stress.spread; }}});
+           [](const StressRow& r) { return r.stress.spread; }}}));
   return table;
 }
 
