@@ -15,7 +15,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   openmpi-bin          # mpirun for the MPI tests
   python3 python3-numpy python3-matplotlib  # plots in docs/validation
-  python3-scipy        # bench/schur_spectrum.py (a diagnostic, not run by the tests)
+  python3-scipy        # scripts/theory (Roscoe, tested: theory_roscoe_particle), bench/schur_spectrum.py
 )
 
 sudo_cmd=()
