@@ -1,0 +1,42 @@
+// The part of a tetrahedron inside an axis-aligned box, as tetrahedra: for
+// averages over a sub-box of the mesh (the emulsion's bulk stress, eq. 4.1)
+// that do not depend on how the elements happen to meet the box's faces.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace softflow::analysis {
+
+using Tetrahedron = std::array<Eigen::Vector3d, 4>;
+
+/// An axis-aligned box [lo, hi].
+struct Box {
+  Eigen::Vector3d lo, hi;
+  [[nodiscard]] bool contains(const Eigen::Vector3d& x) const {
+    return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
+  }
+  [[nodiscard]] double volume() const { return (hi - lo).prod(); }
+};
+
+/// The cube of side `side` centred at the origin.
+Box centred_cube(double side);
+
+/// tet ∩ {x : n.x <= c}, as tetrahedra (none, the tet itself, one corner
+/// tetrahedron, or a triangular prism split into three). The vertices of
+/// the pieces are the tet's own and the points where its edges cross the
+/// plane; a vertex on the plane counts as inside.
+std::vector<Tetrahedron> clip_to_half_space(const Tetrahedron& tet, const Eigen::Vector3d& n,
+                                            double c);
+
+/// tet ∩ box as tetrahedra: the tet clipped by the box's six faces in turn.
+/// Exact for straight-sided tetrahedra (the pieces tile the intersection);
+/// empty when they do not meet.
+std::vector<Tetrahedron> clip_to_box(const Tetrahedron& tet, const Box& box);
+
+/// |det| / 6 of a tetrahedron.
+double tetrahedron_volume(const Tetrahedron& tet);
+
+}  // namespace softflow::analysis
