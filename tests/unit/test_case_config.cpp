@@ -79,6 +79,7 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.sizing.wall_size, b.sizing.wall_size);
   EXPECT_EQ(a.sizing.gap_elements, b.sizing.gap_elements);
   EXPECT_EQ(a.blockage_ratio, b.blockage_ratio);
+  EXPECT_EQ(a.bulk_stress.box_side, b.bulk_stress.box_side);
   EXPECT_EQ(a.solver, b.solver);
   EXPECT_EQ(a.rtol, b.rtol);
   EXPECT_EQ(a.max_iterations, b.max_iterations);
@@ -263,6 +264,32 @@ steady_window = 6.5
   const CaseConfig second = parse_case(to_toml(first), "another_name.toml");
   expect_same(first, second);
   EXPECT_EQ(to_toml(first), to_toml(second));
+}
+
+// ---- [bulk_stress] (thesis eq. 4.1) ----
+
+TEST(CaseConfig, BulkStressBoxSideIsReadAndWrittenBack) {
+  const std::string text = "[cell]\nlength = 8.0\nheight = 6.0\nwidth = 8.0\n"
+                           "[bulk_stress]\nbox_side = 4.5\n[[objects]]\n";
+  const CaseConfig c = parse_case(text, "c.toml");
+  EXPECT_EQ(c.bulk_stress.box_side, 4.5);
+  expect_same(c, parse_case(to_toml(c), "c.toml"));
+  EXPECT_EQ(parse_case("[[objects]]\n", "c.toml").bulk_stress.box_side, 0.0);  // off by default
+}
+
+TEST(CaseConfigErrors, BulkStressCubeFitsTheCellAndThePhasesAreNewtonian) {
+  EXPECT_ERROR("[cell]\nlength = 8.0\nheight = 6.0\nwidth = 8.0\n[bulk_stress]\nbox_side = 6.5\n",
+               "bulk_stress.box_side = 6.5: the cube must fit in the cell: allowed 0 < box_side "
+               "<= 6, the smallest of cell.length = 8, height = 6, width = 8");
+  EXPECT_ERROR("[bulk_stress]\nbox_side = -1.0\n", "bulk_stress.box_side");
+  EXPECT_ERROR("[bulk_stress]\nbox_side = 4.0\n[[objects]]\nslip = 0.5\n",
+               "the slip term of the bulk stress is not computed yet (objects[1] slip = 0.5)");
+  EXPECT_ERROR("[bulk_stress]\nbox_side = 4.0\n[[objects]]\nmodel = \"neo_hookean\"\n"
+               "elastic_capillary_number = 0.1\n",
+               "Newtonian drops only (objects[1] model = \"neo_hookean\")");
+  EXPECT_ERROR("[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\npolymer_viscosity = 0.5\n"
+               "relaxation_time = 1.0\n[bulk_stress]\nbox_side = 4.0\n",
+               "Newtonian matrix only (matrix.model = \"oldroyd_b\")");
 }
 
 // ---- confinement: [cell] blockage_ratio (thesis ch. 3) ----

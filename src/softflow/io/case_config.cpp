@@ -363,6 +363,38 @@ void resolve_height(const TableRead& cell, const std::vector<TableRead>& objects
   c.box.height = height;
 }
 
+/// The bulk stress's cube must fit in the cell, and eq. 4.1 is written here
+/// for Newtonian phases: the polymer and elastic stresses are not in its
+/// volume term yet, and the slip term needs both velocity copies.
+void check_bulk_stress(const TableRead& bulk, const CaseConfig& c, Diagnostics& diag) {
+  if (bulk.status("box_side") != Read::ok || c.bulk_stress.box_side == 0.0) return;
+  const Value& side = *bulk.value("box_side");
+  const double largest = std::min({c.box.length, c.box.height, c.box.width});
+  if (c.bulk_stress.box_side > largest)
+    diag.error(bulk.path("box_side"), side,
+               fmt::format("the cube must fit in the cell: allowed 0 < box_side <= {:g}, the "
+                           "smallest of cell.length = {:g}, height = {:g}, width = {:g}",
+                           largest, c.box.length, c.box.height, c.box.width));
+  if (c.matrix_model != physics::viscoelastic::ConstitutiveModel::newtonian)
+    diag.error(bulk.path("box_side"), side,
+               fmt::format("the bulk stress is computed for a Newtonian matrix only (matrix.model "
+                           "= \"{}\"): give bulk_stress.box_side = 0 or a Newtonian matrix",
+                           physics::viscoelastic::to_string(c.matrix_model)));
+  for (std::size_t k = 0; k < c.objects.size(); ++k) {
+    const ObjectConfig& o = c.objects[k];
+    if (o.model != physics::viscoelastic::ConstitutiveModel::newtonian)
+      diag.error(bulk.path("box_side"), side,
+                 fmt::format("the bulk stress is computed for Newtonian drops only (objects[{}] "
+                             "model = \"{}\"): give bulk_stress.box_side = 0",
+                             k + 1, physics::viscoelastic::to_string(o.model)));
+    else if (o.slip != 0.0)
+      diag.error(bulk.path("box_side"), side,
+                 fmt::format("the slip term of the bulk stress is not computed yet (objects[{}] "
+                             "slip = {:g}): give bulk_stress.box_side = 0 or slip = 0",
+                             k + 1, o.slip));
+  }
+}
+
 /// Stopping at steady state (time.steady_tolerance > 0) needs objects to
 /// watch, a latest time, a flow that can become steady, and a window the
 /// run can cover.
@@ -792,6 +824,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   }
   check_relaxation_steps(read["time"], read["matrix"], objects_read, c, diag);
   check_oscillatory_steps(read["time"], read["flow"], c, diag);
+  check_bulk_stress(read["bulk_stress"], c, diag);
   diag.throw_if_any();
   return c;
 }

@@ -121,6 +121,12 @@ struct CheckpointConfig {
   double interval_minutes = 10.0;  ///< at most this long apart in wall time (0: not by time)
 };
 
+/// [bulk_stress]: the emulsion's bulk stress (thesis eq. 4.1) averaged over
+/// a cube centred in the cell, each step (bulk_stress.csv).
+struct BulkStressConfig {
+  double box_side = 0.0;  ///< side of the centred cube (0: no bulk stress)
+};
+
 /// [interface]: interface tracking (thesis §2.2.3, §2.3.2).
 struct InterfaceConfig {
   /// k / gamma_dot of eq. 2.30 (thesis: 10); with gamma_dot = 0, k itself.
@@ -168,6 +174,7 @@ struct CaseConfig {
   TimeConfig time;            ///< [time]
   InterfaceConfig interface;  ///< [interface]
   CheckpointConfig checkpoint;  ///< [checkpoint]
+  BulkStressConfig bulk_stress;  ///< [bulk_stress]
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;

@@ -414,6 +414,18 @@ Table<CaseConfig> checkpoint_table() {
                   Range::at_least(0), "at most this much wall time apart (0: not by time)")}};
 }
 
+Table<CaseConfig> bulk_stress_table() {
+  const auto bulk = [](auto member) { return field(&CaseConfig::bulk_stress, member); };
+  return {"bulk_stress",
+          "The bulk stress of the suspension (thesis eq. 4.1) and its effective shear rate, "
+          "averaged over a cube centred in the cell (objects counted by their centre), each "
+          "step in bulk_stress.csv (docs/emulsions.md).",
+          false,
+          {number("box_side", bulk(&BulkStressConfig::box_side), 0.0, Range::at_least(0),
+                  "side of the centred cube, at most the cell's length, height and width "
+                  "(0: no bulk stress)")}};
+}
+
 Table<CaseConfig> interface_table() {
   const auto interface = [](auto member) { return field(&CaseConfig::interface, member); };
   return {
@@ -547,7 +559,7 @@ CaseKeys build() {
   CaseKeys k;
   k.tables = {case_table(),   cell_table(), matrix_table(), flow_table(),
               mesh_table(),   solver_table(), output_table(), time_table(),
-              checkpoint_table(), interface_table()};
+              checkpoint_table(), interface_table(), bulk_stress_table()};
   k.objects = objects_table();
   // [[objects]] after [flow]: the objects come after what sets their Gamma.
   for (const auto& t : k.tables) {

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/simulation/modules/bulk_stress_module.hpp"
 #include "softflow/simulation/modules/migration_module.hpp"
 #include "softflow/simulation/modules/slip_module.hpp"
 #include "softflow/simulation/modules/viscoelastic_module.hpp"
@@ -27,6 +28,7 @@ std::vector<ModuleType>& types() {
       built_in<ViscoelasticModule>("viscoelastic", [] { return stress_table().markdown(); }),
       built_in<SlipModule>("slip", [] { return slip_table().markdown(); }),
       built_in<MigrationModule>("migration", [] { return migration_table().markdown(); }),
+      built_in<BulkStressModule>("bulk_stress", [] { return bulk_stress_table().markdown(); }),
   };
   return list;
 }

@@ -1,0 +1,209 @@
+#include "softflow/simulation/modules/bulk_stress_module.hpp"
+
+#include <array>
+#include <cmath>
+
+#include <mpi.h>
+
+#include "softflow/element/isoparametric.hpp"
+#include "softflow/element/quadrature.hpp"
+#include "softflow/fem/tabulation.hpp"
+#include "softflow/physics/interface/interface_mesh.hpp"
+#include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/simulation/drop_simulation.hpp"
+#include "softflow/simulation/report_tables.hpp"
+
+namespace softflow::simulation {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+const io::ReportTable<BulkStressRow>& bulk_stress_table() {
+  using C = io::Column<BulkStressRow>;
+  constexpr auto kInteger = kIntegerColumn;
+  constexpr auto kFull = kStateColumn;
+  const auto s = [](int i, int j) {
+    return [i, j](const BulkStressRow& r) { return r.bulk.stress(i, j); };
+  };
+  static const io::ReportTable<BulkStressRow> table(
+      "bulk_stress.csv", "step",
+      "The bulk stress of eq. 4.1 over the cube of side bulk_stress.box_side centred in the cell: "
+      "the volume average of sigma = -p I + 2 eta D (the matrix inside the cube, the objects "
+      "whose centre of volume lies in it counted whole) plus the interfacial-tension term "
+      "-Gamma/V int_S (n n - I/3) dA of those objects. Its isotropic part carries the "
+      "pressure's arbitrary level; the shear stress and the normal stress differences do not. "
+      "Empty (nan) at t = 0, before the first Stokes solve.",
+      with_step_and_time<BulkStressRow>(std::vector<C>{
+          {"sigma_xx", "stress", "<sigma>_xx", kFull, s(0, 0)},
+          {"sigma_yy", "stress", "<sigma>_yy", kFull, s(1, 1)},
+          {"sigma_zz", "stress", "<sigma>_zz", kFull, s(2, 2)},
+          {"sigma_xy", "stress", "<sigma>_xy, the shear stress of eqs. 4.4 and 4.7", kFull, s(0, 1)},
+          {"sigma_xz", "stress", "<sigma>_xz", kFull, s(0, 2)},
+          {"sigma_yz", "stress", "<sigma>_yz", kFull, s(1, 2)},
+          {"N1", "stress", "first normal stress difference <sigma>_xx - <sigma>_yy", kFull,
+           [](const BulkStressRow& r) { return r.bulk.stress(0, 0) - r.bulk.stress(1, 1); }},
+          {"N2", "stress", "second normal stress difference <sigma>_yy - <sigma>_zz", kFull,
+           [](const BulkStressRow& r) { return r.bulk.stress(1, 1) - r.bulk.stress(2, 2); }},
+          {"tension_xy", "stress", "the interfacial-tension term's xy component (in sigma_xy)",
+           kFull, [](const BulkStressRow& r) { return r.bulk.tension(0, 1); }},
+          {"shear_rate", "1/time", "effective shear rate <2 D_xy> over the same volume (eq. 4.6, "
+           "signed)", kFull, [](const BulkStressRow& r) { return r.bulk.shear_rate; }},
+          {"viscosity", "stress time", "sigma_xy / shear_rate: the suspension's shear viscosity "
+           "in steady shear", kFull,
+           [](const BulkStressRow& r) { return r.bulk.stress(0, 1) / r.bulk.shear_rate; }},
+          {"phi", "", "volume fraction: the counted objects' volume over the cube's", kFull,
+           [](const BulkStressRow& r) { return r.bulk.volume_fraction; }},
+          {"objects", "", "objects whose centre of volume lies in the cube", kInteger,
+           [](const BulkStressRow& r) { return r.bulk.objects_counted; }}}));
+  return table;
+}
+
+BulkStressModule::BulkStressModule(const ModuleSetup& setup)
+    : mesh_(setup.mesh),
+      stokes_(setup.stokes),
+      box_(analysis::centred_cube(setup.config.bulk_stress.box_side)),
+      velocity_(setup.mesh, "bulk_stress_velocity",
+                setup.stokes.dofs().field(physics::kVelocityField).space, 3),
+      pressure_(setup.mesh, "bulk_stress_pressure",
+                setup.stokes.dofs().field(physics::kPressureField).space, 1) {
+  // Newtonian phases (io::parse_case refuses the others): mu is eta.
+  for (const auto& m : setup.models) viscosities_.push_back(m.solvent_viscosity());
+  for (const auto& o : setup.config.objects) tensions_.push_back(o.interfacial_tension);
+}
+
+bool BulkStressModule::wanted(const ModuleSetup& setup) {
+  return setup.config.bulk_stress.box_side > 0.0;
+}
+
+namespace {
+
+/// The reference coordinates of x in the straight tetrahedron with vertices v.
+Vector3d reference_point(const analysis::Tetrahedron& v, const Vector3d& x) {
+  Matrix3d a;
+  a << v[1] - v[0], v[2] - v[0], v[3] - v[0];
+  return a.partialPivLu().solve(x - v[0]);
+}
+
+/// int_S (n n - I/3) dA over a curved P2 interface at positions x.
+Matrix3d normal_moment(const physics::InterfaceMesh& s, const std::vector<Vector3d>& x) {
+  static const element::QuadratureRule rule = element::triangle_rule(4);
+  Matrix3d m = Matrix3d::Zero();
+  for (const auto& tri : s.triangles) {
+    element::TriangleNodes nodes;
+    for (int k = 0; k < 6; ++k) nodes.col(k) = x[tri[k]];
+    for (int q = 0; q < rule.size(); ++q) {
+      const auto p = element::surface_point(nodes, rule.points[q]);
+      m += rule.weights[q] * p.area_scale * (p.normal * p.normal.transpose() - Matrix3d::Identity() / 3.0);
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+void BulkStressModule::integrate_volume(const std::vector<bool>& counted, Matrix3d& stress,
+                                        double& shear_rate, double& volume) const {
+  static const element::QuadratureRule rule = element::tetrahedron_rule(2);
+  static const analysis::Tetrahedron whole{Vector3d::Zero(), Vector3d::UnitX(), Vector3d::UnitY(),
+                                           Vector3d::UnitZ()};
+  stress.setZero();
+  shear_rate = 0.0;
+  volume = 0.0;
+  for (int t : velocity_.owned_elements()) {
+    const int region = mesh_.tet_region[t];
+    if (region > 0 && !counted[region]) continue;
+    const element::TetNodes nodes = fem::tet_nodes(mesh_, t);
+    // The pieces of the element to integrate over, in reference coordinates.
+    std::vector<analysis::Tetrahedron> pieces;
+    if (region > 0) {
+      pieces.push_back(whole);
+    } else {
+      bool all_in = true;
+      for (int k = 0; k < 10; ++k) all_in = all_in && box_.contains(nodes.col(k));
+      const Vector3d lo = nodes.rowwise().minCoeff(), hi = nodes.rowwise().maxCoeff();
+      if (all_in) {
+        pieces.push_back(whole);
+      } else if ((hi.array() >= box_.lo.array()).all() && (lo.array() <= box_.hi.array()).all()) {
+        const analysis::Tetrahedron vertices{nodes.col(0), nodes.col(1), nodes.col(2), nodes.col(3)};
+        for (const auto& piece : analysis::clip_to_box(vertices, box_)) {
+          analysis::Tetrahedron ref;
+          for (int k = 0; k < 4; ++k) ref[k] = reference_point(vertices, piece[k]);
+          pieces.push_back(ref);
+        }
+      }
+    }
+    if (pieces.empty()) continue;
+    const Eigen::VectorXd u = velocity_.element_coefficients(t);
+    const Eigen::VectorXd p = pressure_.element_coefficients(t);
+    const double eta = viscosities_.at(region);
+    for (const auto& piece : pieces) {
+      Matrix3d sub;
+      sub << piece[1] - piece[0], piece[2] - piece[0], piece[3] - piece[0];
+      const double sub_det = std::abs(sub.determinant());
+      if (sub_det == 0.0) continue;
+      for (int q = 0; q < rule.size(); ++q) {
+        const Vector3d xi = piece[0] + sub * rule.points[q];
+        const auto map = element::tet_map(nodes, element::p2_tet_gradients(xi));
+        const double w = rule.weights[q] * sub_det * std::abs(map.det_jacobian);
+        const Eigen::Matrix<double, 10, 3> grad = element::p2_tet_gradients(xi) * map.inverse_jacobian;
+        Matrix3d l = Matrix3d::Zero();  // l(i, j) = du_i / dx_j
+        for (int k = 0; k < 10; ++k) l += u.segment<3>(3 * k) * grad.row(k);
+        const auto psi = element::p1_tet_values(xi);
+        double pressure = 0.0;
+        for (int k = 0; k < 4; ++k) pressure += psi[k] * p(k);
+        stress += w * (-pressure * Matrix3d::Identity() + eta * (l + l.transpose()));
+        shear_rate += w * (l(0, 1) + l(1, 0));
+        volume += w;
+      }
+    }
+  }
+}
+
+void BulkStressModule::measure(const StepContext& context, StepReport& /*report*/) {
+  last_ = BulkStress{};
+  last_.box_volume = box_.volume();
+  // The objects counted: centre of volume of the interface the flow was solved on.
+  std::vector<bool> counted(mesh_.n_objects + 1, false);
+  Matrix3d tension = Matrix3d::Zero();
+  double counted_volume = 0.0;
+  for (std::size_t k = 0; k < context.interfaces.size(); ++k) {
+    const auto& surface = context.interfaces[k].surface();
+    const auto x = physics::interface_positions(surface, mesh_);
+    const auto integrals = physics::surface_integrals(surface, x);
+    if (!box_.contains(integrals.centre_of_volume())) continue;
+    counted[surface.object] = true;
+    counted_volume += integrals.volume;
+    ++last_.objects_counted;
+    tension -= tensions_.at(k) * normal_moment(surface, x);  // eq. 4.1, second term
+  }
+  last_.volume_fraction = counted_volume / last_.box_volume;
+  last_.tension = tension / last_.box_volume;
+  if (context.solution == nullptr) return;  // no flow yet
+
+  velocity_.assign_from(stokes_.dofs(), physics::kVelocityField, context.solution);
+  pressure_.assign_from(stokes_.dofs(), physics::kPressureField, context.solution);
+  Matrix3d stress;
+  double shear_rate = 0.0, volume = 0.0;
+  integrate_volume(counted, stress, shear_rate, volume);
+  std::array<double, 11> sums{};
+  for (int i = 0; i < 9; ++i) sums[i] = stress(i / 3, i % 3);
+  sums[9] = shear_rate;
+  sums[10] = volume;
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM,
+                PETSC_COMM_WORLD);
+  for (int i = 0; i < 9; ++i) stress(i / 3, i % 3) = sums[i];
+  last_.stress = (stress + tension) / last_.box_volume;
+  last_.shear_rate = sums[9] / last_.box_volume;
+}
+
+std::vector<ReportFile> BulkStressModule::report_files() const {
+  return {{bulk_stress_table().file(), bulk_stress_table().header(),
+           [this](const StepReport& report) { return bulk_stress_table().row({report, last_}); }}};
+}
+
+void BulkStressModule::summarise(nlohmann::json& summary) const {
+  const StepReport none;
+  summary["final_bulk_stress"] = bulk_stress_table().json_row({none, last_}, {"step", "t"});
+}
+
+}  // namespace softflow::simulation

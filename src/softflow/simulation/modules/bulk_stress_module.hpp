@@ -1,0 +1,79 @@
+// The bulk stress of a suspension as a module of the time step (thesis eq. 4.1):
+// the stress averaged over a cube centred in the cell, with the interfacial
+// tension's contribution of the objects counted in it, and the effective shear
+// rate of eq. 4.6 averaged the same way; bulk_stress.csv and summary.json.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "softflow/analysis/box_clipping.hpp"
+#include "softflow/fem/field.hpp"
+#include "softflow/io/report_table.hpp"
+#include "softflow/simulation/step_module.hpp"
+
+namespace softflow::simulation {
+
+/// The bulk quantities of one time, over the cube V (eq. 4.1):
+///   <sigma> = 1/V [ int_{V_m} sigma_m dV + sum_i int_{V_i} sigma_i dV
+///                   - sum_i Gamma_i int_{S_i} (n n - I/3) dA ]
+/// with V_m the matrix inside the cube and the sum over the objects whose
+/// centre of volume lies in it (each counted whole, inside the cube or not;
+/// an object whose centre lies outside is left out whole), sigma = -p I +
+/// 2 eta D. The effective shear rate is the same average of 2 D_xy (signed:
+/// eq. 4.6's sqrt(2 D:D) cannot oscillate; SPEC §9).
+struct BulkStress {
+  Eigen::Matrix3d stress = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The tension term alone (its xy component is the drops' elastic part).
+  Eigen::Matrix3d tension = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double shear_rate = std::numeric_limits<double>::quiet_NaN();  ///< <2 D_xy>
+  double volume_fraction = 0.0;  ///< counted objects' volume / V
+  int objects_counted = 0;
+  double box_volume = 0.0;
+};
+
+/// What one row of bulk_stress.csv is made from.
+struct BulkStressRow {
+  const StepReport& report;
+  const BulkStress& bulk;
+};
+
+/// bulk_stress.csv: one row per step.
+const io::ReportTable<BulkStressRow>& bulk_stress_table();
+
+/// In runs with bulk_stress.box_side > 0 (Newtonian phases without slip:
+/// io::parse_case refuses the rest). Stage measure: BulkStress of the last
+/// Stokes solution on the mesh it was solved on (NaN before the first solve).
+/// The matrix's elements are clipped to the cube (analysis::clip_to_box on
+/// their straight-sided vertices; exact for straight elements, the curved
+/// ones at interfaces met only where an object straddles a face).
+class BulkStressModule final : public StepModule {
+ public:
+  explicit BulkStressModule(const ModuleSetup& setup);
+  [[nodiscard]] static bool wanted(const ModuleSetup& setup);
+
+  [[nodiscard]] std::string name() const override { return "bulk_stress"; }
+  void measure(const StepContext& context, StepReport& report) override;
+  [[nodiscard]] std::vector<ReportFile> report_files() const override;
+  void summarise(nlohmann::json& summary) const override;
+
+  [[nodiscard]] const BulkStress& last() const { return last_; }
+
+ private:
+  /// The volume integrals of sigma and 2 D_xy over this rank's elements:
+  /// region 0 clipped to the cube, the counted objects' regions whole.
+  void integrate_volume(const std::vector<bool>& counted, Eigen::Matrix3d& stress,
+                        double& shear_rate, double& volume) const;
+
+  const mesh::Mesh& mesh_;
+  const physics::StokesSystem& stokes_;
+  analysis::Box box_;
+  std::vector<double> viscosities_;  // per region, 0 = the matrix
+  std::vector<double> tensions_;     // Gamma per object
+  fem::Field velocity_, pressure_;
+  BulkStress last_;
+};
+
+}  // namespace softflow::simulation
