@@ -4,11 +4,34 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <utility>
 
 #include "softflow/mesh/quality.hpp"
 
 namespace softflow::mesh {
+
+namespace {
+
+Point half_turn(const Point& p) { return {-p.x(), -p.y(), p.z()}; }
+
+// image[i] = the node at exactly R x_i, when every node has one (a mesh made
+// point-symmetric, whose images are exact to the bit); empty otherwise, and
+// for an unstructured mesh after the first node without an image.
+std::vector<int> half_turn_images(const Mesh& mesh) {
+  std::map<std::array<double, 3>, int> at;
+  for (int i = 0; i < mesh.n_nodes(); ++i) at.emplace(std::array{mesh.nodes[i].x(), mesh.nodes[i].y(), mesh.nodes[i].z()}, i);
+  std::vector<int> image(mesh.nodes.size(), -1);
+  for (int i = 0; i < mesh.n_nodes(); ++i) {
+    const Point p = half_turn(mesh.nodes[i]);
+    const auto it = at.find({p.x(), p.y(), p.z()});
+    if (it == at.end()) return {};
+    image[i] = it->second;
+  }
+  return image;
+}
+
+}  // namespace
 
 NodeRelocation::NodeRelocation(const Mesh& mesh)
     : tets_(mesh.tets),
@@ -21,6 +44,9 @@ NodeRelocation::NodeRelocation(const Mesh& mesh)
       for (int node : tri) free_[node] = 0;
   for (int i = 0; i < mesh.n_nodes(); ++i)
     if (mesh.master(i) != i) free_[i] = free_[mesh.master(i)] = 0;
+  image_ = half_turn_images(mesh);
+  for (int i = 0; i < static_cast<int>(image_.size()); ++i)
+    if (image_[i] == i) free_[i] = 0;  // on the z axis: a move off it would break the symmetry
   for (int t = 0; t < mesh.n_tets(); ++t) {
     const auto& tet = mesh.tets[t];
     for (int k = 0; k < 10; ++k) tets_of_node_[tet[k]].push_back(t);
@@ -44,6 +70,12 @@ double NodeRelocation::local_quality(const std::vector<Point>& nodes, int node) 
 void NodeRelocation::shift(std::vector<Point>& nodes, int node, const Point& shift) const {
   nodes[node] += shift;
   for (int edge_node : edge_nodes_of_vertex_[node]) nodes[edge_node] += 0.5 * shift;
+}
+
+void NodeRelocation::mirror(std::vector<Point>& nodes, int node) const {
+  if (image_.empty()) return;
+  nodes[image_[node]] = half_turn(nodes[node]);
+  for (int edge_node : edge_nodes_of_vertex_[node]) nodes[image_[edge_node]] = half_turn(nodes[edge_node]);
 }
 
 bool NodeRelocation::relocate(std::vector<Point>& nodes, int node) const {
@@ -132,11 +164,16 @@ NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double
     for (const auto& [first, last] : {std::pair{0, 4}, std::pair{4, 10}})
       for (int t : bad)
         for (int k = first; k < last; ++k) {
-          const int node = tets_[t][k];
+          // A mirror pair is searched from its smaller index, whichever
+          // of the two elements is being repaired.
+          const int node = image_.empty() ? tets_[t][k] : std::min(tets_[t][k], image_[tets_[t][k]]);
           if (!free_[node] || !relocate(nodes, node)) continue;
+          mirror(nodes, node);
           any = true;
-          if (!counted[node]) ++report.nodes_moved;
-          counted[node] = 1;
+          for (int moved : {node, image_.empty() ? node : image_[node]}) {
+            if (!counted[moved]) ++report.nodes_moved;
+            counted[moved] = 1;
+          }
         }
     if (!any) break;
   }
