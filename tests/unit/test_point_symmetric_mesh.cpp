@@ -15,6 +15,7 @@
 #include "softflow/geometry/point_symmetric_mesh.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/mesh/fingerprint.hpp"
+#include "softflow/mesh/node_relocation.hpp"
 
 using namespace softflow;
 using Eigen::Vector3d;
@@ -167,4 +168,26 @@ TEST(PointSymmetricMesh, ObjectsTheHalfTurnDoesNotMapOntoThemselvesAreRefused) {
   spec.objects[0].semi_axes = Vector3d(1.2, 0.8, 0.9);
   spec.objects[0].rotation_deg = Vector3d(20.0, 0.0, 0.0);
   EXPECT_THROW(geometry::validate(spec), InputError);
+}
+
+TEST(PointSymmetricMesh, NodeRelocationKeepsTheSymmetry) {
+  // Every element below 0.9 is repaired (most of them): the search moves
+  // many free nodes, each mirror pair to mirror positions, to the bit.
+  // Searched independently, the pairs end up apart (the compass search
+  // tries its directions in an order the half turn does not keep).
+  const auto m = geometry::build_shear_cell(centred_sphere(true));
+  const auto image = half_turn_images(m);
+  const mesh::NodeRelocation relocation(m);
+  auto nodes = m.nodes;
+  const auto report = relocation.improve(nodes, 0.9, 1);
+  EXPECT_GT(report.nodes_moved, 20);
+  int moved = 0;
+  for (int i = 0; i < m.n_nodes(); ++i) {
+    moved += nodes[i] != m.nodes[i];
+    EXPECT_EQ(nodes[image[i]], geometry::rotate_half_turn(nodes[i])) << "node " << i;
+    if (image[i] == i) {
+      EXPECT_FALSE(relocation.is_free(i)) << "node " << i << " on the z axis";
+    }
+  }
+  EXPECT_GE(moved, report.nodes_moved);  // and the edge nodes a moved vertex takes along
 }

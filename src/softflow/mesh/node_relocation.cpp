@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <utility>
 
 #include "softflow/mesh/quality.hpp"
@@ -15,18 +16,32 @@ namespace {
 
 Point half_turn(const Point& p) { return {-p.x(), -p.y(), p.z()}; }
 
-// image[i] = the node at exactly R x_i, when every node has one (a mesh made
-// point-symmetric, whose images are exact to the bit); empty otherwise, and
-// for an unstructured mesh after the first node without an image.
+// image[i] = the node at exactly R x_i, when R maps the mesh onto itself:
+// every node has an image (a mesh made point-symmetric has them to the bit)
+// and every tetrahedron's image is a tetrahedron. Empty otherwise: for an
+// unstructured mesh at the first node without an image; a structured grid's
+// nodes may all have images while its elements do not.
 std::vector<int> half_turn_images(const Mesh& mesh) {
   std::map<std::array<double, 3>, int> at;
-  for (int i = 0; i < mesh.n_nodes(); ++i) at.emplace(std::array{mesh.nodes[i].x(), mesh.nodes[i].y(), mesh.nodes[i].z()}, i);
+  for (int i = 0; i < mesh.n_nodes(); ++i)
+    at.emplace(std::array{mesh.nodes[i].x(), mesh.nodes[i].y(), mesh.nodes[i].z()}, i);
   std::vector<int> image(mesh.nodes.size(), -1);
   for (int i = 0; i < mesh.n_nodes(); ++i) {
     const Point p = half_turn(mesh.nodes[i]);
     const auto it = at.find({p.x(), p.y(), p.z()});
     if (it == at.end()) return {};
     image[i] = it->second;
+  }
+  auto sorted = [](std::array<int, 10> t) {
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::set<std::array<int, 10>> tets;
+  for (const auto& t : mesh.tets) tets.insert(sorted(t));
+  for (const auto& t : mesh.tets) {
+    std::array<int, 10> mapped{};
+    for (int k = 0; k < 10; ++k) mapped[k] = image[t[k]];
+    if (!tets.count(sorted(mapped))) return {};
   }
   return image;
 }
@@ -167,8 +182,12 @@ NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double
           // A mirror pair is searched from its smaller index, whichever
           // of the two elements is being repaired.
           const int node = image_.empty() ? tets_[t][k] : std::min(tets_[t][k], image_[tets_[t][k]]);
-          if (!free_[node] || !relocate(nodes, node)) continue;
+          if (!free_[node]) continue;
+          const bool moved = relocate(nodes, node);
+          // Also after no move: a rejected trial step, undone by
+          // subtracting it, can leave an ulp behind.
           mirror(nodes, node);
+          if (!moved) continue;
           any = true;
           for (int moved : {node, image_.empty() ? node : image_[node]}) {
             if (!counted[moved]) ++report.nodes_moved;
