@@ -78,6 +78,7 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.sizing.optimize_high_order, b.sizing.optimize_high_order);
   EXPECT_EQ(a.sizing.wall_size, b.sizing.wall_size);
   EXPECT_EQ(a.sizing.gap_elements, b.sizing.gap_elements);
+  EXPECT_EQ(a.sizing.point_symmetric, b.sizing.point_symmetric);
   EXPECT_EQ(a.blockage_ratio, b.blockage_ratio);
   EXPECT_EQ(a.bulk_stress.box_side, b.bulk_stress.box_side);
   EXPECT_EQ(a.solver, b.solver);

@@ -1,4 +1,5 @@
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/geometry/point_symmetric_mesh.hpp"
 #include "softflow/mesh/fingerprint.hpp"
 #include "softflow/mesh/renumber.hpp"
 
@@ -277,6 +278,26 @@ void check_resolution(int k, const ObjectSpec& o, const MeshSizing& sizing) {
       num(largest_ellipsoid_ratio(sizing.equator_nodes)), fmt::join(why, "; "), fix));
 }
 
+// mesh.point_symmetric: the rotation R (x, y, z) -> (-x, -y, z) must map the
+// object onto itself, else no mesh is R-symmetric: its centre on the z axis,
+// and an ellipsoid turned about z only (R commutes with rotations about z;
+// turns by multiples of 180 deg about x or y map the ellipsoid onto itself).
+void check_point_symmetric(int k, const ObjectSpec& o) {
+  const auto half_turns = [](double degrees) { return std::fmod(degrees, 180.0) == 0.0; };
+  if (o.centre.x() != 0.0 || o.centre.y() != 0.0)
+    throw InputError(fmt::format(
+        "{}: {} is off the z axis, and mesh.point_symmetric = true needs every object mapped "
+        "onto itself by the rotation by 180 deg about z: put its centre at x = y = 0 "
+        "({}.centre) or set mesh.point_symmetric = false",
+        label(k), describe(o), label(k)));
+  if (o.shape == ObjectShape::ellipsoid && !(half_turns(o.rotation_deg.x()) && half_turns(o.rotation_deg.y())))
+    throw InputError(fmt::format(
+        "{}: {} is turned about x or y by {}, and mesh.point_symmetric = true needs it mapped "
+        "onto itself by the rotation by 180 deg about z: turn it about z only ({}.rotation_deg "
+        "= [0, 0, rz]) or set mesh.point_symmetric = false",
+        label(k), describe(o), vec(o.rotation_deg), label(k)));
+}
+
 }  // namespace
 
 double largest_ellipsoid_ratio(int equator_nodes) {
@@ -312,6 +333,7 @@ void validate(const ShearCellSpec& spec) {
   validate_sizing(spec.sizing);
   for (int k = 0; k < static_cast<int>(spec.objects.size()); ++k) {
     validate_shape(k, spec.objects[k]);
+    if (spec.sizing.point_symmetric) check_point_symmetric(k, spec.objects[k]);
     check_resolution(k, spec.objects[k], spec.sizing);
     const double h = interface_element_size(spec.objects[k], spec.sizing);
     check_wall(k, spec.objects[k], spec.box, spec.sizing);
@@ -414,6 +436,9 @@ struct CellEntities {
   std::vector<int> object_volume;                 // volume tag of object k (0-based)
   std::vector<std::vector<int>> object_surfaces;  // interface surfaces of object k
   std::array<std::vector<int>, 6> box_faces;      // indexed by BoundaryTag
+  // mesh.point_symmetric: the half y >= 0 is meshed; its faces on the cut
+  // plane y = 0, split at x = 0 (x < 0 pieces, then their mirror pieces).
+  std::vector<int> cut_low, cut_high;
 };
 
 // Unit sphere (pole on z) dilated, rotated (Rx, then Ry, then Rz, so that
@@ -504,6 +529,126 @@ CellEntities build_geometry(const ShearCellSpec& spec) {
           fmt::format("box face {} has {} surfaces after the fragment", f, e.box_faces[f].size()));
   for (int volume : e.object_volume) e.object_surfaces.push_back(boundary_surfaces(volume));
   return e;
+}
+
+// The box's upper half y >= 0 fragmented with the objects' upper halves and
+// with the segment x = y = 0 on the cut plane, which splits the plane's
+// faces (the matrix's and each object's cross-section) into x < 0 and x > 0
+// pieces: set_half_turn_periodicity makes the x > 0 pieces' meshes the
+// mirror images of the x < 0 ones, so that the plane's mesh is symmetric
+// under x -> -x, R restricted to y = 0.
+CellEntities build_half_geometry(const ShearCellSpec& spec) {
+  const mesh::Box& b = spec.box;
+  const auto upper_half = [&] {
+    return gmsh::model::occ::addBox(-b.length / 2, 0.0, -b.width / 2, b.length, b.height / 2, b.width);
+  };
+  const int box = upper_half();
+  gmsh::vectorpair objects;
+  for (const auto& o : spec.objects) {
+    gmsh::vectorpair out;
+    std::vector<gmsh::vectorpair> map;
+    gmsh::model::occ::intersect({{3, add_object(o)}}, {{3, upper_half()}}, out, map);
+    if (out.size() != 1) throw MeshError("the upper half of an object came out as several volumes");
+    objects.push_back(out[0]);
+  }
+  // The segment is broken at each object's centre: else an object's
+  // cross-section would have its half-boundary arc and its diameter between
+  // the same two end points, and gmsh 4.8 matches periodic curves by their
+  // end points ("could not find counterpart of curve").
+  std::vector<double> breaks{-b.width / 2, b.width / 2};
+  for (const auto& o : spec.objects) breaks.push_back(o.centre.z());
+  std::sort(breaks.begin(), breaks.end());
+  gmsh::vectorpair tools = objects;
+  int previous = gmsh::model::occ::addPoint(0.0, 0.0, breaks.front());
+  for (std::size_t i = 1; i < breaks.size(); ++i) {
+    if (breaks[i] == breaks[i - 1]) continue;
+    const int next = gmsh::model::occ::addPoint(0.0, 0.0, breaks[i]);
+    tools.push_back({1, gmsh::model::occ::addLine(previous, next)});
+    previous = next;
+  }
+
+  gmsh::vectorpair out;
+  std::vector<gmsh::vectorpair> pieces;
+  gmsh::model::occ::fragment({{3, box}}, tools, out, pieces);
+  if (pieces.size() != tools.size() + 1) throw MeshError("gmsh fragment returned an unexpected piece map");
+  CellEntities e;
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    if (pieces[k + 1].size() != 1)
+      throw MeshError(fmt::format("{}: the fragment split its upper half into {} volumes",
+                                  label(static_cast<int>(k)), pieces[k + 1].size()));
+    e.object_volume.push_back(pieces[k + 1][0].second);
+  }
+  std::vector<int> matrix_pieces;
+  for (const auto& [dim, tag] : pieces[0])
+    if (dim == 3 && std::find(e.object_volume.begin(), e.object_volume.end(), tag) == e.object_volume.end())
+      matrix_pieces.push_back(tag);
+  gmsh::model::occ::synchronize();
+  if (matrix_pieces.size() != 1)
+    throw MeshError(fmt::format("the matrix came out of the fragment as {} volumes", matrix_pieces.size()));
+  e.matrix = matrix_pieces[0];
+
+  const double tol = 1e-6 * std::max({b.length, b.height, b.width});
+  struct Flat {
+    int tag;
+    double lo[3], hi[3];
+  };
+  std::vector<Flat> cut;
+  auto on_cut_plane = [&](int surface, Flat* flat) {
+    Flat f{surface, {}, {}};
+    gmsh::model::getBoundingBox(2, surface, f.lo[0], f.lo[1], f.lo[2], f.hi[0], f.hi[1], f.hi[2]);
+    if (std::abs(f.lo[1]) > tol || std::abs(f.hi[1]) > tol) return false;
+    if (flat) *flat = f;
+    return true;
+  };
+  for (int surface : boundary_surfaces(e.matrix)) {
+    Flat f{};
+    if (on_cut_plane(surface, &f)) {
+      cut.push_back(f);
+      continue;
+    }
+    const int face = box_face_of(surface, b);
+    if (face >= 0) e.box_faces[face].push_back(surface);
+  }
+  for (std::size_t f = 0; f < e.box_faces.size(); ++f)
+    if (e.box_faces[f].size() != (f == static_cast<std::size_t>(BoundaryTag::wall_bottom) ? 0u : 1u))
+      throw MeshError(fmt::format("box face {} has {} surfaces after the fragment of the upper half", f,
+                                  e.box_faces[f].size()));
+  for (int volume : e.object_volume) {
+    std::vector<int> surfaces;
+    for (int surface : boundary_surfaces(volume)) {
+      Flat f{};
+      if (!on_cut_plane(surface, &f)) surfaces.push_back(surface);
+      else if (std::none_of(cut.begin(), cut.end(), [&](const Flat& c) { return c.tag == surface; }))
+        cut.push_back(f);
+    }
+    e.object_surfaces.push_back(surfaces);
+  }
+  // Pair each x < 0 piece with the x > 0 piece whose bounding box is its mirror image.
+  for (const Flat& low : cut) {
+    if (low.hi[0] > tol) continue;
+    int found = -1;
+    for (const Flat& high : cut)
+      if (high.lo[0] >= -tol && std::abs(high.lo[0] + low.hi[0]) < tol && std::abs(high.hi[0] + low.lo[0]) < tol &&
+          std::abs(high.lo[2] - low.lo[2]) < tol && std::abs(high.hi[2] - low.hi[2]) < tol)
+        found = high.tag;
+    if (found < 0) throw MeshError("a face of the cut plane y = 0 has no mirror face");
+    e.cut_low.push_back(low.tag);
+    e.cut_high.push_back(found);
+  }
+  if (e.cut_low.size() * 2 != cut.size())
+    throw MeshError(fmt::format("the cut plane y = 0 came out as {} faces, not split into mirror pairs at x = 0",
+                                cut.size()));
+  return e;
+}
+
+// The x > 0 pieces of the cut plane are meshed as the images of the x < 0
+// pieces under R (x, y, z) -> (-x, -y, z), which maps y = 0 onto itself by
+// x -> -x. Slave is the x > 0 side because the x-periodic face x = L/2 is a
+// slave too: their shared edge (x = L/2, y = 0) then has one master, the
+// edge at x = -L/2, by both constraints, which give it the same nodes.
+void set_half_turn_periodicity(const CellEntities& e) {
+  gmsh::model::mesh::setPeriodic(2, e.cut_high, e.cut_low,
+                                 {-1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1});
 }
 
 std::vector<double> translation(double dx, double dy, double dz) {
@@ -872,7 +1017,10 @@ void read_periodic(mesh::Mesh& m, const NodeTable& nodes) {
   for (int i = 0; i < m.n_nodes(); ++i) m.periodic_master[i] = classes.find(i);
 }
 
-mesh::Mesh read_mesh(const ShearCellSpec& spec, const CellEntities& e) {
+// `cut_nodes` (mesh.point_symmetric: the half's nodes on the cut plane, for
+// complete_by_half_turn) instead of the periodic pairs: the whole mesh's
+// periodic classes are found from it, not from the half's.
+mesh::Mesh read_mesh(const ShearCellSpec& spec, const CellEntities& e, std::vector<int>* cut_nodes = nullptr) {
   mesh::Mesh m;
   m.box = spec.box;
   m.n_objects = static_cast<int>(spec.objects.size());
@@ -881,7 +1029,23 @@ mesh::Mesh read_mesh(const ShearCellSpec& spec, const CellEntities& e) {
   read_faces(m, e, spec.box, nodes);
   orient_faces(m, m.boundary_faces, [](std::size_t) { return 0; });
   orient_faces(m, m.interface_faces, [&m](std::size_t f) { return m.interface_object[f]; });
-  read_periodic(m, nodes);
+  if (!cut_nodes) {
+    read_periodic(m, nodes);
+    return m;
+  }
+  std::set<int> on_plane;
+  for (const auto& faces : {e.cut_low, e.cut_high})
+    for (int surface : faces) {
+      std::vector<std::size_t> tags;
+      std::vector<double> coord, param;
+      gmsh::model::mesh::getNodes(tags, coord, param, 2, surface, /*includeBoundary=*/true, false);
+      for (std::size_t tag : tags) {
+        const int node = nodes(tag);
+        if (node < 0) throw MeshError("a node of the cut plane belongs to no tetrahedron");
+        on_plane.insert(node);
+      }
+    }
+  cut_nodes->assign(on_plane.begin(), on_plane.end());
   return m;
 }
 
@@ -1155,9 +1319,12 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
   {
     GmshSession session;
     CellEntities entities;
-    session.run("building the geometry", [&] { entities = build_geometry(spec); });
+    const bool symmetric = spec.sizing.point_symmetric;
+    session.run("building the geometry",
+                [&] { entities = symmetric ? build_half_geometry(spec) : build_geometry(spec); });
     session.run("setting periodicity and mesh size", [&] {
       set_periodicity(spec.box, entities);
+      if (symmetric) set_half_turn_periodicity(entities);
       set_size_and_order(spec);
     });
     try {
@@ -1167,7 +1334,9 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
     } catch (const MeshError& e) {
       throw MeshError(fmt::format("{}. {}", e.what(), meshing_advice(spec.sizing)));
     }
-    session.run("reading the mesh", [&] { m = read_mesh(spec, entities); });
+    std::vector<int> cut_nodes;
+    session.run("reading the mesh", [&] { m = read_mesh(spec, entities, symmetric ? &cut_nodes : nullptr); });
+    if (symmetric) m = complete_by_half_turn(m, cut_nodes);
   }
   mesh::renumber_nodes_spatially(m);  // compact per-rank node ranges, local element loops
   verify_periodic(m);

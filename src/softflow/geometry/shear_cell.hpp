@@ -56,6 +56,16 @@ struct MeshSizing {
   /// made before it stays the same to the bit.
   std::optional<int> gap_elements;
   static constexpr int kDefaultGapElements = 2;
+  /// Make the mesh symmetric under the shear flow's point symmetry, the
+  /// rotation by pi about the z axis, (x, y, z) -> (-x, -y, z): gmsh meshes
+  /// the half y >= 0 (its cut plane y = 0 symmetric under x -> -x) and the
+  /// lower half is its image (point_symmetric_mesh.hpp). Every object must be
+  /// mapped onto itself (centred on the z axis, turned about z only). An
+  /// object centred there cannot cross streamlines, and on such a mesh it
+  /// does not numerically either (docs/confinement.md, "The noise floor of
+  /// a migration measurement"). Off (the default): gmsh meshes the whole
+  /// cell, the meshes of before the key to the bit.
+  bool point_symmetric = false;
   [[nodiscard]] int elements_across_gaps() const { return gap_elements.value_or(kDefaultGapElements); }
 };
 

@@ -301,7 +301,12 @@ Table<CaseConfig> mesh_table() {
                                     "object closer to a wall than g_min = gap_elements h / {:g} "
                                     "(h = 4 pi a_min / equator_nodes, the interface element "
                                     "size) is refused",
-                                    geometry::kMaxGapRefinement))}};
+                                    geometry::kMaxGapRefinement)),
+       boolean("point_symmetric", sizing(&geometry::MeshSizing::point_symmetric), false,
+               "mesh half the cell (y >= 0) and rotate it by 180 deg about z for the other "
+               "half: the mesh then has the shear flow's point symmetry, and an object centred "
+               "on the z axis (which it must be, turned about z only) does not drift across "
+               "streamlines numerically (docs/confinement.md: the noise floor of v_p)")}};
 }
 
 Table<CaseConfig> solver_table() {

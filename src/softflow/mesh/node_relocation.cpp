@@ -4,11 +4,49 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
 #include <utility>
 
 #include "softflow/mesh/quality.hpp"
 
 namespace softflow::mesh {
+
+namespace {
+
+Point half_turn(const Point& p) { return {-p.x(), -p.y(), p.z()}; }
+
+// image[i] = the node at exactly R x_i, when R maps the mesh onto itself:
+// every node has an image (a mesh made point-symmetric has them to the bit)
+// and every tetrahedron's image is a tetrahedron. Empty otherwise: for an
+// unstructured mesh at the first node without an image; a structured grid's
+// nodes may all have images while its elements do not.
+std::vector<int> half_turn_images(const Mesh& mesh) {
+  std::map<std::array<double, 3>, int> at;
+  for (int i = 0; i < mesh.n_nodes(); ++i)
+    at.emplace(std::array{mesh.nodes[i].x(), mesh.nodes[i].y(), mesh.nodes[i].z()}, i);
+  std::vector<int> image(mesh.nodes.size(), -1);
+  for (int i = 0; i < mesh.n_nodes(); ++i) {
+    const Point p = half_turn(mesh.nodes[i]);
+    const auto it = at.find({p.x(), p.y(), p.z()});
+    if (it == at.end()) return {};
+    image[i] = it->second;
+  }
+  auto sorted = [](std::array<int, 10> t) {
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::set<std::array<int, 10>> tets;
+  for (const auto& t : mesh.tets) tets.insert(sorted(t));
+  for (const auto& t : mesh.tets) {
+    std::array<int, 10> mapped{};
+    for (int k = 0; k < 10; ++k) mapped[k] = image[t[k]];
+    if (!tets.count(sorted(mapped))) return {};
+  }
+  return image;
+}
+
+}  // namespace
 
 NodeRelocation::NodeRelocation(const Mesh& mesh)
     : tets_(mesh.tets),
@@ -21,6 +59,9 @@ NodeRelocation::NodeRelocation(const Mesh& mesh)
       for (int node : tri) free_[node] = 0;
   for (int i = 0; i < mesh.n_nodes(); ++i)
     if (mesh.master(i) != i) free_[i] = free_[mesh.master(i)] = 0;
+  image_ = half_turn_images(mesh);
+  for (int i = 0; i < static_cast<int>(image_.size()); ++i)
+    if (image_[i] == i) free_[i] = 0;  // on the z axis: a move off it would break the symmetry
   for (int t = 0; t < mesh.n_tets(); ++t) {
     const auto& tet = mesh.tets[t];
     for (int k = 0; k < 10; ++k) tets_of_node_[tet[k]].push_back(t);
@@ -44,6 +85,12 @@ double NodeRelocation::local_quality(const std::vector<Point>& nodes, int node) 
 void NodeRelocation::shift(std::vector<Point>& nodes, int node, const Point& shift) const {
   nodes[node] += shift;
   for (int edge_node : edge_nodes_of_vertex_[node]) nodes[edge_node] += 0.5 * shift;
+}
+
+void NodeRelocation::mirror(std::vector<Point>& nodes, int node) const {
+  if (image_.empty()) return;
+  nodes[image_[node]] = half_turn(nodes[node]);
+  for (int edge_node : edge_nodes_of_vertex_[node]) nodes[image_[edge_node]] = half_turn(nodes[edge_node]);
 }
 
 bool NodeRelocation::relocate(std::vector<Point>& nodes, int node) const {
@@ -132,11 +179,20 @@ NodeRelocation::Report NodeRelocation::improve(std::vector<Point>& nodes, double
     for (const auto& [first, last] : {std::pair{0, 4}, std::pair{4, 10}})
       for (int t : bad)
         for (int k = first; k < last; ++k) {
-          const int node = tets_[t][k];
-          if (!free_[node] || !relocate(nodes, node)) continue;
+          // A mirror pair is searched from its smaller index, whichever
+          // of the two elements is being repaired.
+          const int node = image_.empty() ? tets_[t][k] : std::min(tets_[t][k], image_[tets_[t][k]]);
+          if (!free_[node]) continue;
+          const bool moved = relocate(nodes, node);
+          // Also after no move: a rejected trial step, undone by
+          // subtracting it, can leave an ulp behind.
+          mirror(nodes, node);
+          if (!moved) continue;
           any = true;
-          if (!counted[node]) ++report.nodes_moved;
-          counted[node] = 1;
+          for (int moved : {node, image_.empty() ? node : image_[node]}) {
+            if (!counted[moved]) ++report.nodes_moved;
+            counted[moved] = 1;
+          }
         }
     if (!any) break;
   }
