@@ -67,6 +67,7 @@ def case_name(beta, ca_e, n):
 def case_text(name, beta, ca_e, n):
     equator, far, growth = MESHES[n]
     height = f"height = {UNBOUNDED_HEIGHT}" if beta == 0 else f"blockage_ratio = {beta}"
+    quality = ""
     return f"""[case]
 name = "{name}"
 [cell]
@@ -85,7 +86,7 @@ growth = {growth}
 [time]
 step = {DT}
 end = {T_END}
-[checkpoint]
+{quality}[checkpoint]
 interval_minutes = 0
 [output]
 fields = true
@@ -219,6 +220,7 @@ def report(work):
                f"a = {ka:.3f} (thesis 8/5 = 1.600), b = {kb:.3f} (thesis 11/3 = {11 / 3:.3f})."]
 
     md += mesh_study(results)
+    md += roscoe_section(results, theory)
 
     with open(os.path.join(OUT, "confined_particle.csv"), "w", newline="") as fcsv:
         w = csv.writer(fcsv)
@@ -254,6 +256,31 @@ def mesh_study(results):
                                           f"the 28-node run {values[1] / fit[1] - 1:+.2%} from it"
                                           if fit else "differences not monotone: no order") + "")
             md.append("")
+    return md
+
+
+def roscoe_section(results, theory):
+    """beta = 0 against Roscoe's finite-deformation theory (scripts/theory/roscoe_particle.py)."""
+    if theory is None:
+        return []
+    md = ["", "## beta = 0 against Roscoe's exact finite-deformation theory (docs/roscoe.md)", "",
+          "| Ca_e | equator nodes | D | Roscoe D | D / Roscoe - 1 | theta [deg] | Roscoe theta [deg] | difference [deg] |",
+          "|---|---|---|---|---|---|---|---|"]
+    rows = [(c, 28) for c in CAS] + [(0.1, n) for n in STUDY_M_NODES if n != 28]
+    for c, n in rows:
+        r = results[case_name(0.0, c, n)]
+        if not reached_steady(r):
+            continue
+        d, th = theory(c)[:2]
+        md.append(f"| {c:g} | {n} | {r['D_steady']:.5f} | {d:.5f} | {r['D_steady'] / d - 1:+.2%} | "
+                  f"{r['theta_steady']:.3f} | {th:.3f} | {r['theta_steady'] - th:+.3f} |")
+    values = [results[case_name(0.0, 0.1, n)] for n in STUDY_M_NODES]
+    if all(reached_steady(r) for r in values):
+        fit = richardson([meshed_size(r) for r in values], [r["D_steady"] for r in values])
+        if fit:
+            d = theory(0.1)[0]
+            md += ["", f"Ca_e = 0.1, mesh study above: Richardson D = {fit[1]:.5f}, "
+                   f"{fit[1] / d - 1:+.2%} from Roscoe's {d:.5f}."]
     return md
 
 
