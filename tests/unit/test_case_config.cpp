@@ -835,6 +835,7 @@ equator_nodes = 40
 far_size = 3.0
 growth = 0.4
 optimize_high_order = true
+point_symmetric = false
 
 [solver]
 type = "auto"
@@ -867,6 +868,9 @@ interval_minutes = 10.0
 redistribution_factor = 10.0
 supg_beta = 0.5
 semi_implicit_tension = true
+
+[bulk_stress]
+box_side = 0.0
 )");
 }
 
