@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 
+#include <Eigen/LU>
 #include <mpi.h>
 
 #include "softflow/element/isoparametric.hpp"
@@ -77,12 +78,19 @@ bool BulkStressModule::wanted(const ModuleSetup& setup) {
 
 namespace {
 
-/// The reference coordinates of x in the straight tetrahedron with vertices v.
-Vector3d reference_point(const analysis::Tetrahedron& v, const Vector3d& x) {
-  Matrix3d a;
-  a << v[1] - v[0], v[2] - v[0], v[3] - v[0];
-  return a.partialPivLu().solve(x - v[0]);
-}
+/// The map from physical to reference coordinates of the straight
+/// tetrahedron with vertices v: xi = A^{-1} (x - v_0), A's columns its edges
+/// from v_0 (factored once per element, used for every clipped vertex).
+struct ReferenceCoordinates {
+  explicit ReferenceCoordinates(const analysis::Tetrahedron& v) : origin(v[0]) {
+    Matrix3d a;
+    a << v[1] - v[0], v[2] - v[0], v[3] - v[0];
+    lu = a.partialPivLu();
+  }
+  [[nodiscard]] Vector3d operator()(const Vector3d& x) const { return lu.solve(x - origin); }
+  Vector3d origin;
+  Eigen::PartialPivLU<Matrix3d> lu;
+};
 
 /// int_S (n n - I/3) dA over a curved P2 interface at positions x.
 Matrix3d normal_moment(const physics::InterfaceMesh& s, const std::vector<Vector3d>& x) {
@@ -125,9 +133,10 @@ void BulkStressModule::integrate_volume(const std::vector<bool>& counted, Matrix
         pieces.push_back(whole);
       } else if ((hi.array() >= box_.lo.array()).all() && (lo.array() <= box_.hi.array()).all()) {
         const analysis::Tetrahedron vertices{nodes.col(0), nodes.col(1), nodes.col(2), nodes.col(3)};
+        const ReferenceCoordinates reference(vertices);
         for (const auto& piece : analysis::clip_to_box(vertices, box_)) {
           analysis::Tetrahedron ref;
-          for (int k = 0; k < 4; ++k) ref[k] = reference_point(vertices, piece[k]);
+          for (int k = 0; k < 4; ++k) ref[k] = reference(piece[k]);
           pieces.push_back(ref);
         }
       }
@@ -143,9 +152,10 @@ void BulkStressModule::integrate_volume(const std::vector<bool>& counted, Matrix
       if (sub_det == 0.0) continue;
       for (int q = 0; q < rule.size(); ++q) {
         const Vector3d xi = piece[0] + sub * rule.points[q];
-        const auto map = element::tet_map(nodes, element::p2_tet_gradients(xi));
+        const Eigen::Matrix<double, 10, 3> ref_grad = element::p2_tet_gradients(xi);
+        const auto map = element::tet_map(nodes, ref_grad);
         const double w = rule.weights[q] * sub_det * std::abs(map.det_jacobian);
-        const Eigen::Matrix<double, 10, 3> grad = element::p2_tet_gradients(xi) * map.inverse_jacobian;
+        const Eigen::Matrix<double, 10, 3> grad = ref_grad * map.inverse_jacobian;
         Matrix3d l = Matrix3d::Zero();  // l(i, j) = du_i / dx_j
         for (int k = 0; k < 10; ++k) l += u.segment<3>(3 * k) * grad.row(k);
         const auto psi = element::p1_tet_values(xi);
