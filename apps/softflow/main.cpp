@@ -237,10 +237,11 @@ softflow::io::CaseConfig read_valid_case(const std::filesystem::path& path) {
 /// same elements, but some node coordinates differing in the last bit
 /// (issue 11 item 4: about 40 of 2,800 nodes, different ones every run;
 /// such a bit can tip a later decision of the mesher and change the mesh's
-/// quality). OpenCASCADE's own manager (MMGT_OPT=1) gives the same mesh in
+/// quality). OpenCASCADE's own manager (MMGT_OPT=1) gave the same mesh in
 /// every process, so softflow restarts itself once with it unless the user
-/// chose a manager. (A second mesh in the same process can still differ in
-/// the last bit; softflow meshes once per process.)
+/// chose a manager. (Since gmsh runs in a DeterministicHeapScope, measured
+/// meshes are the same to the bit with either manager; the restart stays as
+/// the configuration the regression references were made with.)
 void use_reproducible_occ_memory_manager(char** argv) {
   if (std::getenv("MMGT_OPT") != nullptr) return;  // set: the user's choice, or done
   if (::setenv("MMGT_OPT", "1", 1) != 0) return;

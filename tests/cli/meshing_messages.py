@@ -11,8 +11,12 @@ Usage: meshing_messages.py SOFTFLOW WORK_DIR
    mesh, ends fast (exit 2) with gmsh's error followed by the keys to
    change, not gmsh's error alone.
 3. Meshing is reproducible from one process to the next: an ellipsoid and
-   a sphere meshed three times, with OMP_NUM_THREADS 1, 4 and unset, give the
-   same mesh fingerprint (a hash of every coordinate's bits and every element).
+   a sphere meshed five times, with OMP_NUM_THREADS 1, 4 and unset, from
+   case files at paths of different lengths and with stdout a pipe or a
+   file, give the same mesh fingerprint (a hash of every coordinate's bits
+   and every element). Each of these used to change gmsh's heap, and with
+   it the curved nodes of the ellipsoid, before gmsh ran in a
+   DeterministicHeapScope.
 """
 import os
 import random
@@ -85,18 +89,31 @@ def main(softflow, work):
                 '[cell]\nlength = 10.0\nheight = 8.0\nwidth = 8.0\n[mesh]\nequator_nodes = 16\n'
                 'far_size = 2.0\n')
     prints = []
-    for threads in ("1", "4", None):
+    runs = [("1", case, False), ("4", case, False), (None, case, False)]
+    for depth, to_file in ((1, False), (5, True)):
+        deeper = os.path.join(work, *(["a_longer_directory_name"] * depth))
+        os.makedirs(deeper, exist_ok=True)
+        shutil.copy(case, deeper)
+        runs.append((None, os.path.join(deeper, "two.toml"), to_file))
+    for threads, path, to_file in runs:
         env = dict(os.environ)
         env.pop("OMP_NUM_THREADS", None)
         if threads:
             env["OMP_NUM_THREADS"] = threads
-        r = subprocess.run([softflow, "mesh", case], capture_output=True, text=True, env=env, timeout=120)
+        if to_file:
+            with open(os.path.join(work, "mesh_stdout.txt"), "w+") as out:
+                r = subprocess.run([softflow, "mesh", path], stdout=out, stderr=subprocess.PIPE, text=True,
+                                   env=env, timeout=120)
+                out.seek(0)
+                r.stdout = out.read()
+        else:
+            r = subprocess.run([softflow, "mesh", path], capture_output=True, text=True, env=env, timeout=120)
         if r.returncode != 0 or "fingerprint " not in r.stdout:
             fail(f"softflow mesh: exit {r.returncode}, no fingerprint: {r.stdout}{r.stderr}")
         prints.append(r.stdout.split("fingerprint ")[1].split()[0])
     if len(set(prints)) != 1:
         fail(f"the same case meshed to different meshes: fingerprints {prints}")
-    print(f"three processes, one mesh: fingerprint {prints[0]}")
+    print(f"{len(prints)} processes, one mesh: fingerprint {prints[0]}")
     print("PASS")
 
 

@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 #include <gmsh.h>
 
+#include "softflow/common/deterministic_heap.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/mesh/quality.hpp"
 
@@ -353,6 +354,9 @@ namespace {
 // bad mesh size while meshing curves), where nothing can catch it and the
 // process terminates. So errors are made non-fatal (AbortOnError = 0) and
 // the session polls gmsh's log for them after every stage instead.
+// gmsh runs inside a DeterministicHeapScope: its high-order optimiser orders
+// elements by address, and only there are those addresses the same in every
+// process (common/deterministic_heap.hpp).
 class GmshSession {
  public:
   GmshSession() {
@@ -423,6 +427,7 @@ class GmshSession {
     return fmt::format("{}", fmt::join(errors, "; "));
   }
 
+  DeterministicHeapScope heap_;  // open before gmsh::initialize, closed after gmsh::finalize
   std::size_t seen_ = 0;
 };
 

@@ -30,16 +30,15 @@ struct MeshedCase {
 MeshedCase build_mesh(const io::CaseConfig& config);
 
 /// Meshes `config` now and keeps the mesh for build_mesh: called before MPI
-/// starts, by the process that will be rank 0. gmsh's meshes depend in the
-/// last bits on the heap's layout, which MPI's threads make differ from run
-/// to run (measured: 4 different meshes of one case in 6 runs after
-/// MPI_Init, 1 in 10 before it; with OpenCASCADE's own memory manager,
-/// MMGT_OPT=1, which main arranges). What remains: the mesh still depends
-/// on the heap the process built up before meshing, so `softflow mesh`,
-/// `softflow run` and rank 0 of an MPI run each give their own mesh of a
-/// case, the same in every run but differing from each other in the last
-/// bits of some coordinates. A failure is not reported here: build_mesh
-/// reports it on every rank (without meshing again).
+/// starts, by the process that will be rank 0. gmsh's meshes used to depend
+/// in the last bits on the heap's layout, which MPI's threads make differ
+/// from run to run (measured: 4 different meshes of one case in 6 runs after
+/// MPI_Init, 1 in 10 before it). gmsh now runs in a DeterministicHeapScope
+/// (common/deterministic_heap.hpp) and `softflow mesh`, `softflow run` and
+/// rank 0 of an MPI run give the same mesh to the bit, before MPI or after
+/// (meshing before it stays: it costs nothing). A failure is
+/// not reported here: build_mesh reports it on every rank (without meshing
+/// again).
 void mesh_before_mpi(const io::CaseConfig& config);
 
 /// The Stokes solver's settings for `config`. solver.type = "auto" stays

@@ -65,11 +65,11 @@ struct StepContext {
   /// The Stokes dofs of every interface node (both velocity copies, slip
   /// multipliers), on every rank; indexed by global dof.
   const la::SelectedEntries* interface_values = nullptr;
-  std::span<const mesh::Point> mesh_velocity;
+  std::span<const mesh::Point> mesh_velocity = {};
   /// Every object's interface (1-based object k is interfaces[k - 1]): at
   /// stage measure its corrected positions x_{n+1}, while the mesh's
   /// interface nodes are still at the predicted x_hat the flow was solved on.
-  std::span<const physics::InterfaceTracker> interfaces;
+  std::span<const physics::InterfaceTracker> interfaces = {};
   double time = 0.0;
   double dt = 0.0;
   int step = 0;
