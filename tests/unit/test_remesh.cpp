@@ -302,3 +302,33 @@ TEST(MeshTransfer, InterfaceNodesKeepTheirOwnRegionsValuesExactly) {
   }
   EXPECT_GT(checked, 100);
 }
+
+// Two objects (a sphere and a rotated ellipsoid) and a wall-graded cell:
+// each keeps its own region and interface, the sizes follow the walls too.
+TEST(Remesh, TwoObjectsInAWallGradedCellKeepTheirRegions) {
+  geometry::ShearCellSpec spec = cell();
+  spec.box = {8, 5, 5, true, true};
+  spec.objects[0].centre = Vector3d(-1.8, 0.3, 0.0);
+  geometry::ObjectSpec e;
+  e.shape = geometry::ObjectShape::ellipsoid;
+  e.centre = Vector3d(1.7, -0.4, 0.2);
+  e.semi_axes = Vector3d(1.2, 0.8, 0.7);
+  e.rotation_deg = Vector3d(0, 10, 30);
+  spec.objects.push_back(e);
+  spec.sizing.wall_size = 0.4;
+  const auto before = geometry::build_shear_cell(spec);
+  const auto r = geometry::remesh(spec, before);
+  expect_interfaces_carried_over(before, r);
+  EXPECT_EQ(r.mesh.n_objects, 2);
+  const auto v0 = region_volumes(before), v1 = region_volumes(r.mesh);
+  for (int k = 1; k <= 2; ++k) {
+    EXPECT_NEAR(v1[k], v0[k], 1e-10 * v0[k]);
+    EXPECT_NEAR(enclosed_volume(r.mesh, k), enclosed_volume(before, k), 1e-12 * v0[k]);
+  }
+  EXPECT_NEAR(v1[0] + v1[1] + v1[2], 8.0 * 25.0, 1e-10 * 200.0);
+  EXPECT_GT(r.report.nodes_after, 0.7 * r.report.nodes_before);
+  EXPECT_LT(r.report.nodes_after, 1.3 * r.report.nodes_before);
+  EXPECT_GT(r.report.quality_after, 0.1);
+  std::printf("two objects: quality %.3f -> %.3f, nodes %d -> %d, %.2f s\n", r.report.quality_before,
+              r.report.quality_after, r.report.nodes_before, r.report.nodes_after, r.report.seconds);
+}
