@@ -197,8 +197,6 @@ std::vector<double> MeshTransfer::transfer(const Space& old_space, const Space& 
   if (old_space.degree() != new_space.degree() || old_space.continuity() != new_space.continuity())
     throw InputError(fmt::format("MeshTransfer: cannot transfer a {} field to a {} space", old_space.describe(),
                                  new_space.describe()));
-  if (old_space.continuity() == Continuity::on_interfaces)
-    throw InputError("MeshTransfer: interface-only fields are not transferred (they live on the carried nodes)");
   if (static_cast<int>(old_values.size()) != old_space.n_dofs() * components)
     throw InputError(fmt::format("MeshTransfer: {} old values for {} dofs x {} components", old_values.size(),
                                  old_space.n_dofs(), components));
@@ -217,17 +215,60 @@ std::vector<double> MeshTransfer::transfer(const Space& old_space, const Space& 
       continue;
     }
     // The old field's polynomial in the old element of the same region.
+    if (old_space.continuity() == Continuity::on_interfaces)
+      throw InputError("MeshTransfer: an interface-only field has a value off the carried interface nodes");
     const auto dofs = old_space.element_dofs(p.hit.tet);
-    std::array<double, 10> n{};
-    if (n_k == 10) {
-      n = element::p2_tet_values(p.hit.xi);
-    } else {
-      const auto p1 = element::p1_tet_values(p.hit.xi);
-      std::copy(p1.begin(), p1.end(), n.begin());
-    }
+    const auto n = weights(old_space.degree(), p.hit);
     for (int k = 0; k < n_k; ++k)
       for (int c = 0; c < components; ++c)
         value[c] += n[k] * old_values[static_cast<std::size_t>(dofs[k]) * components + c];
+  }
+  return out;
+}
+
+std::array<double, 10> MeshTransfer::weights(int degree, const RegionLocator::Hit& hit) {
+  std::array<double, 10> n{};
+  if (degree == 2) return element::p2_tet_values(hit.xi);
+  const auto p1 = element::p1_tet_values(hit.xi);
+  std::copy(p1.begin(), p1.end(), n.begin());
+  return n;
+}
+
+std::vector<double> MeshTransfer::transfer(const DofMap& old_dofs, const DofMap& new_dofs,
+                                           std::span<const double> old_values) const {
+  if (old_dofs.n_fields() != new_dofs.n_fields())
+    throw InputError("MeshTransfer: the dof maps compose different fields");
+  for (int f = 0; f < old_dofs.n_fields(); ++f) {
+    const FieldSpec &a = old_dofs.field(f), &b = new_dofs.field(f);
+    if (a.name != b.name || a.components != b.components || a.space->degree() != b.space->degree() ||
+        a.space->continuity() != b.space->continuity())
+      throw InputError(fmt::format("MeshTransfer: field {} differs between the dof maps ('{}', '{}')", f, a.name,
+                                   b.name));
+  }
+  if (static_cast<int>(old_values.size()) != old_dofs.n_dofs())
+    throw InputError(fmt::format("MeshTransfer: {} old values for {} dofs", old_values.size(), old_dofs.n_dofs()));
+  std::vector<double> out(new_dofs.n_dofs(), 0.0);
+  for (int dof = 0; dof < new_dofs.n_dofs(); ++dof) {
+    const int f = new_dofs.field_of(dof), c = new_dofs.component_of(dof);
+    const int node = new_dofs.node_of(dof), region = new_dofs.region_of(dof);
+    const Place& p = place(node, region);
+    if (p.old_node >= 0) {
+      const int old_dof = old_dofs.dof(f, p.old_node, region, c);
+      if (old_dof < 0)
+        throw InputError(fmt::format("MeshTransfer: old node {} has no '{}' value for region {}", p.old_node,
+                                     old_dofs.field(f).name, region));
+      out[dof] = old_values[old_dof];
+      continue;
+    }
+    const FieldSpec& field = old_dofs.field(f);
+    if (field.space->continuity() == Continuity::on_interfaces)
+      throw InputError(fmt::format("MeshTransfer: '{}' has a value off the carried interface nodes", field.name));
+    // Element dofs of field f: node by node, components innermost.
+    const auto dofs = old_dofs.element_dofs(p.hit.tet).subspan(old_dofs.element_offset(f),
+                                                                old_dofs.element_field_size(f));
+    const auto n = weights(field.space->degree(), p.hit);
+    const int n_k = field.space->n_element_nodes();
+    for (int k = 0; k < n_k; ++k) out[dof] += n[k] * old_values[dofs[k * field.components + c]];
   }
   return out;
 }

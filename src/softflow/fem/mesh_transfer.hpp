@@ -2,6 +2,7 @@
 // domain (issue 31): interpolation region by region, never across an interface.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -9,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "softflow/fem/dof_map.hpp"
 #include "softflow/fem/space.hpp"
 #include "softflow/mesh/mesh.hpp"
 
@@ -74,6 +76,13 @@ class MeshTransfer {
   [[nodiscard]] std::vector<double> transfer(const Space& old_space, const Space& new_space, int components,
                                              std::span<const double> old_values) const;
 
+  /// The same for a vector over a composed dof map (e.g. a Stokes solution:
+  /// velocity, pressure, slip multipliers), field by field; `old_dofs` and
+  /// `new_dofs` must compose the same fields. Interface-only fields (slip
+  /// multipliers) live on carried nodes only and are copied.
+  [[nodiscard]] std::vector<double> transfer(const DofMap& old_dofs, const DofMap& new_dofs,
+                                             std::span<const double> old_values) const;
+
   /// A P2 field given at every geometry node (continuous, e.g. the mesh
   /// velocity), at every node of the new mesh.
   [[nodiscard]] std::vector<Eigen::Vector3d> transfer_nodal(std::span<const Eigen::Vector3d> old_values) const;
@@ -90,6 +99,8 @@ class MeshTransfer {
     RegionLocator::Hit hit;
   };
   const Place& place(int node, int region) const;
+  /// Weights of the old element's nodes (P1: 4, P2: 10) at a located place.
+  static std::array<double, 10> weights(int degree, const RegionLocator::Hit& hit);
 
   const mesh::Mesh& old_;
   const mesh::Mesh& new_;

@@ -121,6 +121,13 @@ struct CheckpointConfig {
   double interval_minutes = 10.0;  ///< at most this long apart in wall time (0: not by time)
 };
 
+/// [remesh]: meshing the deformed domain again during a run (issue 31).
+struct RemeshConfig {
+  /// Remesh before a step once the worst element quality is below this
+  /// (0: never). Must exceed time.min_quality, which stops the run.
+  double quality = 0.0;
+};
+
 /// [interface]: interface tracking (thesis §2.2.3, §2.3.2).
 struct InterfaceConfig {
   /// k / gamma_dot of eq. 2.30 (thesis: 10); with gamma_dot = 0, k itself.
@@ -168,6 +175,7 @@ struct CaseConfig {
   TimeConfig time;            ///< [time]
   InterfaceConfig interface;  ///< [interface]
   CheckpointConfig checkpoint;  ///< [checkpoint]
+  RemeshConfig remesh;          ///< [remesh]
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;
