@@ -1,6 +1,8 @@
 #include "softflow/simulation/drop_simulation.hpp"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <limits>
 #include <chrono>
 #include <cmath>
@@ -92,10 +94,14 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   if (module_fields != added_fields_.size())
     throw Error("remesh: fields added to the run from outside a module cannot be carried to a new mesh");
   std::vector<physics::InterfaceTracker::History> histories;
+  std::vector<std::vector<double>> reference_areas;
+  std::vector<std::vector<std::array<int, 6>>> old_triangles;
   std::vector<std::vector<int>> old_volume_nodes;
   std::vector<double> volume_before;
   for (const auto& tracker : trackers_) {
     histories.push_back(tracker.history());
+    reference_areas.push_back(tracker.reference_areas());
+    old_triangles.push_back(tracker.surface().triangles);
     old_volume_nodes.push_back(tracker.surface().volume_node);
     volume_before.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
   }
@@ -155,6 +161,25 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
     h.x = remap(h.x);
     if (!h.x_previous.empty()) h.x_previous = remap(h.x_previous);
     trackers_[k].restore(std::move(h));
+    // The redistribution keeps the run's initial element areas (eq. 2.32's
+    // reference), triangle by triangle: the triangles are the old ones.
+    auto key = [](std::array<int, 3> t) {
+      std::sort(t.begin(), t.end());
+      return t;
+    };
+    std::map<std::array<int, 3>, int> new_triangle;
+    for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+      const auto& tri = surface.triangles[t];
+      new_triangle[key({tri[0], tri[1], tri[2]})] = static_cast<int>(t);
+    }
+    std::vector<double> areas(surface.triangles.size(), 0.0);
+    for (std::size_t t = 0; t < old_triangles[k].size(); ++t) {
+      std::array<int, 3> corners{};
+      for (int c = 0; c < 3; ++c)
+        corners[c] = local.at(r.new_node_of_old.at(old_volume_nodes[k][old_triangles[k][t][c]]));
+      areas.at(new_triangle.at(key(corners))) = reference_areas[k][t];
+    }
+    trackers_[k].set_reference_areas(std::move(areas));
     const double after = physics::surface_integrals(surface, trackers_[k].positions()).volume;
     event.volume_change = std::max(event.volume_change, std::abs(after / volume_before[k] - 1.0));
   }
@@ -383,6 +408,8 @@ void DropSimulation::register_state() {
                      r.set(p + "centre_steps", h.centre_steps);
                      r.set(p + "last_step", h.last_step);
                      r.set(p + "last_centre_velocity", std::vector<Vec3>{last_centre_velocity_[k]});
+                     // After a remesh the reference mesh's interface is not the initial one.
+                     r.set(p + "reference_areas", trackers_[k].reference_areas());
                    },
                    [this, k](const StateRecord& r, const std::string& p) {
                      const auto centre = r.get_points(p + "centre");
@@ -403,6 +430,8 @@ void DropSimulation::register_state() {
                                            centre[1], steps, r.get_int(p + "centre_steps"),
                                            last_step});
                      last_centre_velocity_[k] = velocity[0];
+                     if (r.contains(p + "reference_areas"))  // records from before remeshing: the initial ones
+                       trackers_[k].set_reference_areas(r.get_array(p + "reference_areas"));
                    }});
   // Each module's state saves and restores itself: the driver only lists it.
   for (auto& module : modules_) {
