@@ -136,15 +136,28 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
+  double remesh_failed_at = std::numeric_limits<double>::infinity();
   try {
     while (!at_end(config, sim.steps(), sim.time())) {
-      if (config.remesh.quality > 0.0 && sim.mesh_quality() < config.remesh.quality) {
+      if (config.remesh.quality > 0.0 && sim.mesh_quality() < config.remesh.quality &&
+          sim.mesh_quality() < 0.95 * remesh_failed_at) {
         // Before the step, outside the step taker (whose retries restore a
         // state of the mesh they started on). gmsh's meshes differ run to
         // run, so a checkpoint follows at once: a restart always continues
         // on the mesh this run continues on.
-        const RemeshEvent e = sim.remesh(fmt::format("quality {:.3g} < remesh.quality {:g}",
-                                                     sim.mesh_quality(), config.remesh.quality));
+        RemeshEvent e;
+        try {
+          e = sim.remesh(fmt::format("quality {:.3g} < remesh.quality {:g}", sim.mesh_quality(),
+                                     config.remesh.quality));
+        } catch (const MeshError& failed) {
+          // The run goes on with its mesh (time.min_quality still stops it
+          // with its diagnosis); tried again after a further 5 % drop.
+          remesh_failed_at = sim.mesh_quality();
+          if (root)
+            fmt::print(stderr, "softflow: note: remeshing at step {} (t = {:.4f}) failed, the run goes on "
+                       "with its mesh: {}\n", sim.steps(), sim.time(), failed.what());
+          continue;
+        }
         // The modules are new objects: their report files' rows with them.
         files.reports = sim.report_files();
         write_checkpoint();

@@ -108,7 +108,16 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
 
   // The new mesh: gmsh on rank 0 (its meshes differ run to run), sent to all.
   geometry::Remeshed r;
-  if (la::mpi_rank() == 0) r = geometry::remesh(config_.shear_cell_spec(), mesh_);
+  std::string failure;
+  if (la::mpi_rank() == 0) try {
+      r = geometry::remesh(config_.shear_cell_spec(), mesh_);
+    } catch (const MeshError& e) {
+      failure = e.what();
+    }
+  int failed = failure.empty() ? 0 : 1;
+  MPI_Bcast(&failed, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  // Nothing has changed yet: the run can go on with the mesh it has.
+  if (failed) throw MeshError(failure.empty() ? std::string("remeshing failed on rank 0") : failure);
   if (la::mpi_size() > 1) {
     parallel::broadcast_mesh(r.mesh, PETSC_COMM_WORLD);
     r.new_node_of_old.resize(old_mesh.n_nodes());

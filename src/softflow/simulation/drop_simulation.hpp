@@ -139,7 +139,8 @@ class DropSimulation {
   /// element areas of the remesh time (eq. 2.32's reference), as a restart
   /// from a checkpoint written after it does. Fields added with add_field
   /// from outside a module are not carried (Error if there are any).
-  /// Collective: rank 0 meshes, every rank receives the mesh.
+  /// Collective: rank 0 meshes, every rank receives the mesh. Throws
+  /// MeshError, with the run unchanged, when gmsh cannot make a valid mesh.
   RemeshEvent remesh(const std::string& reason);
 
   /// Throws AccuracyError (with step, object, drift and what to try) if an
