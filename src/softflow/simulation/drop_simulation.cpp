@@ -78,19 +78,8 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   const mesh::Mesh old_mesh = mesh_;
   const fem::DofMap old_dofs = stokes_->dofs();
   const std::vector<double> old_solution = solution();
-  struct OldField {
-    std::string name;
-    std::shared_ptr<const fem::Space> space;
-    int components;
-    std::vector<double> values;
-  };
-  std::vector<OldField> old_fields;
   std::size_t module_fields = 0;
-  for (auto& module : modules_)
-    for (fem::Field* f : module->fields()) {
-      old_fields.push_back({f->name(), f->dofs().field(0).space, f->components(), f->gather()});
-      ++module_fields;
-    }
+  for (auto& module : modules_) module_fields += module->fields().size();
   if (module_fields != added_fields_.size())
     throw Error("remesh: fields added to the run from outside a module cannot be carried to a new mesh");
   std::vector<physics::InterfaceTracker::History> histories;
@@ -132,6 +121,9 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   // The parts on the new mesh, from scratch; then the state carried over.
   registry_ = StateRegistry{};
   added_fields_.clear();
+  // The old modules stay until they have handed their fields over (reading
+  // only their fields' values: the mesh they were built on is replaced).
+  auto old_modules = std::move(modules_);
   modules_.clear();
   moving_mesh_.reset();
   stokes_.reset();
@@ -148,13 +140,11 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
     la::scatter_from_all(v.get(), values);
     set_solution(std::move(v));
   }
-  for (auto& module : modules_)
-    for (fem::Field* f : module->fields()) {
-      const auto old = std::find_if(old_fields.begin(), old_fields.end(),
-                                    [&](const OldField& o) { return o.name == f->name(); });
-      if (old == old_fields.end()) continue;
-      f->scatter(transfer.transfer(*old->space, f->space(), old->components, old->values));
-    }
+  // Each module takes over its predecessor's state (make_modules builds the
+  // same kinds in the same order from the same case).
+  if (old_modules.size() != modules_.size()) throw Error("remesh: the run's modules changed");
+  for (std::size_t i = 0; i < modules_.size(); ++i) modules_[i]->carry_over(*old_modules[i], transfer);
+  old_modules.clear();
   // The interface nodes are the old ones: the trackers' histories (x_n,
   // x_{n-1}, the centres) carry over in the new surfaces' node order.
   for (std::size_t k = 0; k < trackers_.size(); ++k) {
@@ -192,9 +182,6 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
     const double after = physics::surface_integrals(surface, trackers_[k].positions()).volume;
     event.volume_change = std::max(event.volume_change, std::abs(after / volume_before[k] - 1.0));
   }
-  // Multistep histories of the modules' fields restart at BDF1 (their past
-  // values live on the old mesh), as after a jump of the walls.
-  for (auto& module : modules_) module->restart_time_history();
   register_state();
   event.extrapolation = transfer.largest_extrapolation();
   event.seconds = std::chrono::duration<double>(Clock::now() - start).count();
