@@ -520,11 +520,14 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   if (quality < config_.time.min_quality) {
     throw MeshError(fmt::format(
         "step {} (t = {:.4f}): the moving mesh degraded: {} has quality {:.3g} < "
-        "time.min_quality = {:.3g}. The deformation is too large for a mesh that is never "
-        "remeshed; try a smaller time.step, a larger interface.redistribution_factor, or a finer "
-        "mesh{}{}",
+        "time.min_quality = {:.3g}. The deformation is too large for {}; try a smaller "
+        "time.step, a larger interface.redistribution_factor, or a finer mesh{}{}",
         steps_ + 1, time_ + dt, mesh::describe_element(mesh_, mesh::worst_tet(mesh_)),
         quality, config_.time.min_quality,
+        config_.remesh.quality > 0.0
+            ? "the mesh, and remeshing (remesh.quality) could not replace it (see the notes "
+              "above: docs/remeshing.md says which deformations it cannot mesh yet)"
+            : "a mesh that is never remeshed ([remesh] quality > 0 remeshes it)",
         config_.time.relocation_quality > 0.0
             ? " (node relocation, time.relocation_quality, could not keep it valid: a finer "
               "mesh gives it nodes to move)"
