@@ -94,6 +94,7 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.time.max_volume_drift, b.time.max_volume_drift);
   EXPECT_EQ(a.time.ale_rebuild_quality, b.time.ale_rebuild_quality);
   EXPECT_EQ(a.time.relocation_quality, b.time.relocation_quality);
+  EXPECT_EQ(a.remesh.quality, b.remesh.quality);
   EXPECT_EQ(a.time.steady_tolerance, b.time.steady_tolerance);
   EXPECT_EQ(a.time.steady_window, b.time.steady_window);
   EXPECT_EQ(a.interface.redistribution_factor, b.interface.redistribution_factor);
@@ -127,6 +128,17 @@ TEST(CaseConfig, CheckpointAndDriftErrorsNameKeyValueAndRange) {
 }
 
 // ---- defaults ----
+
+TEST(CaseConfig, RemeshQualityDefaultsToNeverAndMustLieAboveMinQuality) {
+  EXPECT_EQ(parse_case("", "case.toml").remesh.quality, 0.0);
+  EXPECT_EQ(parse_case("[remesh]\nquality = 0.15\n", "case.toml").remesh.quality, 0.15);
+  EXPECT_ERROR("[remesh]\nquality = 1.5\n", "remesh.quality = 1.5");
+  EXPECT_ERROR("[remesh]\nquality = -0.1\n", "remesh.quality = -0.1");
+  // At or below time.min_quality the run would stop before it remeshed.
+  EXPECT_ERROR("[remesh]\nquality = 0.02\n", "must be above time.min_quality = 0.02");
+  EXPECT_ERROR("[time]\nmin_quality = 0.1\n[remesh]\nquality = 0.05\n", "remesh.quality = 0.05");
+  EXPECT_EQ(error_of("[time]\nmin_quality = 0.01\n[remesh]\nquality = 0.05\n"), "");
+}
 
 TEST(CaseConfig, EmptyFileIsTheUndisturbedShearFlow) {
   const CaseConfig c = parse_case("", "cases/plain_shear.toml");
@@ -319,8 +331,11 @@ centre = [5.0, 0.0, 0.0]
   const CaseConfig again = parse_case(printed, "c.toml");
   expect_same(c, again);
   // The blockage the run reports is the one asked for.
-  for (const auto& g : dimensionless_groups(c))
-    if (g.symbol == "beta" && g.object == 1) EXPECT_NEAR(g.value, 0.4, 1e-15);
+  for (const auto& g : dimensionless_groups(c)) {
+    if (g.symbol == "beta" && g.object == 1) {
+      EXPECT_NEAR(g.value, 0.4, 1e-15);
+    }
+  }
 }
 
 TEST(CaseConfigErrors, BlockageRatioAndHeightAreAlternatives) {

@@ -496,6 +496,19 @@ void check_time(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
                            static_cast<long long>(kMaxSteps), static_cast<long long>(kMaxSteps)));
 }
 
+/// A remesh threshold at or below time.min_quality would never act: the run
+/// stops at min_quality first.
+void check_remesh(const TableRead& remesh, const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
+  if (remesh.status("quality") != Read::ok || c.remesh.quality == 0.0) return;
+  if (time.status("min_quality") == Read::bad) return;
+  if (c.remesh.quality <= c.time.min_quality)
+    diag.error(remesh.path("quality"), *remesh.value("quality"),
+               fmt::format("must be above time.min_quality = {:g}, which stops the run before a "
+                           "remesh at this quality could act (allowed: time.min_quality < "
+                           "remesh.quality < 1, or 0 for never)",
+                           c.time.min_quality));
+}
+
 /// The phases' relaxation is taken explicitly: the predicted stress uses
 /// c_n's relaxation, and the log-conformation's source g(s)/lambda is
 /// evaluated at s extrapolated to t_{n+1} (docs/viscoelastic.md). For
@@ -812,6 +825,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   resolve_height(read["cell"], objects_read, c, diag);
   check_output_directory(read["case"], read["output"], c, diag);
   check_time(read["time"], c, diag);
+  check_remesh(read["remesh"], read["time"], c, diag);
   const bool matrix_ok = resolve_matrix(read["matrix"], c, diag);
   const FlowState flow = resolve_flow(matrix_ok, read["flow"], c, diag);
   for (std::size_t k = 0; k < c.objects.size(); ++k) {
@@ -848,6 +862,9 @@ std::string to_toml(const CaseConfig& c) {
   for (const auto& table : keys.schema.tables) {
     // (Appended piece by piece: GCC 12 warns falsely about "\n" + a temporary.)
     if (table.name != keys.objects.name) {
+      // A run that never remeshes prints as before the key: the case.toml
+      // of its checkpoints and stored runs compares with the printout.
+      if (table.name == "remesh" && c.remesh.quality == 0.0) continue;
       s += '\n';
       s += schema::write_table(*keys.table(table.name), c);
       continue;

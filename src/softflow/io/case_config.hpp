@@ -127,6 +127,13 @@ struct BulkStressConfig {
   double box_side = 0.0;  ///< side of the centred cube (0: no bulk stress)
 };
 
+/// [remesh]: meshing the deformed domain again during a run (issue 31).
+struct RemeshConfig {
+  /// Remesh before a step once the worst element quality is below this
+  /// (0: never). Must exceed time.min_quality, which stops the run.
+  double quality = 0.0;
+};
+
 /// [interface]: interface tracking (thesis §2.2.3, §2.3.2).
 struct InterfaceConfig {
   /// k / gamma_dot of eq. 2.30 (thesis: 10); with gamma_dot = 0, k itself.
@@ -175,6 +182,7 @@ struct CaseConfig {
   InterfaceConfig interface;  ///< [interface]
   CheckpointConfig checkpoint;  ///< [checkpoint]
   BulkStressConfig bulk_stress;  ///< [bulk_stress]
+  RemeshConfig remesh;          ///< [remesh]
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;

@@ -431,6 +431,19 @@ Table<CaseConfig> bulk_stress_table() {
                   "(0: no bulk stress)")}};
 }
 
+Table<CaseConfig> remesh_table() {
+  const auto remesh = [](auto member) { return field(&CaseConfig::remesh, member); };
+  return {"remesh",
+          "Meshing the deformed domain again during a run (docs/remeshing.md): the interfaces "
+          "kept node for node, the box and sizes of [cell] and [mesh], every field carried "
+          "over; a line in the progress output, a row in remesh.csv and a checkpoint after "
+          "each.",
+          false,
+          {number("quality", remesh(&RemeshConfig::quality), 0.0, Range::right_open(0, 1),
+                  "remesh before a step once the worst element quality is below this (0: "
+                  "never); above time.min_quality, which stops the run")}};
+}
+
 Table<CaseConfig> interface_table() {
   const auto interface = [](auto member) { return field(&CaseConfig::interface, member); };
   return {
@@ -564,7 +577,7 @@ CaseKeys build() {
   CaseKeys k;
   k.tables = {case_table(),   cell_table(), matrix_table(), flow_table(),
               mesh_table(),   solver_table(), output_table(), time_table(),
-              checkpoint_table(), interface_table(), bulk_stress_table()};
+              checkpoint_table(), interface_table(), bulk_stress_table(), remesh_table()};
   k.objects = objects_table();
   // [[objects]] after [flow]: the objects come after what sets their Gamma.
   for (const auto& t : k.tables) {

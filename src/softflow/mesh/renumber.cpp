@@ -27,9 +27,9 @@ void remap(std::vector<Array>& items, const std::vector<int>& new_index) {
 
 }  // namespace
 
-void renumber_nodes_spatially(Mesh& mesh) {
+std::vector<int> renumber_nodes_spatially(Mesh& mesh) {
   const int n = mesh.n_nodes();
-  if (n == 0) return;
+  if (n == 0) return {};
   Point lo = mesh.nodes[0], hi = mesh.nodes[0];
   for (const auto& x : mesh.nodes) {
     lo = lo.cwiseMin(x);
@@ -71,6 +71,7 @@ void renumber_nodes_spatially(Mesh& mesh) {
     for (int i = 0; i < n; ++i) master[new_index[i]] = smallest[mesh.periodic_master[i]];
     mesh.periodic_master = std::move(master);
   }
+  return new_index;
 }
 
 }  // namespace softflow::mesh

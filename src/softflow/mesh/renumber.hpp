@@ -1,6 +1,8 @@
 // Node renumbering for locality.
 #pragma once
 
+#include <vector>
+
 #include "softflow/mesh/mesh.hpp"
 
 namespace softflow::mesh {
@@ -12,6 +14,7 @@ namespace softflow::mesh {
 /// rank ends up owning the first node of every element. After renumbering,
 /// contiguous ranges are compact subdomains and element loops touch memory
 /// in order. Periodic representatives stay the smallest index of their class.
-void renumber_nodes_spatially(Mesh& mesh);
+/// Returns each old node's new index (for callers that carry node data over).
+std::vector<int> renumber_nodes_spatially(Mesh& mesh);
 
 }  // namespace softflow::mesh

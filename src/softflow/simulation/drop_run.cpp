@@ -82,6 +82,20 @@ bool on_any_rank(bool local) {
   }
 }
 
+/// One row of remesh.csv (the header first when the file is new).
+void append_remesh_row(const fs::path& directory, const RemeshEvent& e) {
+  const fs::path path = directory / "remesh.csv";
+  const bool fresh = !fs::exists(path);
+  std::ofstream out(path, std::ios::app);
+  if (fresh)
+    out << "step,t,reason,nodes_before,nodes_after,quality_before,quality_after,volume_change,"
+           "transfer_extrapolation,seconds\n";
+  out << fmt::format("{},{:.10g},\"{}\",{},{},{:.6g},{:.6g},{:.3e},{:.3e},{:.4g}\n", e.step, e.time, e.reason,
+                     e.nodes_before, e.nodes_after, e.quality_before, e.quality_after, e.volume_change,
+                     e.extrapolation, e.seconds);
+  if (!out) throw Error(fmt::format("cannot write {}", path.string()));
+}
+
 /// The loop from the simulation's current step to time.end, shared by a
 /// fresh run and a restart: steps, output, checkpoints, stop requests and
 /// failures, then the summary.
@@ -122,8 +136,38 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
+  double remesh_failed_at = std::numeric_limits<double>::infinity();
   try {
     while (!at_end(config, sim.steps(), sim.time())) {
+      if (config.remesh.quality > 0.0 && sim.mesh_quality() < config.remesh.quality &&
+          sim.mesh_quality() < 0.95 * remesh_failed_at) {
+        // Before the step, outside the step taker (whose retries restore a
+        // state of the mesh they started on). gmsh's meshes differ run to
+        // run, so a checkpoint follows at once: a restart always continues
+        // on the mesh this run continues on.
+        RemeshEvent e;
+        try {
+          e = sim.remesh(fmt::format("quality {:.3g} < remesh.quality {:g}", sim.mesh_quality(),
+                                     config.remesh.quality));
+        } catch (const MeshError& failed) {
+          // The run goes on with its mesh (time.min_quality still stops it
+          // with its diagnosis); tried again after a further 5 % drop.
+          remesh_failed_at = sim.mesh_quality();
+          if (root)
+            fmt::print(stderr, "softflow: note: remeshing at step {} (t = {:.4f}) failed, the run goes on "
+                       "with its mesh: {}\n", sim.steps(), sim.time(), failed.what());
+          continue;
+        }
+        // The modules are new objects: their report files' rows with them.
+        files.reports = sim.report_files();
+        write_checkpoint();
+        on_root_sharing_failure([&] { append_remesh_row(directory, e); });
+        if (console)
+          fmt::print("remesh at step {} (t = {:.4f}): {}; nodes {} -> {}, worst quality {:.3f} -> {:.3f}, "
+                     "volume change {:.1e}, {:.2f} s\n",
+                     e.step, e.time, e.reason, e.nodes_before, e.nodes_after, e.quality_before,
+                     e.quality_after, e.volume_change, e.seconds);
+      }
       last = stepper.take(sim);
       add(ledger.total, last.stages);
       ledger.stokes_iterations += last.stokes_iterations;

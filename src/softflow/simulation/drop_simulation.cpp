@@ -1,6 +1,8 @@
 #include "softflow/simulation/drop_simulation.hpp"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <limits>
 #include <chrono>
 #include <cmath>
@@ -12,6 +14,10 @@
 #include "softflow/analysis/ellipsoid_fit.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/fem/field.hpp"
+#include "softflow/fem/mesh_transfer.hpp"
+#include "softflow/geometry/remesh.hpp"
+#include "softflow/la/vector_values.hpp"
+#include "softflow/parallel/mesh_broadcast.hpp"
 #include "softflow/mesh/quality.hpp"
 #include "softflow/physics/ale/moving_mesh.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
@@ -36,6 +42,14 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
       models_(phase_models(config_)),
       mesh_(std::move(mesh)),
       initial_nodes_(mesh_.nodes) {
+  build_parts();
+  last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
+  for (const auto& tracker : trackers_)
+    initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
+  register_state();
+}
+
+void DropSimulation::build_parts() {
   stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_),
                                                     has_interface_slip(config_));
   moving_mesh_ = std::make_unique<physics::MovingMesh>(
@@ -44,16 +58,134 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
   physics::InterfaceTrackerSettings tracking;
   tracking.redistribution_factor = redistribution_rate(config_);
   tracking.supg_beta = config_.interface.supg_beta;
+  trackers_.clear();
   for (int k = 1; k <= mesh_.n_objects; ++k) {
     auto surface = physics::extract_interface(mesh_, k);
     auto x0 = physics::interface_positions(surface, mesh_);
     trackers_.emplace_back(std::move(surface), std::move(x0), tracking);
   }
-  last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
   modules_ = make_modules({config_, mesh_, *stokes_, models_});
-  for (const auto& tracker : trackers_)
-    initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
+}
+
+RemeshEvent DropSimulation::remesh(const std::string& reason) {
+  const auto start = Clock::now();
+  RemeshEvent event;
+  event.step = steps_;
+  event.time = time_;
+  event.reason = reason;
+  // What is carried: gathered while the old parts still exist. Dof maps
+  // and spaces hold no reference to the mesh, so copies of them outlive it.
+  const mesh::Mesh old_mesh = mesh_;
+  const fem::DofMap old_dofs = stokes_->dofs();
+  const std::vector<double> old_solution = solution();
+  std::size_t module_fields = 0;
+  for (auto& module : modules_) module_fields += module->fields().size();
+  if (module_fields != added_fields_.size())
+    throw Error("remesh: fields added to the run from outside a module cannot be carried to a new mesh");
+  std::vector<physics::InterfaceTracker::History> histories;
+  std::vector<std::vector<double>> reference_areas;
+  std::vector<std::vector<std::array<int, 6>>> old_triangles;
+  std::vector<std::vector<int>> old_volume_nodes;
+  std::vector<double> volume_before;
+  for (const auto& tracker : trackers_) {
+    histories.push_back(tracker.history());
+    reference_areas.push_back(tracker.reference_areas());
+    old_triangles.push_back(tracker.surface().triangles);
+    old_volume_nodes.push_back(tracker.surface().volume_node);
+    volume_before.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
+  }
+
+  // The new mesh: gmsh on rank 0 (its meshes differ run to run), sent to all.
+  geometry::Remeshed r;
+  std::string failure;
+  if (la::mpi_rank() == 0) try {
+      r = geometry::remesh(config_.shear_cell_spec(), mesh_);
+    } catch (const MeshError& e) {
+      failure = e.what();
+    }
+  int failed = failure.empty() ? 0 : 1;
+  MPI_Bcast(&failed, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  // Nothing has changed yet: the run can go on with the mesh it has.
+  if (failed) throw MeshError(failure.empty() ? std::string("remeshing failed on rank 0") : failure);
+  if (la::mpi_size() > 1) {
+    parallel::broadcast_mesh(r.mesh, PETSC_COMM_WORLD);
+    r.new_node_of_old.resize(old_mesh.n_nodes());
+    MPI_Bcast(r.new_node_of_old.data(), old_mesh.n_nodes(), MPI_INT, 0, PETSC_COMM_WORLD);
+    MPI_Bcast(&r.report.quality_after, 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+  }
+  event.nodes_before = old_mesh.n_nodes();
+  event.quality_before = moving_mesh_->quality();
+  event.nodes_after = r.mesh.n_nodes();
+  event.quality_after = r.report.quality_after;
+
+  // The parts on the new mesh, from scratch; then the state carried over.
+  registry_ = StateRegistry{};
+  added_fields_.clear();
+  // The old modules stay until they have handed their fields over (reading
+  // only their fields' values: the mesh they were built on is replaced).
+  auto old_modules = std::move(modules_);
+  modules_.clear();
+  moving_mesh_.reset();
+  stokes_.reset();
+  solution_.reset();
+  interface_values_ = la::SelectedEntries{};
+  mesh_ = std::move(r.mesh);
+  initial_nodes_ = mesh_.nodes;
+  build_parts();
+
+  const fem::MeshTransfer transfer(old_mesh, mesh_, r.new_node_of_old);
+  if (!old_solution.empty()) {
+    const auto values = transfer.transfer(old_dofs, stokes_->dofs(), old_solution);
+    la::Vector v = la::make_vector(stokes_->ownership().size(), stokes_->dofs().n_dofs());
+    la::scatter_from_all(v.get(), values);
+    set_solution(std::move(v));
+  }
+  // Each module takes over its predecessor's state (make_modules builds the
+  // same kinds in the same order from the same case).
+  if (old_modules.size() != modules_.size()) throw Error("remesh: the run's modules changed");
+  for (std::size_t i = 0; i < modules_.size(); ++i) modules_[i]->carry_over(*old_modules[i], transfer);
+  old_modules.clear();
+  // The interface nodes are the old ones: the trackers' histories (x_n,
+  // x_{n-1}, the centres) carry over in the new surfaces' node order.
+  for (std::size_t k = 0; k < trackers_.size(); ++k) {
+    const auto& surface = trackers_[k].surface();
+    std::vector<int> local(mesh_.n_nodes(), -1);
+    for (int i = 0; i < surface.n_nodes(); ++i) local[surface.volume_node[i]] = i;
+    auto h = histories[k];
+    auto remap = [&](const std::vector<Vec3>& x) {
+      std::vector<Vec3> out(x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) out.at(local.at(r.new_node_of_old.at(old_volume_nodes[k][i]))) = x[i];
+      return out;
+    };
+    h.x = remap(h.x);
+    if (!h.x_previous.empty()) h.x_previous = remap(h.x_previous);
+    trackers_[k].restore(std::move(h));
+    // The redistribution keeps the run's initial element areas (eq. 2.32's
+    // reference), triangle by triangle: the triangles are the old ones.
+    auto key = [](std::array<int, 3> t) {
+      std::sort(t.begin(), t.end());
+      return t;
+    };
+    std::map<std::array<int, 3>, int> new_triangle;
+    for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+      const auto& tri = surface.triangles[t];
+      new_triangle[key({tri[0], tri[1], tri[2]})] = static_cast<int>(t);
+    }
+    std::vector<double> areas(surface.triangles.size(), 0.0);
+    for (std::size_t t = 0; t < old_triangles[k].size(); ++t) {
+      std::array<int, 3> corners{};
+      for (int c = 0; c < 3; ++c)
+        corners[c] = local.at(r.new_node_of_old.at(old_volume_nodes[k][old_triangles[k][t][c]]));
+      areas.at(new_triangle.at(key(corners))) = reference_areas[k][t];
+    }
+    trackers_[k].set_reference_areas(std::move(areas));
+    const double after = physics::surface_integrals(surface, trackers_[k].positions()).volume;
+    event.volume_change = std::max(event.volume_change, std::abs(after / volume_before[k] - 1.0));
+  }
   register_state();
+  event.extrapolation = transfer.largest_extrapolation();
+  event.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return event;
 }
 
 DropSimulation::~DropSimulation() = default;
@@ -272,6 +404,8 @@ void DropSimulation::register_state() {
                      r.set(p + "centre_steps", h.centre_steps);
                      r.set(p + "last_step", h.last_step);
                      r.set(p + "last_centre_velocity", std::vector<Vec3>{last_centre_velocity_[k]});
+                     // After a remesh the reference mesh's interface is not the initial one.
+                     r.set(p + "reference_areas", trackers_[k].reference_areas());
                    },
                    [this, k](const StateRecord& r, const std::string& p) {
                      const auto centre = r.get_points(p + "centre");
@@ -292,6 +426,8 @@ void DropSimulation::register_state() {
                                            centre[1], steps, r.get_int(p + "centre_steps"),
                                            last_step});
                      last_centre_velocity_[k] = velocity[0];
+                     if (r.contains(p + "reference_areas"))  // records from before remeshing: the initial ones
+                       trackers_[k].set_reference_areas(r.get_array(p + "reference_areas"));
                    }});
   // Each module's state saves and restores itself: the driver only lists it.
   for (auto& module : modules_) {
@@ -318,6 +454,9 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   r.set(p + "time", time_);
   r.set(p + "dt", config_.time.step);
   moving_mesh_->save(r, p);
+  // Each object's volume at t = 0: after a remesh the reference mesh a
+  // restart builds on is the new one, whose volumes are not the initial ones.
+  r.set(p + "initial_volumes", initial_volumes_);
   if (solution_) la::save_vector(r, p + "solution", solution_.get());
   else r.set(p + "solution", std::vector<double>{});
 }
@@ -326,6 +465,12 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
   steps_ = r.get_int(p + "step");
   time_ = r.get_double(p + "time");
   moving_mesh_->restore(r, p, config_.time.step);
+  if (r.contains(p + "initial_volumes")) {  // records from before remeshing: the reference mesh's
+    const auto& volumes = r.get_array(p + "initial_volumes");
+    if (volumes.size() != initial_volumes_.size())
+      throw InputError("the checkpoint's initial volumes do not fit the mesh it carries");
+    initial_volumes_ = volumes;
+  }
   const auto& solution = r.get_array(p + "solution");
   if (solution.empty()) {
     solution_.reset();
@@ -375,11 +520,14 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
   if (quality < config_.time.min_quality) {
     throw MeshError(fmt::format(
         "step {} (t = {:.4f}): the moving mesh degraded: {} has quality {:.3g} < "
-        "time.min_quality = {:.3g}. The deformation is too large for a mesh that is never "
-        "remeshed; try a smaller time.step, a larger interface.redistribution_factor, or a finer "
-        "mesh{}{}",
+        "time.min_quality = {:.3g}. The deformation is too large for {}; try a smaller "
+        "time.step, a larger interface.redistribution_factor, or a finer mesh{}{}",
         steps_ + 1, time_ + dt, mesh::describe_element(mesh_, mesh::worst_tet(mesh_)),
         quality, config_.time.min_quality,
+        config_.remesh.quality > 0.0
+            ? "the mesh, and remeshing (remesh.quality) could not replace it (see the notes "
+              "above: docs/remeshing.md says which deformations it cannot mesh yet)"
+            : "a mesh that is never remeshed ([remesh] quality > 0 remeshes it)",
         config_.time.relocation_quality > 0.0
             ? " (node relocation, time.relocation_quality, could not keep it valid: a finer "
               "mesh gives it nodes to move)"
@@ -394,6 +542,7 @@ double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat
 }
 
 const std::vector<mesh::Point>& DropSimulation::mesh_velocity() const { return moving_mesh_->velocity(); }
+double DropSimulation::mesh_quality() const { return moving_mesh_->quality(); }
 int DropSimulation::ale_rebuilds() const { return moving_mesh_->rebuilds(); }
 int DropSimulation::relocation_steps() const { return moving_mesh_->relocation_steps(); }
 int DropSimulation::relocated_nodes() const { return moving_mesh_->relocated_nodes(); }
@@ -428,7 +577,7 @@ std::vector<PetscInt> DropSimulation::interface_dofs() const {
 void DropSimulation::set_solution(la::Vector solution) {
   solution_ = std::move(solution);
   if (mesh_.interface_faces.empty()) return;  // no objects: nothing reads it
-  // Built once: the dofs never change (the mesh moves, it is not remeshed).
+  // Built once per mesh: the dofs change only with a remesh, which clears it.
   if (interface_values_.empty())
     interface_values_ = la::SelectedEntries(solution_.get(), interface_dofs());
   interface_values_.read(solution_.get());

@@ -56,6 +56,21 @@ struct StageSeconds {
   double analysis = 0.0;               ///< stage measure: ellipsoid fit, volume, area, the modules' measures
 };
 
+/// One remesh of a run (DropSimulation::remesh): remesh.csv's row.
+struct RemeshEvent {
+  int step = 0;       ///< after this step
+  double time = 0.0;
+  std::string reason;
+  int nodes_before = 0, nodes_after = 0;
+  double quality_before = 0.0, quality_after = 0.0;
+  /// Largest relative change of an object's enclosed volume (0 to round-off:
+  /// the interfaces are carried over node for node).
+  double volume_change = 0.0;
+  /// How far the transfer extrapolated (reference coordinates; ~0).
+  double extrapolation = 0.0;
+  double seconds = 0.0;
+};
+
 struct StepReport {
   int step = 0;
   StageSeconds stages;
@@ -112,6 +127,22 @@ class DropSimulation {
   /// next solve). For retrying a step at another size.
   [[nodiscard]] StateRecord save_step_state() const;
   void restore_step_state(const StateRecord& state);
+  /// Meshes the current domain again (geometry::remesh: the interfaces
+  /// node for node, the box and sizes of the case) and carries the run
+  /// over to the new mesh, which becomes the reference mesh of later
+  /// checkpoints: the Stokes solution and every module field by
+  /// fem::MeshTransfer (region by region), the interface trackers' BDF2
+  /// histories as they are (the same interface nodes), the moving mesh
+  /// fresh on the new mesh (mesh velocity BDF1 at the next step), the
+  /// modules' multistep histories restarted at BDF1 (as after a jump of the
+  /// walls). The trackers' redistribution then keeps the interface's
+  /// element areas of the remesh time (eq. 2.32's reference), as a restart
+  /// from a checkpoint written after it does. Fields added with add_field
+  /// from outside a module are not carried (Error if there are any).
+  /// Collective: rank 0 meshes, every rank receives the mesh. Throws
+  /// MeshError, with the run unchanged, when gmsh cannot make a valid mesh.
+  RemeshEvent remesh(const std::string& reason);
+
   /// Throws AccuracyError (with step, object, drift and what to try) if an
   /// object's volume has drifted past time.max_volume_drift. Separate from
   /// step(), so that the offending step is recorded before the run stops.
@@ -149,6 +180,8 @@ class DropSimulation {
   /// u_m at every geometry node over the last step (BDF1, then BDF2; zero before any step).
   [[nodiscard]] const std::vector<mesh::Point>& mesh_velocity() const;
   [[nodiscard]] double time() const { return time_; }
+  /// The smallest element quality of the current mesh.
+  [[nodiscard]] double mesh_quality() const;
   /// How often the mesh-motion operator was rebuilt on the current mesh.
   [[nodiscard]] int ale_rebuilds() const;
   /// Steps whose mesh motion relocated vertices (time.relocation_quality),
@@ -204,6 +237,8 @@ class DropSimulation {
   /// Takes `solution` as the current one and copies its interface dofs here. Collective.
   void set_solution(la::Vector solution);
   void register_state();
+  /// The Stokes system, moving mesh, trackers and modules on mesh_ (constructor, remesh).
+  void build_parts();
   void save_time_loop(StateRecord& record, const std::string& prefix) const;
   void restore_time_loop(const StateRecord& record, const std::string& prefix);
 

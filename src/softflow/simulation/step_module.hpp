@@ -20,6 +20,7 @@
 
 namespace softflow::fem {
 class Field;
+class MeshTransfer;
 }  // namespace softflow::fem
 
 namespace softflow::physics {
@@ -107,6 +108,14 @@ class StepModule {
   /// Collective.
   virtual void measure(const StepContext& /*context*/, StepReport& /*report*/) {}
 
+  /// After a remesh (DropSimulation::remesh): this module, built afresh on
+  /// the new mesh, takes over the state of `old`, the same kind of module
+  /// on the old mesh (only its fields' values may be read: its mesh is
+  /// gone), through `transfer`. The default carries every fields() value
+  /// over and restarts the multistep histories (restart_time_history).
+  /// Collective.
+  virtual void carry_over(StepModule& old, const fem::MeshTransfer& transfer);
+
   /// Fields written with the ParaView output and saved in checkpoints.
   [[nodiscard]] virtual std::vector<fem::Field*> fields() { return {}; }
   /// Other state a checkpoint needs (histories, counters); names unique.
@@ -120,6 +129,11 @@ class StepModule {
   /// then ends as completed, with the reason in summary.json.
   [[nodiscard]] virtual std::string finished() const { return {}; }
 };
+
+/// Sets each field of `to` from the field of `from` with its name (old
+/// mesh), through `transfer`. Collective.
+void carry_fields_over(std::span<fem::Field* const> to, std::span<fem::Field* const> from,
+                       const fem::MeshTransfer& transfer);
 
 /// What a module is built from: the case, the run's mesh (which outlives the
 /// module), its Stokes system and its constitutive models.

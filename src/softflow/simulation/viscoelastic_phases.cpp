@@ -1,6 +1,7 @@
 #include "softflow/simulation/viscoelastic_phases.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -8,6 +9,8 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
+#include "softflow/fem/mesh_transfer.hpp"
+#include "softflow/simulation/step_module.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
 #include "softflow/physics/viscoelastic/constitutive_law.hpp"
@@ -100,6 +103,14 @@ void ViscoelasticPhases::advance(const fem::DofMap& stokes_dofs, Vec solution,
 void ViscoelasticPhases::restart_time_history() {
   transport_->restart_history();
   gradient_steps_ = 0;
+}
+
+void ViscoelasticPhases::carry_over(ViscoelasticPhases& old, const fem::MeshTransfer& transfer) {
+  std::array<fem::Field*, 4> to{&log_conformation_, &conformation_, &stress_, &gradient_};
+  std::array<fem::Field*, 4> from{&old.log_conformation_, &old.conformation_, &old.stress_, &old.gradient_};
+  carry_fields_over(to, from, transfer);
+  transport_->carry_over(*old.transport_, transfer);
+  gradient_steps_ = old.gradient_steps_;
 }
 
 void ViscoelasticPhases::check_finite(double t_new, int step) {

@@ -16,6 +16,10 @@
 #include "softflow/physics/transport/ale_transport.hpp"
 #include "softflow/physics/viscoelastic/constitutive.hpp"
 
+namespace softflow::fem {
+class MeshTransfer;
+}  // namespace softflow::fem
+
 namespace softflow::simulation {
 
 /// The volume average of a phase's polymer (or elastic) stress tau = G (c - I)
@@ -76,6 +80,12 @@ class ViscoelasticPhases {
   /// After a jump of the flow at t_n (physics::WallMotion::jumps_at): the
   /// next step starts the BDF and DEVSS-G histories afresh (BDF1, no G).
   void restart_time_history();
+
+  /// After a remesh: s, c, tau, the DEVSS-G gradient G_n and the
+  /// transport's history s_{n-1} from `old` (the phases on the old mesh)
+  /// through `transfer`: BDF2 and DEVSS-G go on across the remesh.
+  /// Collective.
+  void carry_over(ViscoelasticPhases& old, const fem::MeshTransfer& transfer);
 
   /// <tau> over region r on the current mesh. Collective.
   [[nodiscard]] RegionStress region_stress(int region) const;

@@ -99,6 +99,17 @@ Vec3 InterfaceTracker::centre_velocity(const std::vector<Vec3>& predicted, doubl
   return u;
 }
 
+void InterfaceTracker::set_reference_areas(std::vector<double> areas) {
+  if (areas.size() != surface_.triangles.size())
+    throw InputError("the interface's reference areas do not fit its triangles");
+  initial_area_ = 0.0;
+  for (double a : areas) {
+    if (!(a > 0.0)) throw InputError("an interface reference area is not positive");
+    initial_area_ += a;
+  }
+  initial_areas_ = std::move(areas);
+}
+
 std::vector<double> InterfaceTracker::redistribution_potential(const std::vector<Vec3>& x) const {
   // -lap_s c = 1 - 1/g (eq. 2.31) in weak form: (grad_s w, grad_s c) = (w, 1 - 1/g).
   // g_e = (A_e / A_e0) / (A / A0) so that int_S 1/g ds = A (eq. 2.32); the

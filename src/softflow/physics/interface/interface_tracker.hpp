@@ -80,6 +80,14 @@ class InterfaceTracker {
     centre_steps_ = 0;
   }
 
+  /// The triangle areas the redistribution keeps the interface's elements
+  /// in proportion to (g of eq. 2.31 relative to them): those of the initial
+  /// positions, unless set.
+  [[nodiscard]] const std::vector<double>& reference_areas() const { return initial_areas_; }
+  /// Sets them, triangle by triangle (one per surface triangle, > 0): a
+  /// remesh or a restart after one carries the run's initial ones over.
+  void set_reference_areas(std::vector<double> areas);
+
   /// The redistribution potential c on the surface x (eq. 2.31), mean zero.
   [[nodiscard]] std::vector<double> redistribution_potential(const std::vector<Vec3>& x) const;
 

@@ -1,5 +1,7 @@
 #include "softflow/physics/transport/ale_transport.hpp"
 
+#include "softflow/fem/mesh_transfer.hpp"
+
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -144,6 +146,13 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
   previous_.update_ghosts();
   ++steps_;
   last_dt_ = dt;
+}
+
+void AleTransport::carry_over(const AleTransport& old, const fem::MeshTransfer& transfer) {
+  previous_.scatter(
+      transfer.transfer(old.previous_.space(), previous_.space(), previous_.components(), old.previous_.gather()));
+  steps_ = old.steps_;
+  last_dt_ = old.last_dt_;
 }
 
 StatePart AleTransport::state_part() {

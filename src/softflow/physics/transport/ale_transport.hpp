@@ -13,6 +13,10 @@
 #include "softflow/fem/field.hpp"
 #include "softflow/time/bdf.hpp"
 
+namespace softflow::fem {
+class MeshTransfer;
+}  // namespace softflow::fem
+
 namespace softflow::physics {
 
 /// Advances a field s with any number of components on a scalar space (P1
@@ -75,6 +79,10 @@ class AleTransport {
   /// During step(): the weights of s_n and s_{n-1} that extrapolate s to
   /// t_{n+1} (s_n alone at a first step; 2 s_n - s_{n-1} at a constant step).
   [[nodiscard]] const time::Extrapolation& step_extrapolation() const { return extrapolation_; }
+  /// After a remesh: the history of `old`, the transport of the same field
+  /// on the old mesh (s_{n-1} through `transfer`, the step count, the last
+  /// step), so that BDF2 goes on across the remesh. Collective.
+  void carry_over(const AleTransport& old, const fem::MeshTransfer& transfer);
   /// The history as a part of the run's state: "transport/<field name>".
   [[nodiscard]] StatePart state_part();
 

@@ -52,6 +52,11 @@ bool ViscoelasticModule::wanted(const ModuleSetup& setup) {
 
 void ViscoelasticModule::restart_time_history() { phases_.restart_time_history(); }
 
+void ViscoelasticModule::carry_over(StepModule& old, const fem::MeshTransfer& transfer) {
+  auto& before = dynamic_cast<ViscoelasticModule&>(old);
+  phases_.carry_over(before.phases_, transfer);
+}
+
 void ViscoelasticModule::contribute(physics::StokesProblem& problem, const StepContext& context) {
   problem.viscoelastic = phases_.coupling(context.mesh_velocity, context.dt);
 }

@@ -31,6 +31,9 @@ class ViscoelasticModule final : public StepModule {
 
   [[nodiscard]] std::string name() const override { return "viscoelastic"; }
   void restart_time_history() override;
+  /// The conformation fields, the DEVSS-G gradient G_n and the transport's
+  /// s_{n-1} carried over (ViscoelasticPhases::carry_over).
+  void carry_over(StepModule& old, const fem::MeshTransfer& transfer) override;
   void contribute(physics::StokesProblem& problem, const StepContext& context) override;
   void advance(const StepContext& context) override;
   void measure(const StepContext& context, StepReport& report) override;
