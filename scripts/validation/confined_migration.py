@@ -1,0 +1,175 @@
+#!/usr/bin/python3
+"""Cross-stream migration of a neo-Hookean particle in confined shear (thesis
+§3.2.2, Figs. 3.5, 3.6, 3.8, eq. 3.6): runs the cases below with the softflow
+binary, combines them with `softflow migration`, and writes
+docs/validation/confined_migration.{md,csv,png}.
+
+beta = 0.4, Ca_e = 0.1: a particle of radius R = 1 between walls at
+y = +-H/2, H = 2R / beta = 5, in a periodic cell 10 particle diameters long and
+wide (as the thesis), started at y_p0 / H = 0.05, 0.10, 0.15, 0.20, 0.27
+(Fig. 3.5's starts; 0.27 leaves a gap of 0.03 H to the wall). The mesh is
+graded towards the interface and the walls with 2 elements across the
+particle-wall gap; [remesh] quality = 0.2 meshes the cell again around the
+deformed, migrating particle whenever an element degrades (issue 31), so the
+mesh follows the particle across the channel. dt = 0.04 to t = T_END.
+
+The thesis ran each trajectory for thousands of time units (2-3 weeks on 12
+cores); here each start runs T_END time units, so the figures are the
+trajectories' beginnings and the master curves sampled where those
+beginnings lie (after the first TRANSIENT time units, the particle's
+deformation from a sphere, which the thesis drops as "the very early
+stages").
+Usage: scripts/validation/confined_migration.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
+import csv
+import os
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from case_runs import read_csv, validation_main  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+OUT = os.path.join(ROOT, "docs", "validation")
+BETA = 0.4
+CA_E = 0.1
+HEIGHT = 2.0 / BETA
+STARTS = [0.05, 0.10, 0.15, 0.20, 0.27]  # y_p0 / H
+T_END = 15.0
+DT = 0.04
+TRANSIENT = 5.0
+Y_MAX = (1.0 - BETA) / 2.0  # y_p / H of a sphere touching a wall (eq. 3.7's y_p,max is H/2 - R)
+
+
+def case_name(start):
+    return f"yp0_{start:.2f}"
+
+
+def case_text(name, start):
+    return f"""[case]
+name = "{name}"
+[cell]
+length = 20.0
+width = 20.0
+blockage_ratio = {BETA}
+[flow]
+shear_rate = 1.0
+[[objects]]
+model = "neo_hookean"
+radius = 1.0
+elastic_capillary_number = {CA_E}
+centre = [0.0, {start * HEIGHT:.6f}, 0.0]
+[mesh]
+equator_nodes = 20
+far_size = 2.0
+growth = 0.4
+wall_size = 0.5
+gap_elements = 2
+[time]
+step = {DT}
+end = {T_END}
+[remesh]
+quality = 0.2
+[checkpoint]
+interval_minutes = 10.0
+"""
+
+
+def jobs():
+    # The near-wall start (the finest mesh) last.
+    return [(case_name(s), case_text(case_name(s), s)) for s in STARTS]
+
+
+def read_migration(directory):
+    rows = [r for r in read_csv(os.path.join(directory, "migration.csv")) if r["object"] == "1"]
+    return {
+        "t": [float(r["t"]) for r in rows],
+        "y": [float(r["y_p"]) / HEIGHT for r in rows],
+        "v": [float(r["v_p"]) / HEIGHT for r in rows],  # units gamma_dot H
+        "dS": [float(r["delta_s"]) for r in rows],
+    }
+
+
+def remeshes(directory):
+    path = os.path.join(directory, "remesh.csv")
+    return len(read_csv(path)) if os.path.exists(path) else 0
+
+
+def report(work):
+    build = sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith("-") else os.path.join(ROOT, "build")
+    runs = {}
+    for s in STARTS:
+        directory = os.path.join(work, case_name(s))
+        if os.path.exists(os.path.join(directory, "migration.csv")):
+            runs[s] = (directory, read_migration(directory))
+    if not runs:
+        print("no runs to report")
+        return
+    combined = os.path.join(work, "combined")
+    subprocess.run([os.path.join(build, "softflow"), "migration", *[d for d, _ in runs.values()],
+                    "--transient", str(TRANSIENT), "-o", combined], check=True)
+
+    os.makedirs(OUT, exist_ok=True)
+    with open(os.path.join(OUT, "confined_migration.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["y_p0_over_H", "t", "y_p_over_H", "v_p_over_gamma_dot_H", "delta_S"])
+        for s, (_, r) in runs.items():
+            for row in zip(r["t"], r["y"], r["v"], r["dS"]):
+                w.writerow([f"{s:.2f}", *(f"{x:.6g}" for x in row)])
+
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.4))
+    for s, (_, r) in runs.items():
+        ax[0].plot(r["t"], r["y"], label=f"y_p0 = {s:.2f} H")
+        late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT]
+        ax[1].plot([r["y"][i] for i in late], [r["v"][i] for i in late], ".", ms=2, label=f"y_p0 = {s:.2f} H")
+        ax[2].plot([r["y"][i] for i in late], [r["dS"][i] for i in late], ".", ms=2, label=f"y_p0 = {s:.2f} H")
+    ax[0].axhspan(Y_MAX, 0.5, color="0.85")
+    ax[0].set(xlabel="gamma_dot t", ylabel="y_p / H", ylim=(0, 0.5), title="trajectories (Fig. 3.5)")
+    slope = -2 * BETA ** 3 * CA_E  # eq. 3.8, v_p / (gamma_dot H) against y_p / y_p,max
+    ys = [0, Y_MAX]
+    ax[1].plot(ys, [slope * y / Y_MAX for y in ys], "k--", lw=0.8, label="eq. 3.8 (near the centre)")
+    ax[1].set(xlabel="y_p / H", ylabel="v_p / (gamma_dot H)", xlim=(0, 0.3),
+              title=f"migration velocity, t >= {TRANSIENT:g} (Fig. 3.6)")
+    ax[2].set(xlabel="y_p / H", ylabel="Delta S (eq. 3.6)", xlim=(0, 0.3),
+              title=f"surface imbalance, t >= {TRANSIENT:g} (Fig. 3.8)")
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    fig.suptitle(f"neo-Hookean particle, beta = {BETA}, Ca_e = {CA_E}: softflow, {T_END:g} time units per start")
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "confined_migration.png"), dpi=120)
+
+    lines = [
+        "# Cross-stream migration of a confined neo-Hookean particle (thesis Figs. 3.5, 3.6, 3.8)",
+        "",
+        f"Generated by `scripts/validation/confined_migration.py`: beta = {BETA}, Ca_e = {CA_E}, "
+        f"cell 20 x {HEIGHT:g} x 20 (R = 1), dt = {DT}, t = 0 ... {T_END:g} per start, "
+        "[remesh] quality = 0.2. v_p in units of gamma_dot H, y_p in units of H.",
+        "",
+        "| y_p0 / H | y_p / H at t = 5 | y_p / H at end | mean v_p, t >= 5 | Delta S at end | remeshes | unknowns | wall s |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    import json
+    for s, (directory, r) in runs.items():
+        summary = json.load(open(os.path.join(directory, "summary.json"))) if os.path.exists(
+            os.path.join(directory, "summary.json")) else {}
+        late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT]
+        at5 = r["y"][late[0]] if late else float("nan")
+        mean_v = (r["y"][-1] - at5) / (r["t"][-1] - r["t"][late[0]]) if len(late) > 1 else float("nan")
+        lines.append(f"| {s:.2f} | {at5:.4f} | {r['y'][-1]:.4f} | {mean_v:.3e} | {r['dS'][-1]:.3e} | "
+                     f"{remeshes(directory)} | {summary.get('unknowns', '')} | {summary.get('wall_seconds', 0):.0f} |")
+    lines += ["", f"eq. 3.8 near the centre: v_p = {slope:.4f} y_p / y_p,max (gamma_dot H).", "",
+              "## softflow migration (master curves, neutral heights, near-centre slope)", ""]
+    md = os.path.join(combined, "migration.md")
+    if os.path.exists(md):
+        lines += [line.rstrip("\n") for line in open(md)][1:]
+    with open(os.path.join(OUT, "confined_migration.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    validation_main("validation_confined_migration", jobs, report)
