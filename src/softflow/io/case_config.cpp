@@ -771,6 +771,18 @@ Constitutive object_constitutive(const CaseConfig& c, const ObjectConfig& o) {
   return Constitutive::create(o.model, o.parameters);
 }
 
+physics::WallMotion wall_motion(const CaseConfig& config) {
+  const double h = config.box.height;
+  const auto& flow = config.flow;
+  switch (flow.type) {
+    case FlowType::steady: return physics::WallMotion::steady(h, config.shear_rate);
+    case FlowType::start_up: return physics::WallMotion::start_up(h, config.shear_rate);
+    case FlowType::cessation: return physics::WallMotion::cessation(h, config.shear_rate, flow.stop_time);
+    case FlowType::oscillatory: return physics::WallMotion::oscillatory(h, flow.strain_amplitude, flow.frequency);
+  }
+  return physics::WallMotion::steady(h, config.shear_rate);  // not reached: every type above
+}
+
 std::vector<Constitutive> constitutive_models(const CaseConfig& c) {
   std::vector<Constitutive> models{matrix_constitutive(c)};
   for (const auto& o : c.objects) models.push_back(object_constitutive(c, o));

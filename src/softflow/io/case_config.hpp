@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/physics/stokes/wall_motion.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/viscoelastic/constitutive.hpp"
 
@@ -230,6 +231,12 @@ struct CaseConfig {
 /// (config.objects[k-1]), in absolute units of the case.
 [[nodiscard]] std::vector<physics::viscoelastic::Constitutive> constitutive_models(
     const CaseConfig& config);
+
+/// The walls' motion the case asks for ([flow] type and its keys), built
+/// here beside the rest of the flow's resolution (the shear rate of an
+/// oscillatory flow, its dimensionless groups): a new wall motion touches
+/// physics/stokes/wall_motion, the keys and this file.
+[[nodiscard]] physics::WallMotion wall_motion(const CaseConfig& config);
 
 /// Reads and validates a case file. Throws InputError with one line per
 /// problem found ("case.toml: objects[2].radius = -1: must be > 0").

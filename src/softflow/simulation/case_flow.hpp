@@ -11,11 +11,9 @@
 
 namespace softflow::simulation {
 
-/// The walls' speed history u_w(t) of the case's flow type (steady,
-/// start_up, cessation, oscillatory), in the case's box height. Every solve
-/// takes its boundary velocity from here, so a new flow type is added in one
-/// place.
-physics::WallMotion wall_motion(const io::CaseConfig& config);
+/// The walls' speed history of the case: io::wall_motion (found here by
+/// argument-dependent lookup too).
+using io::wall_motion;
 
 /// k of the tangential redistribution u_t = k grad_s c (eq. 2.30), in 1/time:
 /// interface.redistribution_factor (k / gamma_dot) times the shear rate; at

@@ -1,17 +1,11 @@
 #include "softflow/simulation/drop_simulation.hpp"
 
 #include <algorithm>
-#include <array>
-#include <map>
-#include <limits>
 #include <chrono>
-#include <cmath>
-#include <numbers>
 #include <utility>
 
 #include <fmt/format.h>
 
-#include "softflow/analysis/ellipsoid_fit.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/fem/field.hpp"
 #include "softflow/fem/mesh_transfer.hpp"
@@ -26,7 +20,6 @@
 #include "softflow/simulation/modules/viscoelastic_module.hpp"
 #include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/run_support.hpp"
-#include "softflow/time/bdf.hpp"
 
 namespace softflow::simulation {
 
@@ -43,9 +36,6 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
       mesh_(std::move(mesh)),
       initial_nodes_(mesh_.nodes) {
   build_parts();
-  last_centre_velocity_.assign(trackers_.size(), Vec3::Zero());
-  for (const auto& tracker : trackers_)
-    initial_volumes_.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
   register_state();
 }
 
@@ -55,15 +45,7 @@ void DropSimulation::build_parts() {
   moving_mesh_ = std::make_unique<physics::MovingMesh>(
       mesh_, physics::MovingMeshSettings{config_.time.ale_rebuild_quality,
                                          config_.time.relocation_quality});
-  physics::InterfaceTrackerSettings tracking;
-  tracking.redistribution_factor = redistribution_rate(config_);
-  tracking.supg_beta = config_.interface.supg_beta;
-  trackers_.clear();
-  for (int k = 1; k <= mesh_.n_objects; ++k) {
-    auto surface = physics::extract_interface(mesh_, k);
-    auto x0 = physics::interface_positions(surface, mesh_);
-    trackers_.emplace_back(std::move(surface), std::move(x0), tracking);
-  }
+  interfaces_ = std::make_unique<ObjectInterfaces>(config_, mesh_);
   modules_ = make_modules({config_, mesh_, *stokes_, models_});
 }
 
@@ -82,19 +64,6 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   for (auto& module : modules_) module_fields += module->fields().size();
   if (module_fields != added_fields_.size())
     throw Error("remesh: fields added to the run from outside a module cannot be carried to a new mesh");
-  std::vector<physics::InterfaceTracker::History> histories;
-  std::vector<std::vector<double>> reference_areas;
-  std::vector<std::vector<std::array<int, 6>>> old_triangles;
-  std::vector<std::vector<int>> old_volume_nodes;
-  std::vector<double> volume_before;
-  for (const auto& tracker : trackers_) {
-    histories.push_back(tracker.history());
-    reference_areas.push_back(tracker.reference_areas());
-    old_triangles.push_back(tracker.surface().triangles);
-    old_volume_nodes.push_back(tracker.surface().volume_node);
-    volume_before.push_back(physics::surface_integrals(tracker.surface(), tracker.positions()).volume);
-  }
-
   // The new mesh: gmsh on rank 0 (its meshes differ run to run), sent to all.
   geometry::Remeshed r;
   std::string failure;
@@ -125,6 +94,7 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   // only their fields' values: the mesh they were built on is replaced).
   auto old_modules = std::move(modules_);
   modules_.clear();
+  const auto old_interfaces = std::move(interfaces_);
   moving_mesh_.reset();
   stokes_.reset();
   solution_.reset();
@@ -145,43 +115,8 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   if (old_modules.size() != modules_.size()) throw Error("remesh: the run's modules changed");
   for (std::size_t i = 0; i < modules_.size(); ++i) modules_[i]->carry_over(*old_modules[i], transfer);
   old_modules.clear();
-  // The interface nodes are the old ones: the trackers' histories (x_n,
-  // x_{n-1}, the centres) carry over in the new surfaces' node order.
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const auto& surface = trackers_[k].surface();
-    std::vector<int> local(mesh_.n_nodes(), -1);
-    for (int i = 0; i < surface.n_nodes(); ++i) local[surface.volume_node[i]] = i;
-    auto h = histories[k];
-    auto remap = [&](const std::vector<Vec3>& x) {
-      std::vector<Vec3> out(x.size());
-      for (std::size_t i = 0; i < x.size(); ++i) out.at(local.at(r.new_node_of_old.at(old_volume_nodes[k][i]))) = x[i];
-      return out;
-    };
-    h.x = remap(h.x);
-    if (!h.x_previous.empty()) h.x_previous = remap(h.x_previous);
-    trackers_[k].restore(std::move(h));
-    // The redistribution keeps the run's initial element areas (eq. 2.32's
-    // reference), triangle by triangle: the triangles are the old ones.
-    auto key = [](std::array<int, 3> t) {
-      std::sort(t.begin(), t.end());
-      return t;
-    };
-    std::map<std::array<int, 3>, int> new_triangle;
-    for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
-      const auto& tri = surface.triangles[t];
-      new_triangle[key({tri[0], tri[1], tri[2]})] = static_cast<int>(t);
-    }
-    std::vector<double> areas(surface.triangles.size(), 0.0);
-    for (std::size_t t = 0; t < old_triangles[k].size(); ++t) {
-      std::array<int, 3> corners{};
-      for (int c = 0; c < 3; ++c)
-        corners[c] = local.at(r.new_node_of_old.at(old_volume_nodes[k][old_triangles[k][t][c]]));
-      areas.at(new_triangle.at(key(corners))) = reference_areas[k][t];
-    }
-    trackers_[k].set_reference_areas(std::move(areas));
-    const double after = physics::surface_integrals(surface, trackers_[k].positions()).volume;
-    event.volume_change = std::max(event.volume_change, std::abs(after / volume_before[k] - 1.0));
-  }
+  // The interface nodes are the old ones: histories and reference areas node for node.
+  event.volume_change = interfaces_->carry_over(*old_interfaces, r.new_node_of_old);
   register_state();
   event.extrapolation = transfer.largest_extrapolation();
   event.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -193,7 +128,7 @@ DropSimulation::~DropSimulation() = default;
 StepReport DropSimulation::initial_report() {
   StepReport r;
   r.min_quality = mesh::min_quality(mesh_);
-  measure_all(r, std::vector<Vec3>(trackers_.size(), Vec3::Zero()), 0.0, 0);
+  measure_all(r, std::vector<Vec3>(interfaces_->size(), Vec3::Zero()), 0.0, 0);
   return r;
 }
 
@@ -209,7 +144,7 @@ StepReport DropSimulation::step(double dt) {
   r.dt = dt;
   // The stages of step_module.hpp's Stage, in order; each module's hook after the driver's part.
   if (steps_ > 0 && wall_motion(config_).jumps_at(time_)) restart_time_histories();
-  const auto x_hat = predict_interfaces(dt);                 // Step 1
+  const auto x_hat = interfaces_->predict(dt);               // Step 1
   const auto centre_velocity = translate_mesh(x_hat, dt);    // Step 2
   r.stages.predict_and_translate = lap();
   const double quality = move_mesh_ale(x_hat, dt);           // Step 3
@@ -229,13 +164,13 @@ StepReport DropSimulation::step(double dt) {
     r.stages.conformation = lap();
   }
   // BDF1's predictor x_hat = x_n (the first step, a step after a jump) estimates nothing.
-  const bool extrapolated = !trackers_.empty() && trackers_.front().steps() > 0;
-  correct_interfaces(x_hat, centre_velocity, dt);            // Step 5
+  const bool extrapolated = interfaces_->extrapolating();
+  interfaces_->correct(x_hat, centre_velocity, dt, fluid_at_interface());  // Step 5
   r.stages.correct = lap();
-  if (extrapolated) r.interface_change = interface_change(x_hat);
+  if (extrapolated) r.interface_change = interfaces_->interface_change(x_hat);
   measure_all(r, centre_velocity, dt, steps_ + 1);
   ++steps_;
-  last_centre_velocity_ = centre_velocity;
+  interfaces_->set_last_centre_velocity(centre_velocity);
   r.step = steps_;
   r.time = time_;
   r.min_quality = quality;
@@ -250,27 +185,9 @@ void DropSimulation::restart_time_histories() {
   // walls: a BDF2 stencil across it is O(1) wrong in the derivative, an
   // O(dt) error in what follows (measured before: a drop relaxing after
   // cessation converged at order 1.0 in dt).
-  for (auto& tracker : trackers_) tracker.restart_history();
+  interfaces_->restart_histories();
   moving_mesh_->restart_history();  // the mesh velocity by BDF1
   for (auto& module : modules_) module->restart_time_history();
-}
-
-double DropSimulation::interface_change(const std::vector<std::vector<Vec3>>& x_hat) const {
-  // The predictor's error, dt^2 x'' (1 + w) / 2 to leading order: the
-  // scheme's geometric error, since Stokes was solved on x_hat. The whole
-  // distance, tangential part included: measured on the main example, the
-  // normal part alone let a step of 1.8 / gamma_dot through, after which D
-  // kept a two-step oscillation of +-1e-4 that never settled; the
-  // tangential motion of the redistribution (eq. 2.30) is where such a step
-  // shows first.
-  double change = 0.0;
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const double radius = std::cbrt(3.0 * initial_volumes_[k] / (4.0 * std::numbers::pi));
-    const auto& x = trackers_[k].positions();
-    for (std::size_t i = 0; i < x.size(); ++i)
-      change = std::max(change, (x[i] - x_hat[k][i]).norm() / radius);
-  }
-  return change;
 }
 
 StateRecord DropSimulation::save_step_state() const {
@@ -288,7 +205,7 @@ StepReport DropSimulation::current_report() {
   r.step = steps_;
   r.time = time_;
   r.min_quality = mesh::min_quality(mesh_);
-  measure_all(r, last_centre_velocity_, moving_mesh_->last_step(), steps_);
+  measure_all(r, interfaces_->last_centre_velocity(), moving_mesh_->last_step(), steps_);
   return r;
 }
 
@@ -297,7 +214,7 @@ StepContext DropSimulation::context(double dt, int step) const {
   c.solution = solution_ ? solution_.get() : nullptr;
   c.interface_values = solution_ && !interface_values_.empty() ? &interface_values_ : nullptr;
   c.mesh_velocity = moving_mesh_->velocity();
-  c.interfaces = trackers_;
+  c.interfaces = interfaces_->trackers();
   c.time = time_;
   c.dt = dt;
   c.step = step;
@@ -306,9 +223,9 @@ StepContext DropSimulation::context(double dt, int step) const {
 
 void DropSimulation::measure_all(StepReport& r, const std::vector<Vec3>& centre_velocity,
                                  double dt, int step) {
-  for (int k = 0; k < static_cast<int>(trackers_.size()); ++k) {
+  for (int k = 0; k < static_cast<int>(interfaces_->size()); ++k) {
     try {
-      r.objects.push_back(measure(k, centre_velocity[k]));
+      r.objects.push_back(interfaces_->measure(k, centre_velocity[k]));
     } catch (const Error& e) {
       // An interface that no longer fits an ellipsoid after one step has
       // almost always blown up numerically rather than deformed. The step
@@ -366,25 +283,7 @@ void DropSimulation::check_solution_finite() const {
       x.y(), x.z()));
 }
 
-void DropSimulation::check_volumes() const {
-  // The discrete scheme conserves volume only approximately (thesis §2.4);
-  // past a few per cent the drop is no longer the one asked for, and D and
-  // theta of a drop of another size compare with the wrong theory.
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const double volume =
-        physics::surface_integrals(trackers_[k].surface(), trackers_[k].positions()).volume;
-    const double drift = volume / initial_volumes_[k] - 1.0;
-    if (std::abs(drift) <= config_.time.max_volume_drift) continue;
-    const Vec3 c = trackers_[k].centre();
-    throw AccuracyError(fmt::format(
-        "step {} (t = {:.4f}): object {} (centre ({:.3f}, {:.3f}, {:.3f})) changed its volume by "
-        "{:+.3g} % (from {:.6g} to {:.6g}), more than time.max_volume_drift = {:g} %. Try a "
-        "smaller time.step, more mesh.equator_nodes, or a larger time.max_volume_drift if this "
-        "accuracy is enough",
-        steps_, time_, k + 1, c.x(), c.y(), c.z(), 100.0 * drift, initial_volumes_[k], volume,
-        100.0 * config_.time.max_volume_drift));
-  }
-}
+void DropSimulation::check_volumes() const { interfaces_->check_volumes(steps_, time_); }
 
 void DropSimulation::register_state() {
   // Restored in this order: the Stokes factors are rebuilt from their own
@@ -393,42 +292,7 @@ void DropSimulation::register_state() {
                  [this](StateRecord& r, const std::string& p) { save_time_loop(r, p); },
                  [this](const StateRecord& r, const std::string& p) { restore_time_loop(r, p); }});
   registry_.add(stokes_->state_part());
-  for (std::size_t k = 0; k < trackers_.size(); ++k)
-    registry_.add({fmt::format("objects/{}", k + 1),
-                   [this, k](StateRecord& r, const std::string& p) {
-                     const auto h = trackers_[k].history();
-                     r.set(p + "x", h.x);
-                     r.set(p + "x_previous", h.x_previous);
-                     r.set(p + "centre", std::vector<Vec3>{h.centre, h.centre_previous});
-                     r.set(p + "steps", h.steps);
-                     r.set(p + "centre_steps", h.centre_steps);
-                     r.set(p + "last_step", h.last_step);
-                     r.set(p + "last_centre_velocity", std::vector<Vec3>{last_centre_velocity_[k]});
-                     // After a remesh the reference mesh's interface is not the initial one.
-                     r.set(p + "reference_areas", trackers_[k].reference_areas());
-                   },
-                   [this, k](const StateRecord& r, const std::string& p) {
-                     const auto centre = r.get_points(p + "centre");
-                     const auto velocity = r.get_points(p + "last_centre_velocity");
-                     auto x = r.get_points(p + "x");
-                     auto x_previous = r.get_points(p + "x_previous");
-                     if (centre.size() != 2 || velocity.size() != 1 ||
-                         x.size() != trackers_[k].positions().size() ||
-                         x_previous.size() != x.size())
-                       throw InputError(fmt::format("the saved state of object {} does not fit "
-                                                    "its interface mesh", k + 1));
-                     const int steps = r.get_int(p + "steps");
-                     // Checkpoints from before variable steps: every step was time.step.
-                     const double last_step =
-                         r.contains(p + "last_step") ? r.get_double(p + "last_step")
-                                                     : (steps > 0 ? config_.time.step : 0.0);
-                     trackers_[k].restore({std::move(x), std::move(x_previous), centre[0],
-                                           centre[1], steps, r.get_int(p + "centre_steps"),
-                                           last_step});
-                     last_centre_velocity_[k] = velocity[0];
-                     if (r.contains(p + "reference_areas"))  // records from before remeshing: the initial ones
-                       trackers_[k].set_reference_areas(r.get_array(p + "reference_areas"));
-                   }});
+  for (auto& part : interfaces_->state_parts()) registry_.add(std::move(part));
   // Each module's state saves and restores itself: the driver only lists it.
   for (auto& module : modules_) {
     for (fem::Field* f : module->fields()) add_field(*f);
@@ -456,7 +320,7 @@ void DropSimulation::save_time_loop(StateRecord& r, const std::string& p) const 
   moving_mesh_->save(r, p);
   // Each object's volume at t = 0: after a remesh the reference mesh a
   // restart builds on is the new one, whose volumes are not the initial ones.
-  r.set(p + "initial_volumes", initial_volumes_);
+  r.set(p + "initial_volumes", interfaces_->initial_volumes());
   if (solution_) la::save_vector(r, p + "solution", solution_.get());
   else r.set(p + "solution", std::vector<double>{});
 }
@@ -465,12 +329,8 @@ void DropSimulation::restore_time_loop(const StateRecord& r, const std::string& 
   steps_ = r.get_int(p + "step");
   time_ = r.get_double(p + "time");
   moving_mesh_->restore(r, p, config_.time.step);
-  if (r.contains(p + "initial_volumes")) {  // records from before remeshing: the reference mesh's
-    const auto& volumes = r.get_array(p + "initial_volumes");
-    if (volumes.size() != initial_volumes_.size())
-      throw InputError("the checkpoint's initial volumes do not fit the mesh it carries");
-    initial_volumes_ = volumes;
-  }
+  if (r.contains(p + "initial_volumes"))  // records from before remeshing: the reference mesh's
+    interfaces_->set_initial_volumes(r.get_array(p + "initial_volumes"));
   const auto& solution = r.get_array(p + "solution");
   if (solution.empty()) {
     solution_.reset();
@@ -492,31 +352,15 @@ void DropSimulation::save(io::Checkpoint& c) const {
 
 void DropSimulation::restore(const io::Checkpoint& c) { registry_.restore(c.state); }
 
-std::vector<std::vector<Vec3>> DropSimulation::predict_interfaces(double dt) const {
-  std::vector<std::vector<Vec3>> x_hat;
-  for (const auto& tracker : trackers_) x_hat.push_back(tracker.predict(dt));
-  return x_hat;
-}
-
-std::vector<Vec3> DropSimulation::translate_mesh(const std::vector<std::vector<Vec3>>& x_hat,
-                                                 double dt) {
-  // U from the centre of volume of the predicted surface (eqs. 2.51-2.54);
-  // with one object, the mesh follows its centre in x so the drop never
-  // drifts towards the periodic faces (d1 of Step 2).
-  std::vector<Vec3> u(trackers_.size());
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const Vec3 before = trackers_[k].centre();
-    u[k] = trackers_[k].centre_velocity(x_hat[k], dt);
-    if (trackers_.size() == 1) moving_mesh_->translate_x(trackers_[k].centre().x() - before.x());
-  }
+std::vector<Vec3> DropSimulation::translate_mesh(const InterfacePositions& x_hat, double dt) {
+  double x_shift = 0.0;
+  auto u = interfaces_->advance_centres(x_hat, dt, x_shift);
+  if (interfaces_->size() == 1) moving_mesh_->translate_x(x_shift);
   return u;
 }
 
-double DropSimulation::move_mesh_ale(const std::vector<std::vector<Vec3>>& x_hat, double dt) {
-  std::vector<physics::InterfacePlacement> placed;
-  for (std::size_t k = 0; k < trackers_.size(); ++k)
-    placed.push_back({trackers_[k].surface().volume_node, x_hat[k]});
-  const double quality = moving_mesh_->move(placed, dt);
+double DropSimulation::move_mesh_ale(const InterfacePositions& x_hat, double dt) {
+  const double quality = moving_mesh_->move(interfaces_->placements(x_hat), dt);
   if (quality < config_.time.min_quality) {
     throw MeshError(fmt::format(
         "step {} (t = {:.4f}): the moving mesh degraded: {} has quality {:.3g} < "
@@ -587,39 +431,16 @@ std::vector<double> DropSimulation::solution() const {
   return solution_ ? la::gather_to_all(solution_.get()) : std::vector<double>{};
 }
 
-physics::SemiImplicitTension DropSimulation::semi_implicit_tension(
-    const std::vector<std::vector<Vec3>>& x_hat, double dt) const {
-  physics::SemiImplicitTension tension;
-  if (!config_.interface.semi_implicit_tension || trackers_.empty()) return tension;
-  // theta = 1 for the BDF1 first step, 2/3 after (eqs. 2.48, 2.50). w = the
-  // previous step's fluid velocity along the normal: the implicit part then
-  // acts on the velocity increment only (see physics::SemiImplicitTension).
-  // At the first step there is no previous velocity; w = 0 is exact there,
-  // since the BDF1 predictor does not move the interface.
-  const int order = time::bdf_order(trackers_.front().steps());
-  const bool first_step = order == 1;
-  tension.theta_dt = time::bdf(order, dt, trackers_.front().last_step()).theta_dt(dt);
-  tension.node_normal.assign(mesh_.n_nodes(), Vec3::Zero());
-  tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const auto& tracker = trackers_[k];
-    const auto normals = physics::node_normals(tracker.surface(), x_hat[k]);
-    const auto& nodes = tracker.surface().volume_node;
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-      tension.node_normal[nodes[i]] = normals[i];
-      if (!first_step)
-        tension.predicted_normal_velocity[nodes[i]] =
-            normals[i].dot(interface_velocity(nodes[i], static_cast<int>(k) + 1));
-    }
-  }
-  return tension;
+InterfaceVelocity DropSimulation::fluid_at_interface() const {
+  return [this](int node, int object) { return interface_velocity(node, object); };
 }
 
-int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, double dt,
+int DropSimulation::solve_stokes(const InterfacePositions& x_hat, double dt,
                                  StageSeconds& stages) {
   // time_ is already t_{n+1}: the walls of the end of the step.
   physics::StokesProblem problem = stokes_problem(config_, models_, mesh_, time_);
-  problem.semi_implicit_tension = semi_implicit_tension(x_hat, dt);
+  problem.semi_implicit_tension =
+      interfaces_->semi_implicit_tension(x_hat, dt, mesh_.n_nodes(), fluid_at_interface());
   const StepContext now = context(dt, steps_ + 1);
   for (auto& module : modules_) module->contribute(problem, now);
   auto result = stokes_->solve(problem, physics::SolutionLayout::distributed);
@@ -627,41 +448,6 @@ int DropSimulation::solve_stokes(const std::vector<std::vector<Vec3>>& x_hat, do
   stages.stokes_assembly = result.assembly_seconds;
   stages.stokes_solve = result.solve.seconds;
   return result.solve.iterations;
-}
-
-void DropSimulation::correct_interfaces(const std::vector<std::vector<Vec3>>& x_hat,
-                                        const std::vector<Vec3>& centre_velocity, double dt) {
-  for (std::size_t k = 0; k < trackers_.size(); ++k) {
-    const auto& nodes = trackers_[k].surface().volume_node;
-    std::vector<Vec3> u(nodes.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-      u[i] = interface_velocity(nodes[i], static_cast<int>(k) + 1);
-    trackers_[k].correct(x_hat[k], u, centre_velocity[k], dt);
-  }
-}
-
-ObjectState DropSimulation::measure(int k, const Vec3& centre_velocity) const {
-  const auto& tracker = trackers_[k];
-  const auto& x = tracker.positions();
-  const auto integrals = physics::surface_integrals(tracker.surface(), x);
-  ObjectState s;
-  s.object = k + 1;
-  s.volume = integrals.volume;
-  s.area = integrals.area;
-  s.centre = integrals.centre_of_volume();
-  s.centre_velocity = centre_velocity;
-  const auto fit = analysis::fit_ellipsoid(x);
-  s.deformation = fit.deformation;
-  // An undeformed sphere has no long axis: its fitted angle is whatever the
-  // round-off picks (0 or 90 deg at t = 0), which would distort averages
-  // and plots. NaN says "undefined" ("nan" in CSV, null in JSON).
-  s.theta_deg = fit.deformation < kOrientationUndefinedBelow ? std::numeric_limits<double>::quiet_NaN()
-                                                             : fit.theta_deg;
-  s.L = fit.L;
-  s.B = fit.B;
-  s.W = fit.W;
-  s.ellipsoid_deviation = fit.max_relative_deviation;
-  return s;
 }
 
 bool DropSimulation::interface_slip() const { return stokes_->interface_slip(); }

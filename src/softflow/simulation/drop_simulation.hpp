@@ -18,6 +18,7 @@
 #include "softflow/physics/interface/interface_tracker.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
+#include "softflow/simulation/object_interfaces.hpp"
 #include "softflow/simulation/step_module.hpp"
 #include "softflow/simulation/viscoelastic_phases.hpp"
 
@@ -31,19 +32,6 @@ class MovingMesh;
 }  // namespace softflow::physics
 
 namespace softflow::simulation {
-
-/// Below this D an object is a sphere to round-off and its orientation is
-/// undefined: ObjectState::theta_deg is NaN.
-inline constexpr double kOrientationUndefinedBelow = 1e-8;
-
-/// What is recorded for one object at one time.
-struct ObjectState {
-  int object = 0;
-  double deformation = 0.0, theta_deg = 0.0, L = 0.0, B = 0.0, W = 0.0;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  Eigen::Vector3d centre_velocity = Eigen::Vector3d::Zero();
-  double volume = 0.0, area = 0.0, ellipsoid_deviation = 0.0;
-};
 
 /// Wall time of each stage of one step, for finding what limits speed.
 struct StageSeconds {
@@ -190,7 +178,7 @@ class DropSimulation {
   [[nodiscard]] int relocated_nodes() const;
   [[nodiscard]] int steps() const { return steps_; }
   /// Each object's volume at t = 0 (the reference for the volume drift).
-  [[nodiscard]] const std::vector<double>& initial_volumes() const { return initial_volumes_; }
+  [[nodiscard]] const std::vector<double>& initial_volumes() const { return interfaces_->initial_volumes(); }
   /// The viscoelastic phases (nullptr if every phase is Newtonian).
   [[nodiscard]] const ViscoelasticPhases* viscoelastic() const;
   /// The run's modules (step_module.hpp), in the order they are stepped.
@@ -205,26 +193,20 @@ class DropSimulation {
   [[nodiscard]] bool interface_slip() const;
 
  private:
-  std::vector<std::vector<physics::Vec3>> predict_interfaces(double dt) const;
-  std::vector<physics::Vec3> translate_mesh(const std::vector<std::vector<physics::Vec3>>& x_hat,
-                                            double dt);
+  /// Step 2: the centres' velocities; the mesh follows a single object along x.
+  std::vector<physics::Vec3> translate_mesh(const InterfacePositions& x_hat, double dt);
   /// BDF1 again for every history (interfaces, mesh velocity, conformation)
   /// after a jump in the wall speed.
   void restart_time_histories();
   /// Step 3 (physics::MovingMesh), then the quality check: MeshError below time.min_quality.
-  double move_mesh_ale(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt);
-  int solve_stokes(const std::vector<std::vector<physics::Vec3>>& x_hat, double dt,
+  double move_mesh_ale(const InterfacePositions& x_hat, double dt);
+  int solve_stokes(const InterfacePositions& x_hat, double dt,
                    StageSeconds& stages);
   /// The fluid velocity of the last solve at interface node `node` of
   /// object `object` (1-based).
   [[nodiscard]] physics::Vec3 interface_velocity(int node, int object) const;
-  [[nodiscard]] physics::SemiImplicitTension semi_implicit_tension(
-      const std::vector<std::vector<physics::Vec3>>& x_hat, double dt) const;
-  void correct_interfaces(const std::vector<std::vector<physics::Vec3>>& x_hat,
-                          const std::vector<physics::Vec3>& centre_velocity, double dt);
-  [[nodiscard]] ObjectState measure(int k, const physics::Vec3& centre_velocity) const;
-  /// StepReport::interface_change of the corrected interfaces against x_hat.
-  [[nodiscard]] double interface_change(const std::vector<std::vector<physics::Vec3>>& x_hat) const;
+  /// interface_velocity for the interfaces' stages.
+  [[nodiscard]] InterfaceVelocity fluid_at_interface() const;
   /// What the modules see of the run: `step` is the step being taken (or the current one).
   [[nodiscard]] StepContext context(double dt, int step) const;
   /// Stage measure for every object and module: the state in `r`.
@@ -249,15 +231,13 @@ class DropSimulation {
   std::vector<mesh::Point> initial_nodes_;    // the mesh as meshed: what a restart starts from
   std::unique_ptr<physics::StokesSystem> stokes_;
   std::unique_ptr<physics::MovingMesh> moving_mesh_;
-  std::vector<physics::InterfaceTracker> trackers_;
+  std::unique_ptr<ObjectInterfaces> interfaces_;
   std::vector<std::unique_ptr<StepModule>> modules_;
   // The Stokes solution stays distributed; the trackers, the semi-implicit
   // tension and the slip measures read the interface dofs, copied to every
   // rank after each solve (interface_values_).
   la::Vector solution_;
   la::SelectedEntries interface_values_;
-  std::vector<physics::Vec3> last_centre_velocity_;
-  std::vector<double> initial_volumes_;
   double time_ = 0.0;
   int steps_ = 0;
   StateRegistry registry_;
