@@ -52,6 +52,9 @@ const io::ReportTable<BulkStressRow>& bulk_stress_table() {
           {"viscosity", "stress time", "sigma_xy / shear_rate: the suspension's shear viscosity "
            "in steady shear", kFull,
            [](const BulkStressRow& r) { return r.bulk.stress(0, 1) / r.bulk.shear_rate; }},
+          {"stresslet_xy", "stress volume", "V (sigma_xy - eta_m shear_rate): the counted objects' "
+           "stresslets S_xy summed, independent of the cube for objects wholly inside it "
+           "(docs/emulsions.md)", kFull, [](const BulkStressRow& r) { return r.bulk.stresslet_xy; }},
           {"phi", "", "volume fraction: the counted objects' volume over the cube's", kFull,
            [](const BulkStressRow& r) { return r.bulk.volume_fraction; }},
           {"objects", "", "objects whose centre of volume lies in the cube", kInteger,
@@ -204,6 +207,7 @@ void BulkStressModule::measure(const StepContext& context, StepReport& /*report*
   for (int i = 0; i < 9; ++i) stress(i / 3, i % 3) = sums[i];
   last_.stress = (stress + tension) / last_.box_volume;
   last_.shear_rate = sums[9] / last_.box_volume;
+  last_.stresslet_xy = last_.box_volume * (last_.stress(0, 1) - viscosities_[0] * last_.shear_rate);
 }
 
 std::vector<ReportFile> BulkStressModule::report_files() const {

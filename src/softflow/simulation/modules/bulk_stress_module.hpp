@@ -29,6 +29,11 @@ struct BulkStress {
   /// The tension term alone (its xy component is the drops' elastic part).
   Eigen::Matrix3d tension = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   double shear_rate = std::numeric_limits<double>::quiet_NaN();  ///< <2 D_xy>
+  /// V (<sigma>_xy - eta_m <2 D_xy>): the counted objects' stresslets S_xy
+  /// summed (Batchelor 1970: int_V sigma = -int_V p I + 2 eta_m int_V D +
+  /// sum S for a Newtonian matrix). Unlike <sigma>_xy / <2 D_xy>, it does
+  /// not depend on the cube for objects wholly inside it.
+  double stresslet_xy = std::numeric_limits<double>::quiet_NaN();
   double volume_fraction = 0.0;  ///< counted objects' volume / V
   int objects_counted = 0;
   double box_volume = 0.0;
