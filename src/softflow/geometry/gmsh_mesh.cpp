@@ -19,6 +19,7 @@
 #include <gmsh.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/mesh/node_classes.hpp"
 #include "softflow/mesh/quality.hpp"
 
 namespace softflow::geometry::detail {
@@ -440,33 +441,13 @@ void orient_faces(const mesh::Mesh& m, std::vector<mesh::Triangle6>& faces,
   }
 }
 
-// Union-find whose representative is the smallest index of its class.
-class SmallestRepresentative {
- public:
-  explicit SmallestRepresentative(int n) : parent_(n) {
-    for (int i = 0; i < n; ++i) parent_[i] = i;
-  }
-  int find(int i) {
-    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
-    return i;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
 // Periodic node classes from gmsh's slave -> master pairs on points, curves
 // and surfaces (high-order nodes included). Corner edges of a doubly
 // periodic box have 4 copies, linked by pairs through different entities:
 // the union-find collapses them. Must run before any write/read of the mesh.
 void read_periodic(mesh::Mesh& m, const NodeTable& nodes) {
   if (!m.box.periodic_x && !m.box.periodic_z) return;
-  SmallestRepresentative classes(m.n_nodes());
+  mesh::NodeClasses classes(m.n_nodes());
   for (int dim = 0; dim <= 2; ++dim) {
     gmsh::vectorpair entities;
     gmsh::model::getEntities(entities, dim);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/mesh/node_classes.hpp"
 
 namespace softflow::geometry {
 
@@ -64,25 +65,6 @@ class PointIndex {
 double matching_tolerance(const mesh::Box& box) {
   return 1e-8 * std::max({box.length, box.height, box.width});
 }
-
-class SmallestRepresentative {
- public:
-  explicit SmallestRepresentative(int n) : parent_(n) {
-    for (int i = 0; i < n; ++i) parent_[i] = i;
-  }
-  int find(int i) {
-    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
-    return i;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
 
 mesh::BoundaryTag rotated(mesh::BoundaryTag tag) {
   using mesh::BoundaryTag;
@@ -169,7 +151,7 @@ std::vector<int> periodic_classes(const mesh::Mesh& m) {
   const mesh::Box& b = m.box;
   if (!b.periodic_x && !b.periodic_z) return {};
   const double tolerance = matching_tolerance(b);
-  SmallestRepresentative classes(m.n_nodes());
+  mesh::NodeClasses classes(m.n_nodes());
   auto identify = [&](int axis, double period) {
     const double half = period / 2;
     PointIndex low(tolerance);
