@@ -13,7 +13,9 @@ column, S_xy = V (<sigma>_xy - eta_m <2 D_xy>), against
   - steady: t = 4 (about 8 shape relaxation times at lambda = 10), dt = 0.02:
     Taylor's (5 lambda + 2) / (2 (lambda + 1)), Oldroyd's omega -> 0 limit
     (the O(Ca) deformation changes S_xy at O(Ca^2) only).
-Two meshes (20 and 28 equator nodes) and their order-2 extrapolation.
+Three meshes (20, 28 and 40 equator nodes): the observed order and the
+Richardson limit through the three (case_runs.richardson), else (two levels
+run) the order-2 extrapolation of the finest two.
 Usage: scripts/validation/dilute_drop_stresslet.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import csv
 import json
@@ -25,12 +27,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_csv, validation_main  # noqa: E402
+from case_runs import read_csv, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
 LAMBDAS = [0.5, 1.0, 3.0, 10.0]
-NODES = [20, 28]
+NODES = [20, 28, 40]
 KINDS = {"instant": (0.001, 0.001), "steady": (0.02, 4.0)}  # (step, end)
 VOLUME = 4.0 / 3.0 * math.pi
 
@@ -86,18 +88,29 @@ def report(work):
     table = []
     for kind in KINDS:
         for lam in LAMBDAS:
-            runs = [coefficient(os.path.join(work, case_name(kind, lam, n))) for n in NODES]
-            (c0, h0, _, _), (c1, h1, unknowns, wall) = runs
-            r = (h1 / h0) ** 2
-            extrapolated = c1 + (c1 - c0) * r / (1.0 - r)
+            runs = [coefficient(os.path.join(work, case_name(kind, lam, n))) for n in NODES
+                    if os.path.exists(os.path.join(work, case_name(kind, lam, n), "summary.json"))]
+            values, sizes = [r[0] for r in runs], [r[1] for r in runs]
+            order, extrapolated = 2.0, float("nan")
+            fitted = richardson(sizes[-3:], values[-3:]) if len(runs) >= 3 else None
+            if fitted:
+                order, extrapolated = fitted
+            elif len(runs) >= 2:
+                r = (sizes[-1] / sizes[-2]) ** 2
+                extrapolated = values[-1] + (values[-1] - values[-2]) * r / (1.0 - r)
+                order = float("nan") if len(runs) >= 3 else 2.0
+            unknowns, wall = runs[-1][2], runs[-1][3]
             exact = theory(kind, lam)
-            table.append((kind, lam, exact, c0, c1, extrapolated, unknowns, wall))
+            table.append((kind, lam, exact, values, extrapolated, order, unknowns, wall))
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "dilute_drop_stresslet.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["kind", "lambda", "theory", "N20", "N28", "extrapolated", "unknowns_N28", "wall_s_N28"])
-        for row in table:
-            w.writerow([row[0], row[1], *(f"{x:.6g}" for x in row[2:6]), row[6], f"{row[7]:.1f}"])
+        w.writerow(["kind", "lambda", "theory", *(f"N{n}" for n in NODES), "extrapolated", "order",
+                    "unknowns_finest", "wall_s_finest"])
+        for kind, lam, exact, values, ex, order, unknowns, wall in table:
+            padded = values + [float("nan")] * (len(NODES) - len(values))
+            w.writerow([kind, lam, f"{exact:.6g}", *(f"{v:.6g}" for v in padded), f"{ex:.6g}", f"{order:.3g}",
+                        unknowns, f"{wall:.1f}"])
 
     def error(value, exact):
         return f"{value - exact:+.4f}" if abs(exact) < 1e-12 else f"{100 * (value / exact - 1):+.2f} %"
@@ -109,14 +122,18 @@ def report(work):
         "cube of side 4; S_xy / (eta_m gamma_dot V_drop) from bulk_stress.csv's stresslet_xy. "
         "instant: one step of 1e-3 from the sphere, against (5/2)(lambda - 1)/(lambda + 3/2) (a viscous "
         "sphere without tension; Oldroyd's high-frequency limit). steady: t = 4, against Taylor's "
-        "(5 lambda + 2)/(2 (lambda + 1)). Extrapolated: the two meshes at order 2.",
+        "(5 lambda + 2)/(2 (lambda + 1)). Extrapolated: Richardson through the three meshes (observed "
+        "order p), or the finest two at order 2 when a level is missing (p blank).",
         "",
-        "| case | lambda | theory | 20 nodes | 28 nodes | extrapolated | error (28) | error (extrapolated) |",
-        "|---|---|---|---|---|---|---|---|",
+        "| case | lambda | theory | " + " | ".join(f"{n} nodes" for n in NODES)
+        + " | extrapolated | p | error (finest) | error (extrapolated) |",
+        "|---|---|---|" + "---|" * len(NODES) + "---|---|---|---|",
     ]
-    for kind, lam, exact, c0, c1, ex, _, _ in table:
-        lines.append(f"| {kind} | {lam:g} | {exact:.4f} | {c0:.4f} | {c1:.4f} | {ex:.4f} | "
-                     f"{error(c1, exact)} | {error(ex, exact)} |")
+    for kind, lam, exact, values, ex, order, _, _ in table:
+        cells = [f"{v:.4f}" for v in values] + [""] * (len(NODES) - len(values))
+        p = "" if math.isnan(order) or len(values) < 3 else f"{order:.2f}"
+        lines.append(f"| {kind} | {lam:g} | {exact:.4f} | " + " | ".join(cells)
+                     + f" | {ex:.4f} | {p} | {error(values[-1], exact)} | {error(ex, exact)} |")
     with open(os.path.join(OUT, "dilute_drop_stresslet.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
@@ -127,8 +144,9 @@ def report(work):
         ax.plot(lam_line, [theory(kind, lam) for lam in lam_line], style,
                 label="(5/2)(l-1)/(l+3/2): no tension yet" if kind == "instant" else "Taylor (5l+2)/(2(l+1))")
         rows = [t for t in table if t[0] == kind]
-        ax.plot([t[1] for t in rows], [t[4] for t in rows], style + "o", mfc="none", label=f"softflow {kind}, 28 nodes")
-        ax.plot([t[1] for t in rows], [t[5] for t in rows], style + "x", label=f"softflow {kind}, extrapolated")
+        ax.plot([t[1] for t in rows], [t[3][-1] for t in rows], style + "o", mfc="none",
+                label=f"softflow {kind}, finest mesh")
+        ax.plot([t[1] for t in rows], [t[4] for t in rows], style + "x", label=f"softflow {kind}, extrapolated")
     ax.set(xscale="log", xlabel="viscosity ratio lambda", ylabel="S_xy / (eta_m gamma_dot V_drop)",
            title="one drop's stresslet in shear")
     ax.grid(alpha=0.3)
