@@ -64,7 +64,7 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   for (auto& module : modules_) module_fields += module->fields().size();
   if (module_fields != added_fields_.size())
     throw Error("remesh: fields added to the run from outside a module cannot be carried to a new mesh");
-  // The new mesh: gmsh on rank 0 (its meshes differ run to run), sent to all.
+  // The new mesh: gmsh on rank 0 (gmsh is serial), sent to all.
   geometry::Remeshed r;
   std::string failure;
   if (la::mpi_rank() == 0) try {
