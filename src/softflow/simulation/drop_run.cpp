@@ -142,9 +142,8 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
       if (config.remesh.quality > 0.0 && sim.mesh_quality() < config.remesh.quality &&
           sim.mesh_quality() < 0.95 * remesh_failed_at) {
         // Before the step, outside the step taker (whose retries restore a
-        // state of the mesh they started on). gmsh's meshes differ run to
-        // run, so a checkpoint follows at once: a restart always continues
-        // on the mesh this run continues on.
+        // state of the mesh they started on). A checkpoint follows at once:
+        // a restart continues on the new mesh without meshing again.
         RemeshEvent e;
         try {
           e = sim.remesh(fmt::format("quality {:.3g} < remesh.quality {:g}", sim.mesh_quality(),
