@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/region_volumes.hpp"
+
 #include "softflow/common/error.hpp"
 #include "softflow/element/quadrature.hpp"
 #include "softflow/element/shape_functions.hpp"
@@ -19,6 +21,8 @@
 
 using namespace softflow;
 using Eigen::Vector3d;
+
+using softflow::test_support::region_volumes;
 
 namespace {
 
@@ -32,18 +36,6 @@ geometry::ShearCellSpec centred_sphere(bool symmetric) {
   s.sizing.far_size = 1.2;
   s.sizing.point_symmetric = symmetric;
   return s;
-}
-
-std::vector<double> region_volumes(const mesh::Mesh& m) {
-  const auto rule = element::tetrahedron_rule(3);
-  std::vector<double> volume(m.n_objects + 1, 0.0);
-  for (int t = 0; t < m.n_tets(); ++t) {
-    Eigen::Matrix<double, 3, 10> x;
-    for (int k = 0; k < 10; ++k) x.col(k) = m.nodes[m.tets[t][k]];
-    for (int q = 0; q < rule.size(); ++q)
-      volume[m.tet_region[t]] += rule.weights[q] * (x * element::p2_tet_gradients(rule.points[q])).determinant();
-  }
-  return volume;
 }
 
 // image[i] = the node at R x_i (exactly), -1 if there is none.

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/region_volumes.hpp"
+
 #include "softflow/element/isoparametric.hpp"
 #include "softflow/element/quadrature.hpp"
 #include "softflow/element/shape_functions.hpp"
@@ -19,6 +21,8 @@
 
 using namespace softflow;
 using Eigen::Vector3d;
+
+using softflow::test_support::region_volumes;
 
 namespace {
 
@@ -38,19 +42,6 @@ geometry::ShearCellSpec cell(double refinement = 1.5) {
   s.sizing.far_size = 1.0 / refinement;
   s.sizing.growth = 0.4 / refinement;
   return s;
-}
-
-// Volume of each region from the curved P2 map (det J has degree 3).
-std::vector<double> region_volumes(const mesh::Mesh& m) {
-  const auto rule = element::tetrahedron_rule(3);
-  std::vector<double> volume(m.n_objects + 1, 0.0);
-  for (int t = 0; t < m.n_tets(); ++t) {
-    Eigen::Matrix<double, 3, 10> x;
-    for (int k = 0; k < 10; ++k) x.col(k) = m.nodes[m.tets[t][k]];
-    for (int q = 0; q < rule.size(); ++q)
-      volume[m.tet_region[t]] += rule.weights[q] * (x * element::p2_tet_gradients(rule.points[q])).determinant();
-  }
-  return volume;
 }
 
 // The volume the curved interface of `object` encloses, 1/3 int_S x.n ds.

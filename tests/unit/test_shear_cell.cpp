@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/region_volumes.hpp"
+
 #include "softflow/common/error.hpp"
 #include "softflow/element/isoparametric.hpp"
 #include "softflow/element/quadrature.hpp"
@@ -22,6 +24,8 @@ using Eigen::Vector3d;
 using geometry::ObjectShape;
 using geometry::ObjectSpec;
 using geometry::ShearCellSpec;
+
+using softflow::test_support::region_volumes;
 
 namespace {
 
@@ -51,20 +55,6 @@ ShearCellSpec small_cell(double l, double h, double w, std::vector<ObjectSpec> o
   s.sizing.far_size = 1.0;
   s.sizing.growth = 0.4;
   return s;
-}
-
-// Volume of each region (index = region) from the P2 map, det J of degree 3.
-std::vector<double> region_volumes(const mesh::Mesh& m) {
-  const auto rule = element::tetrahedron_rule(3);
-  std::vector<double> volume(m.n_objects + 1, 0.0);
-  for (int t = 0; t < m.n_tets(); ++t) {
-    Eigen::Matrix<double, 3, 10> x;
-    for (int k = 0; k < 10; ++k) x.col(k) = m.nodes[m.tets[t][k]];
-    for (int q = 0; q < rule.size(); ++q)
-      volume[m.tet_region[t]] +=
-          rule.weights[q] * (x * element::p2_tet_gradients(rule.points[q])).determinant();
-  }
-  return volume;
 }
 
 double straight_edge_length(const mesh::Mesh& m, const mesh::Tet10& t, int e) {
