@@ -1537,5 +1537,48 @@ TEST(BadInput33, OscillatoryFlowNeedsTenStepsPerPeriod) {
   EXPECT_EQ(error_of(flow + "frequency = 1000.0\n[time]\nstep = 0.05\nend = 0.0\n"), "");
 }
 
+// [emulsion]: the one [[objects]] entry copied at random centres (issue 32 item 1).
+const char* kEmulsion =
+    "[cell]\nlength = 12.0\nheight = 10.0\nwidth = 12.0\n[mesh]\nequator_nodes = 20\n"
+    "[[objects]]\nradius = 1.0\nviscosity_ratio = 2.0\ncapillary_number = 0.2\n"
+    "[emulsion]\nvolume_fraction = 0.05\nseed = 4\nmin_gap = 0.8\n";
+
+TEST(CaseConfigEmulsion, DropsAreCopiesOfTheTemplateApartAndReproducibleThroughThePrintout) {
+  const CaseConfig c = parse_case(kEmulsion, "e.toml");
+  const int expected = static_cast<int>(std::lround(0.05 * 12 * 10 * 12 / (4.0 / 3.0 * M_PI)));
+  ASSERT_EQ(static_cast<int>(c.objects.size()), expected);  // 17
+  for (std::size_t i = 0; i < c.objects.size(); ++i) {
+    const auto& o = c.objects[i];
+    EXPECT_EQ(o.viscosity_ratio, 2.0);
+    EXPECT_DOUBLE_EQ(o.interfacial_tension, 1.0 * 1.0 * 1.0 / 0.2);
+    EXPECT_LE(std::abs(o.geometry.centre.y()) + 1.8, 5.0 + 1e-12);  // R + gap from the walls
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GE((o.geometry.centre - c.objects[j].geometry.centre).norm(), 2.8 - 1e-12);
+  }
+  // The printout holds the template and [emulsion]: read back, the same drops.
+  const std::string printed = to_toml(c);
+  EXPECT_NE(printed.find(fmt::format("# the template of the emulsion's {} drops", expected)), std::string::npos)
+      << printed;
+  const CaseConfig again = parse_case(printed, "again.toml");
+  ASSERT_EQ(again.objects.size(), c.objects.size());
+  for (std::size_t i = 0; i < c.objects.size(); ++i) EXPECT_EQ(again.objects[i].geometry.centre, c.objects[i].geometry.centre);
+  // Another seed, other drops.
+  std::string other = kEmulsion;
+  other.replace(other.find("seed = 4"), 8, "seed = 5");
+  EXPECT_NE(parse_case(other, "o.toml").objects[0].geometry.centre, c.objects[0].geometry.centre);
+}
+
+TEST(CaseConfigEmulsion, WhatCannotBePackedOrMeshedIsRefusedNamingTheKey) {
+  const std::string base = kEmulsion;
+  EXPECT_ERROR(base + "[[objects]]\nradius = 1.0\n",
+               "emulsion.volume_fraction = 0.05: an emulsion copies one [[objects]] entry");
+  std::string small_gap = base;
+  small_gap.replace(small_gap.find("min_gap = 0.8"), 13, "min_gap = 0.1");
+  EXPECT_ERROR(small_gap, "emulsion.min_gap = 0.1: gaps below one interface element (0.628 R");
+  std::string dense = base;
+  dense.replace(dense.find("volume_fraction = 0.05"), 22, "volume_fraction = 0.4");
+  EXPECT_ERROR(dense, "emulsion.volume_fraction = 0.4: random packing: after");
+}
+
 }  // namespace
 }  // namespace softflow::io

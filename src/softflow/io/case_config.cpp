@@ -1,5 +1,7 @@
 #include "softflow/io/case_config.hpp"
 
+#include "softflow/geometry/random_packing.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -498,6 +500,54 @@ void check_time(const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
 
 /// A remesh threshold at or below time.min_quality would never act: the run
 /// stops at min_quality first.
+/// [emulsion]: the one [[objects]] entry copied at random centres.
+void expand_emulsion(const TableRead& emulsion, CaseConfig& c, Diagnostics& diag) {
+  if (emulsion.status("volume_fraction") != Read::ok || c.emulsion.volume_fraction == 0.0) return;
+  const Value& phi = *emulsion.value("volume_fraction");
+  if (c.objects.size() != 1 || c.objects[0].geometry.shape != geometry::ObjectShape::sphere ||
+      c.objects[0].geometry.centre != Eigen::Vector3d::Zero()) {
+    diag.error(emulsion.path("volume_fraction"), phi,
+               fmt::format("an emulsion copies one [[objects]] entry, a sphere centred at the origin (its "
+                           "template); the case has {} [[objects]] entr{}{}",
+                           c.objects.size(), c.objects.size() == 1 ? "y" : "ies",
+                           c.objects.size() == 1 ? " that is not a sphere at the origin" : ""));
+    return;
+  }
+  geometry::RandomPacking packing;
+  packing.radius = c.objects[0].geometry.semi_axes.x();
+  packing.region = c.emulsion.core_side > 0.0 ? Eigen::Vector3d::Constant(c.emulsion.core_side)
+                                              : Eigen::Vector3d(c.box.length, c.box.height, c.box.width);
+  packing.volume_fraction = c.emulsion.volume_fraction;
+  packing.seed = static_cast<std::uint64_t>(c.emulsion.seed);
+  const double element = geometry::interface_element_size(c.objects[0].geometry, c.sizing);
+  packing.min_gap = c.emulsion.min_gap > 0.0 ? c.emulsion.min_gap * packing.radius : element;
+  if (packing.min_gap < element) {
+    diag.error(emulsion.path("min_gap"), *emulsion.value("min_gap"),
+               fmt::format("gaps below one interface element ({:.3g} R at mesh.equator_nodes = {}) are not "
+                           "meshed yet: min_gap >= {:.3g}, or 0 for that",
+                           element / packing.radius, c.sizing.equator_nodes, element / packing.radius));
+    return;
+  }
+  if (c.emulsion.core_side > std::min({c.box.length, c.box.height, c.box.width})) {
+    diag.error(emulsion.path("core_side"), *emulsion.value("core_side"),
+               "the core cube must fit in the cell: at most its length, height and width");
+    return;
+  }
+  std::vector<Eigen::Vector3d> centres;
+  try {
+    centres = geometry::random_sequential_addition(packing);
+  } catch (const InputError& e) {
+    diag.error(emulsion.path("volume_fraction"), phi, e.what());
+    return;
+  }
+  const ObjectConfig drop = c.objects[0];
+  c.objects.clear();
+  for (const auto& centre : centres) {
+    c.objects.push_back(drop);
+    c.objects.back().geometry.centre = centre;
+  }
+}
+
 void check_remesh(const TableRead& remesh, const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
   if (remesh.status("quality") != Read::ok || c.remesh.quality == 0.0) return;
   if (time.status("min_quality") == Read::bad) return;
@@ -852,6 +902,8 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   check_oscillatory_steps(read["time"], read["flow"], c, diag);
   check_bulk_stress(read["bulk_stress"], c, diag);
   diag.throw_if_any();
+  expand_emulsion(read["emulsion"], c, diag);
+  diag.throw_if_any();
   return c;
 }
 
@@ -877,11 +929,20 @@ std::string to_toml(const CaseConfig& c) {
       // A run that never remeshes prints as before the key: the case.toml
       // of its checkpoints and stored runs compares with the printout.
       if (table.name == "remesh" && c.remesh.quality == 0.0) continue;
+      if (table.name == "emulsion" && c.emulsion.volume_fraction == 0.0) continue;
       s += '\n';
       s += schema::write_table(*keys.table(table.name), c);
       continue;
     }
     if (c.objects.empty()) s += "\n# no [[objects]]: the undisturbed shear flow\n";
+    if (c.emulsion.volume_fraction > 0.0 && !c.objects.empty()) {
+      // The template the drops were copied from ([emulsion] places them again).
+      ObjectConfig drop = c.objects.front();
+      drop.geometry.centre = Eigen::Vector3d::Zero();
+      s += fmt::format("\n# the template of the emulsion's {} drops\n", c.objects.size());
+      s += schema::write_table(keys.objects, drop);
+      continue;
+    }
     for (const auto& o : c.objects) {
       s += '\n';
       s += schema::write_table(keys.objects, o);

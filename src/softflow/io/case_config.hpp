@@ -128,6 +128,19 @@ struct BulkStressConfig {
   double box_side = 0.0;  ///< side of the centred cube (0: no bulk stress)
 };
 
+/// [emulsion]: many drops at random (thesis ch. 4; docs/emulsions.md): the
+/// single [[objects]] entry is the template, copied at the centres random
+/// sequential addition picks (geometry::random_sequential_addition).
+struct EmulsionConfig {
+  double volume_fraction = 0.0;  ///< of the drops in the packing region (0: no emulsion)
+  int seed = 1;
+  /// Smallest gap between drops and to the region's faces, in drop radii
+  /// (0: one interface element, the mesher's smallest).
+  double min_gap = 0.0;
+  /// Side of the centred cube the drops fill (the "frame" layout); 0: the cell.
+  double core_side = 0.0;
+};
+
 /// [remesh]: meshing the deformed domain again during a run (issue 31).
 struct RemeshConfig {
   /// Remesh before a step once the worst element quality is below this
@@ -183,6 +196,7 @@ struct CaseConfig {
   InterfaceConfig interface;  ///< [interface]
   CheckpointConfig checkpoint;  ///< [checkpoint]
   BulkStressConfig bulk_stress;  ///< [bulk_stress]
+  EmulsionConfig emulsion;       ///< [emulsion]
   RemeshConfig remesh;          ///< [remesh]
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).

@@ -431,6 +431,26 @@ Table<CaseConfig> bulk_stress_table() {
                   "(0: no bulk stress)")}};
 }
 
+Table<CaseConfig> emulsion_table() {
+  const auto emulsion = [](auto member) { return field(&CaseConfig::emulsion, member); };
+  return {"emulsion",
+          "Many drops at random (docs/emulsions.md): the one [[objects]] entry, a sphere centred "
+          "at the origin, is copied at centres placed by random sequential addition, no drop "
+          "closer than min_gap to another or to a wall or periodic face.",
+          false,
+          {number("volume_fraction", emulsion(&EmulsionConfig::volume_fraction), 0.0,
+                  Range::right_open(0, 0.5),
+                  "volume fraction of the drops in the region they fill (0: no emulsion)"),
+           integer("seed", emulsion(&EmulsionConfig::seed), 1, Range::at_least(0),
+                   "seed of the random placement: the same seed, the same drops"),
+           number("min_gap", emulsion(&EmulsionConfig::min_gap), 0.0, Range::at_least(0),
+                  "smallest gap between drops and to the region's faces, in drop radii (0: one "
+                  "interface element, the mesher's smallest)"),
+           number("core_side", emulsion(&EmulsionConfig::core_side), 0.0, Range::at_least(0),
+                  "side of the centred cube the drops fill, the thesis's frame layout (0: the "
+                  "whole cell)")}};
+}
+
 Table<CaseConfig> remesh_table() {
   const auto remesh = [](auto member) { return field(&CaseConfig::remesh, member); };
   return {"remesh",
@@ -577,7 +597,7 @@ CaseKeys build() {
   CaseKeys k;
   k.tables = {case_table(),   cell_table(), matrix_table(), flow_table(),
               mesh_table(),   solver_table(), output_table(), time_table(),
-              checkpoint_table(), interface_table(), bulk_stress_table(), remesh_table()};
+              checkpoint_table(), interface_table(), bulk_stress_table(), emulsion_table(), remesh_table()};
   k.objects = objects_table();
   // [[objects]] after [flow]: the objects come after what sets their Gamma.
   for (const auto& t : k.tables) {
