@@ -153,8 +153,8 @@ def report(work):
         f"cell 20 x {HEIGHT:g} x 20 (R = 1), dt = {DT}, t = 0 ... {T_END:g} per start, "
         "[remesh] quality = 0.2. v_p in units of gamma_dot H, y_p in units of H.",
         "",
-        "| y_p0 / H | y_p / H at t = 5 | y_p / H at end | mean v_p, t >= 5 | Delta S at end | remeshes | unknowns | wall s |",
-        "|---|---|---|---|---|---|---|---|",
+        "| y_p0 / H | y_p / H at t = 5 | y_p / H at end | mean v_p, t >= 5 | Delta S at end | remeshes | unknowns | wall s | status |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     import json
     for s, (directory, r) in runs.items():
@@ -164,7 +164,8 @@ def report(work):
         at5 = r["y"][late[0]] if late else float("nan")
         mean_v = (r["y"][-1] - at5) / (r["t"][-1] - r["t"][late[0]]) if len(late) > 1 else float("nan")
         lines.append(f"| {s:.2f} | {at5:.4f} | {r['y'][-1]:.4f} | {mean_v:.3e} | {r['dS'][-1]:.3e} | "
-                     f"{remeshes(directory)} | {summary.get('unknowns', '')} | {summary.get('wall_seconds', 0):.0f} |")
+                     f"{remeshes(directory)} | {summary.get('unknowns', '')} | {summary.get('wall_seconds', 0):.0f} | "
+                     f"{summary.get('status', 'running')} (t = {r['t'][-1]:g}) |")
     lines += ["", f"eq. 3.8 near the centre: v_p = {slope:.4f} y_p / y_p,max (gamma_dot H).", "",
               "## softflow migration (master curves, neutral heights, near-centre slope)", ""]
     md = os.path.join(combined, "migration.md")
