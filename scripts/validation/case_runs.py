@@ -9,6 +9,7 @@ line the validation scripts share."""
 import argparse
 import concurrent.futures
 import csv
+import inspect
 import json
 import os
 import subprocess
@@ -87,8 +88,9 @@ def meshed_size(r):
 def validation_main(work_name, jobs, report, runner=run_case):
     """`SCRIPT [build_dir] [work_dir] [--jobs N] [--report-only]`: runs every
     (name, case text) of jobs() with `runner` (two at a time by default),
-    unless --report-only, then report(work_dir). work_dir defaults to
-    output/WORK_NAME."""
+    unless --report-only, then report(work_dir), or report(work_dir, build_dir)
+    when report takes two arguments (it runs softflow itself). work_dir
+    defaults to output/WORK_NAME."""
     parser = argparse.ArgumentParser()
     parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
     parser.add_argument("work", nargs="?", default=os.path.join(ROOT, "output", work_name))
@@ -98,4 +100,7 @@ def validation_main(work_name, jobs, report, runner=run_case):
     if not args.report_only:
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             list(pool.map(lambda j: runner(args.build, args.work, *j), jobs()))
-    report(args.work)
+    if len(inspect.signature(report).parameters) >= 2:
+        report(args.work, args.build)
+    else:
+        report(args.work)

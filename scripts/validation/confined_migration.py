@@ -23,7 +23,6 @@ Usage: scripts/validation/confined_migration.py [build_dir] [work_dir] [--jobs N
 import csv
 import os
 import subprocess
-import sys
 
 import matplotlib
 
@@ -102,8 +101,7 @@ def remeshes(directory):
     return len(read_csv(path)) if os.path.exists(path) else 0
 
 
-def report(work):
-    build = sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith("-") else os.path.join(ROOT, "build")
+def report(work, build):
     runs = {}
     for s in STARTS:
         directory = os.path.join(work, case_name(s))

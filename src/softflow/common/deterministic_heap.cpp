@@ -120,17 +120,13 @@ void free_small(void* p) {
     return;
   }
   std::lock_guard lock(heap.mutex);
-  if (header.scope == heap.open_scope.load()) {  // another thread's: counted when the scope closes
-    header.free = 1;
-    return;
-  }
+  header.free = 1;
+  // Another thread's block of the open scope: counted when the scope closes.
+  if (header.scope == heap.open_scope.load()) return;
   // A closed scope's memory is never handed out again: its pages go back to
   // the system once empty.
-  header.free = 1;
   count_pages(block, block + header.bytes - 1, -1);
-  const std::size_t first = page_of(block), last = page_of(block + header.bytes - 1);
-  for (std::size_t page = first; page <= last; ++page)
-    if (heap.page_live[page] == 0) madvise(heap.begin.load() + page * kPage, kPage, MADV_DONTNEED);
+  release_empty_pages(page_of(block), page_of(block + header.bytes - 1) + 1);
 }
 
 void* allocate(std::size_t n) {
