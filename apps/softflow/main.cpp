@@ -433,6 +433,11 @@ int main(int argc, char** argv) {
       "--slip", slip,
       "Navier slip alpha = alpha_dim eta_m / R: the slip-drop D (thesis Fig. 2.11) at this alpha "
       "(default: at 0.1 and 1)");
+  theory->add_option("--phi", theory_query.phi, "Oldroyd's emulsion: volume fraction of the drops")
+      ->capture_default_str();
+  theory->add_option("--omega-star", theory_query.omega_star,
+                     "Oldroyd's emulsion: frequency omega eta_m R / Gamma")
+      ->capture_default_str();
 
   const auto started = std::chrono::steady_clock::now();
   // A first word that is no subcommand: say so and list them (CLI11 would

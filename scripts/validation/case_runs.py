@@ -2,7 +2,8 @@
 
 run_case writes CASE.toml in `work` and runs `softflow run` into work/NAME,
 unless that directory already holds a summary.json (a finished run: scripts
-can be re-run to regenerate their reports, or resumed after an interruption).
+can be re-run to regenerate their reports); a run interrupted with a checkpoint
+of the same case text is continued with `softflow restart`.
 read_run reads summary.json and the time series, with steady values as the
 means over the rows at t >= t_end - window. validation_main is the command
 line the validation scripts share."""
@@ -23,6 +24,11 @@ def run_case(build, work, name, text, rerun=False):
         return directory
     os.makedirs(work, exist_ok=True)
     path = os.path.join(work, name + ".toml")
+    unchanged = os.path.exists(path) and open(path).read() == text
+    if not rerun and unchanged and os.path.exists(os.path.join(directory, "checkpoint.h5")):
+        # Interrupted (a stop, a crash, a machine that went down): continue from the checkpoint.
+        subprocess.run([os.path.join(build, "softflow"), "restart", directory, "-q", "--force"], check=False)
+        return directory
     with open(path, "w") as f:
         f.write(text)
     subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q", "--overwrite"],

@@ -516,10 +516,42 @@ TEST(FlowTypeErrors, KeysOfAnotherTypeNameTheKeyTheValueAndTheType) {
   EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 1\nfrequency = 1\n"
                "shear_rate = 1.0\n",
                "flow.shear_rate = 1.0: only for type = \"steady\", \"start_up\" or \"cessation\" "
-               "(type = \"oscillatory\" takes 'strain_amplitude' and 'frequency')");
+               "(type = \"oscillatory\" takes 'strain_amplitude', 'frequency' and 'periods')");
   EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 1\nfrequency = 1\n"
                "stop_time = 3\n",
                "flow.stop_time = 3: only for type = \"cessation\"");
+}
+
+TEST(FlowPeriods, EndAfterWholePeriodsWithAWholeNumberOfStepsInEach) {
+  // omega = 2: period pi; step 0.1 gives 31.4 steps per period, shortened to 32.
+  const CaseConfig c = parse_case("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\n"
+                                  "frequency = 2.0\nperiods = 3\n[time]\nstep = 0.1\n",
+                                  "c.toml");
+  EXPECT_DOUBLE_EQ(c.time.end, 3 * M_PI);
+  EXPECT_DOUBLE_EQ(c.time.step, M_PI / 32);
+  // The printout gives periods, not the end it set, and reads back to the same case.
+  const std::string printed = to_toml(c);
+  EXPECT_NE(printed.find("periods = 3.0"), std::string::npos) << printed;
+  EXPECT_EQ(printed.find("end ="), std::string::npos) << printed;
+  expect_same(c, parse_case(printed, "c.toml"));
+  // A step that already divides the period is kept.
+  EXPECT_DOUBLE_EQ(parse_case("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\n"
+                              "frequency = 1.0\nperiods = 1\n[time]\nstep = " +
+                                  fmt::format("{:.17g}", 2 * M_PI / 40) + "\n",
+                              "c.toml")
+                       .time.step,
+                   2 * M_PI / 40);
+}
+
+TEST(FlowPeriods, EndAndPeriodsTogetherOrPeriodsOfSteadyFlowAreRefused) {
+  EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\nfrequency = 2.0\n"
+               "periods = 3\n[time]\nend = 5.0\n",
+               "case.toml: flow.periods = 3 and time.end = 5.0 both say when the run ends: give "
+               "only one");
+  EXPECT_ERROR("[flow]\nperiods = 3\n", "flow.periods = 3: only for type = \"oscillatory\"");
+  EXPECT_ERROR("[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\nfrequency = 2.0\n"
+               "periods = -1\n",
+               "flow.periods = -1");
 }
 
 TEST(FlowTypeErrors, MissingKeysOfTheType) {

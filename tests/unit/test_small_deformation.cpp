@@ -161,3 +161,16 @@ TEST(SmallDeformation, TheoryTableGivesTheSlipDropAtTheGivenSlip) {
   query.slip = -1.0;
   EXPECT_THROW(theory_table(1.0, 0.1, query), softflow::InputError);
 }
+
+TEST(SmallDeformation, TheoryTableGivesOldroydsEmulsionAtTheGivenVolumeFractionAndFrequency) {
+  // lambda = 1, phi = 0.1, omega* = 1: eqs. A.1-A.5 by hand (test_oldroyd_emulsion.cpp)
+  // G' = 0.0677538, G'' / omega = 1.02881.
+  TheoryQuery query;
+  query.phi = 0.1;
+  query.omega_star = 1.0;
+  const std::string table = theory_table(1.0, 0.1, query);
+  EXPECT_NE(table.find("G' R / Gamma 0.0677538, G'' / (eta_m omega) 1.02881"), std::string::npos)
+      << table;
+  query.phi = 1.0;
+  EXPECT_THROW(theory_table(1.0, 0.1, query), softflow::InputError);
+}

@@ -72,6 +72,29 @@ TEST(BulkStress, PureMatrixInOscillatoryShearIsViscosityTimesWallShearRate) {
   }
 }
 
+TEST(BulkStress, PureMatrixHasTheModuliOfANewtonianLiquid) {
+  // One period (flow.periods = 1: time.step 0.1 shortened to pi / 32): the fit of eqs.
+  // 4.6-4.7 over it gives G' = 0 and G'' = eta omega, the shear rate the walls', to round-off.
+  const auto s = run("[cell]\nlength = 4.0\nheight = 4.0\nwidth = 4.0\n"
+                     "[matrix]\nviscosity = 1.5\n"
+                     "[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\nfrequency = 2.0\n"
+                     "periods = 1\n[mesh]\nfar_size = 0.9\n[time]\nstep = 0.1\n"
+                     "[bulk_stress]\nbox_side = 3.3\nfit_periods = 1\n",
+                     "matrix_moduli");
+  if (!root()) return;
+  EXPECT_NEAR(s.at("time").get<double>(), std::numbers::pi, 1e-12);
+  EXPECT_EQ(s.at("steps").get<int>(), 32);
+  const auto& m = s.at("moduli");
+  EXPECT_EQ(m.at("samples").get<int>(), 32);
+  EXPECT_NEAR(m.at("G_storage").get<double>(), 0.0, 1e-12);
+  EXPECT_NEAR(m.at("G_loss").get<double>(), 1.5 * 2.0, 1e-12);
+  EXPECT_NEAR(m.at("G_loss_over_eta_m_omega").get<double>(), 1.0, 1e-12);
+  EXPECT_NEAR(m.at("shear_rate_amplitude").get<double>(), 0.2, 1e-12);
+  EXPECT_NEAR(m.at("shear_rate_phase_vs_wall").get<double>(), 0.0, 1e-12);
+  EXPECT_LT(m.at("fit_residual_stress").get<double>(), 1e-12);
+  EXPECT_FALSE(m.contains("oldroyd"));  // no drops
+}
+
 TEST(BulkStress, ADropSetInShearHasTheStressletOfAViscousSphereWithoutTension) {
   // lambda = 3, R = 1, one step of 1e-3 from the sphere, cell 24 x 16 x 24
   // (blockage 1/8: the walls move S by ~0.1 %, measured against 12 x 8 x 12).

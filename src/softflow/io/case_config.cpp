@@ -470,6 +470,29 @@ void check_adaptive(const TableRead& time, const CaseConfig& c, Diagnostics& dia
                            c.time.step));
 }
 
+/// flow.periods > 0 sets time.end to that many periods of the oscillation
+/// (before check_time, which then judges the steps as for a given end).
+void resolve_periods(const TableRead& time, const TableRead& flow, CaseConfig& c,
+                     Diagnostics& diag) {
+  if (flow.status("periods") != Read::ok || !(c.flow.periods > 0.0)) return;
+  if (time.status("end") != Read::absent) {
+    diag.error(fmt::format("{} = {} and {} = {} both say when the run ends: give only one",
+                           flow.path("periods"), schema::describe(*flow.value("periods")),
+                           time.path("end"),
+                           time.value("end") ? schema::describe(*time.value("end")) : "?"));
+    return;
+  }
+  if (flow.status("frequency") != Read::ok || time.status("step") == Read::bad) return;
+  const double period = 2.0 * M_PI / c.flow.frequency;
+  c.time.end = c.flow.periods * period;
+  // Constant steps: a whole number per period, so the run ends on the period
+  // and the moduli's fit samples every phase alike.
+  if (c.time.adaptive_tolerance > 0.0 || !(c.time.step > 0.0)) return;
+  const double per_period = std::ceil(period / c.time.step * (1.0 - 1e-12));
+  if (per_period <= static_cast<double>(std::numeric_limits<int>::max()))
+    c.time.step = period / per_period;
+}
+
 /// A run in time (end > 0) takes n = round(end / step) steps: at least one,
 /// and as many as an int counts. A step beyond end would run past t_end (or,
 /// below end / 2, round to no step at all); a step so small that n overflows
@@ -886,6 +909,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   // 2. What several keys decide together.
   resolve_height(read["cell"], objects_read, c, diag);
   check_output_directory(read["case"], read["output"], c, diag);
+  resolve_periods(read["time"], read["flow"], c, diag);
   check_time(read["time"], c, diag);
   check_remesh(read["remesh"], read["time"], c, diag);
   const bool matrix_ok = resolve_matrix(read["matrix"], c, diag);

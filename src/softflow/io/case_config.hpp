@@ -31,6 +31,9 @@ struct FlowConfig {
   double stop_time = 0.0;         ///< cessation: the walls stop at t = stop_time
   double strain_amplitude = 0.0;  ///< oscillatory: gamma0
   double frequency = 0.0;         ///< oscillatory: omega, angular (rad per time unit)
+  /// oscillatory: > 0 ends the run after this many periods (time.end is set
+  /// from it, periods 2 pi / frequency); 0: time.end as given.
+  double periods = 0.0;
 };
 
 /// One suspended object of the case file ([[objects]]).
@@ -126,6 +129,8 @@ struct CheckpointConfig {
 /// a cube centred in the cell, each step (bulk_stress.csv).
 struct BulkStressConfig {
   double box_side = 0.0;  ///< side of the centred cube (0: no bulk stress)
+  /// Oscillatory flow: G', G'' are fitted over the last this many periods.
+  double fit_periods = 2.0;
 };
 
 /// [emulsion]: many drops at random (thesis ch. 4; docs/emulsions.md): the

@@ -260,7 +260,13 @@ Table<CaseConfig> flow_table() {
            .with_comment([](const CaseConfig& c) {
              return fmt::format("shear-rate amplitude strain_amplitude * frequency = {}",
                                 toml_float(c.shear_rate));
-           })}};
+           }),
+       number("periods", flow(&FlowConfig::periods), 0.0, Range::at_least(0),
+              "> 0: the run ends after this many periods 2 pi / frequency (it sets time.end: "
+              "give this or time.end, not both; constant steps are shortened to a whole number "
+              "per period); 0: time.end decides")
+           .only_when("type", {"oscillatory"})
+           .printed_if([](const CaseConfig& c) { return c.flow.periods > 0.0; })}};
 }
 
 Table<CaseConfig> mesh_table() {
@@ -361,7 +367,9 @@ Table<CaseConfig> time_table() {
               "is explicit: stable below 4/3 of it), and for oscillatory flow at most 2 pi / (10 "
               "frequency), 10 steps per period"),
        number("end", time(&TimeConfig::end), 0.0, Range::at_least(0),
-              "t_end; 0 = one Stokes solve of the initial state, no time loop"),
+              "t_end; 0 = one Stokes solve of the initial state, no time loop (oscillatory "
+              "flow: or flow.periods)")
+           .printed_if([](const CaseConfig& c) { return !(c.flow.periods > 0.0); }),
        integer("fields_interval", time(&TimeConfig::fields_interval), 0, Range::at_least(0),
                "write fields every this many steps (0: at the end only)"),
        number("min_quality", time(&TimeConfig::min_quality), 0.02, Range::open(0, 1),
@@ -428,7 +436,11 @@ Table<CaseConfig> bulk_stress_table() {
           false,
           {number("box_side", bulk(&BulkStressConfig::box_side), 0.0, Range::at_least(0),
                   "side of the centred cube, at most the cell's length, height and width "
-                  "(0: no bulk stress)")}};
+                  "(0: no bulk stress)"),
+           number("fit_periods", bulk(&BulkStressConfig::fit_periods), 2.0, Range::above(0),
+                  "oscillatory flow: G' and G'' (eqs. 4.6-4.7) are fitted to the last this many "
+                  "periods of the shear stress and the shear rate (summary.json's moduli)")
+               .printed_if([](const CaseConfig& c) { return c.bulk_stress.box_side > 0.0; })}};
 }
 
 Table<CaseConfig> emulsion_table() {

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "softflow/analysis/theory/oldroyd_emulsion.hpp"
 #include "softflow/common/error.hpp"
 
 namespace softflow::analysis::theory {
@@ -162,6 +163,13 @@ std::string theory_table(double lambda, double ca, const TheoryQuery& query) {
     out += fmt::format("  Kelvin-Voigt sphere, Ca_e = {:g}, mu_d / eta_m = {:g}: D {:.6g}, theta {:.6g} deg\n",
                        ca_e, *lambda_s, kelvin_voigt_small_ca_deformation(ca_e, *lambda_s),
                        kelvin_voigt_small_ca_angle_deg(ca_e, *lambda_s));
+  const double alpha = query.slip.value_or(0.0);
+  const ScaledModuli m = oldroyd_moduli(lambda, query.phi, query.omega_star, alpha);
+  const auto c = oldroyd_dilute_coefficient(lambda, query.omega_star, alpha);
+  out += fmt::format(
+      "  Oldroyd emulsion, phi = {:g}, omega* = {:g}, slip alpha = {:g} (appendices A-B):\n"
+      "    G' R / Gamma {:.6g}, G'' / (eta_m omega) {:.6g}; dilute eta*/eta_m = 1 + ({:.6g} {:+.6g} i) phi\n",
+      query.phi, query.omega_star, alpha, m.storage, m.loss, c.real(), c.imag());
   return out;
 }
 

@@ -85,6 +85,9 @@ struct TheoryQuery {
   std::optional<double> slip;
   /// Kelvin-Voigt particle: its viscosity over the matrix's, mu_d / eta_m.
   std::optional<double> solid_viscosity_ratio;
+  /// Oldroyd's emulsion (oldroyd_emulsion.hpp): volume fraction and omega tau_em.
+  double phi = 0.1;
+  double omega_star = 0.4;
 };
 
 /// A few lines for `softflow theory --lambda L --ca C [--p P --p-d PD --ca-e CE --slip A
@@ -92,7 +95,8 @@ struct TheoryQuery {
 /// Taylor D, Chaffey-Brenner theta, the slip-drop D at the given alpha (else
 /// at alpha = 0.1 and 1), the Greco correction as coefficients of p and p_d
 /// and its value at the given p, p_d, Roscoe's elastic sphere at Ca_e, and
-/// the Kelvin-Voigt sphere's at the given lambda_s.
+/// the Kelvin-Voigt sphere's at the given lambda_s, and Oldroyd's emulsion moduli
+/// at phi, omega* (with the slip alpha when given) and its dilute coefficient.
 std::string theory_table(double lambda, double ca, const TheoryQuery& query = {});
 
 }  // namespace softflow::analysis::theory

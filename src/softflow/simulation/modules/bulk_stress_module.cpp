@@ -2,10 +2,15 @@
 
 #include <array>
 #include <cmath>
+#include <complex>
+
+#include <fmt/format.h>
 
 #include <Eigen/LU>
 #include <mpi.h>
 
+#include "softflow/analysis/harmonic_fit.hpp"
+#include "softflow/analysis/theory/oldroyd_emulsion.hpp"
 #include "softflow/element/isoparametric.hpp"
 #include "softflow/element/quadrature.hpp"
 #include "softflow/fem/tabulation.hpp"
@@ -69,7 +74,8 @@ BulkStressModule::BulkStressModule(const ModuleSetup& setup)
       velocity_(setup.mesh, "bulk_stress_velocity",
                 setup.stokes.dofs().field(physics::kVelocityField).space, 3),
       pressure_(setup.mesh, "bulk_stress_pressure",
-                setup.stokes.dofs().field(physics::kPressureField).space, 1) {
+                setup.stokes.dofs().field(physics::kPressureField).space, 1),
+      config_(setup.config) {
   // Newtonian phases (io::parse_case refuses the others): mu is eta.
   for (const auto& m : setup.models) viscosities_.push_back(m.solvent_viscosity());
   for (const auto& o : setup.config.objects) tensions_.push_back(o.interfacial_tension);
@@ -208,6 +214,34 @@ void BulkStressModule::measure(const StepContext& context, StepReport& /*report*
   last_.stress = (stress + tension) / last_.box_volume;
   last_.shear_rate = sums[9] / last_.box_volume;
   last_.stresslet_xy = last_.box_volume * (last_.stress(0, 1) - viscosities_[0] * last_.shear_rate);
+
+  // A time measured again (after a restart, or a step taken back and retried)
+  // replaces what was recorded from it on.
+  const double t = context.time;
+  while (!history_.empty() && history_.back().t >= t) history_.pop_back();
+  history_.push_back({t, last_.stress(0, 1), last_.shear_rate, last_.stresslet_xy, counted_volume});
+}
+
+std::vector<StatePart> BulkStressModule::state_parts() {
+  constexpr int kColumns = 5;
+  auto save = [this](StateRecord& r, const std::string& p) {
+    std::vector<double> values;
+    values.reserve(kColumns * history_.size());
+    for (const auto& h : history_)
+      values.insert(values.end(), {h.t, h.stress_xy, h.shear_rate, h.stresslet_xy, h.counted_volume});
+    r.set(p + "history", std::move(values), kColumns);
+  };
+  auto restore = [this](const StateRecord& r, const std::string& p) {
+    history_.clear();
+    const auto& values = r.get_array(p + "history", kColumns);
+    for (std::size_t i = 0; i + kColumns <= values.size(); i += kColumns)
+      history_.push_back({values[i], values[i + 1], values[i + 2], values[i + 3], values[i + 4]});
+  };
+  return {{"bulk_stress", save, restore}};
+}
+
+void BulkStressModule::carry_over(StepModule& old, const fem::MeshTransfer& /*transfer*/) {
+  history_ = dynamic_cast<const BulkStressModule&>(old).history_;
 }
 
 std::vector<ReportFile> BulkStressModule::report_files() const {
@@ -218,6 +252,75 @@ std::vector<ReportFile> BulkStressModule::report_files() const {
 void BulkStressModule::summarise(nlohmann::json& summary) const {
   const StepReport none;
   summary["final_bulk_stress"] = bulk_stress_table().json_row({none, last_}, {"step", "t"});
+  if (config_.flow.type == io::FlowType::oscillatory)
+    summary["moduli"] = oscillatory_moduli(history_, config_, box_.volume());
+}
+
+nlohmann::json oscillatory_moduli(std::span<const BulkStressSample> history, const io::CaseConfig& config,
+                                  double box_volume) {
+  const double omega = config.flow.frequency, periods = config.bulk_stress.fit_periods;
+  std::vector<double> t;
+  for (const auto& h : history) t.push_back(h.t);
+  const std::size_t first = analysis::last_periods_start(t, omega, periods);
+  nlohmann::json moduli;
+  moduli["frequency"] = omega;
+  moduli["periods_fitted"] = periods;
+  if (history.size() - first < 4 || first >= history.size()) {
+    const double run = t.empty() ? 0.0 : (t.back() - t.front()) * omega / (2.0 * M_PI);
+    moduli["note"] = fmt::format(
+        "not fitted: {:.3g} periods of oscillatory flow recorded, bulk_stress.fit_periods = {:g} "
+        "needed (a longer time.end or more flow.periods)",
+        run, periods);
+    return moduli;
+  }
+  const auto window = history.subspan(first);
+  const auto column = [&](double BulkStressSample::*member) {
+    std::vector<double> v;
+    for (const auto& h : window) v.push_back(h.*member);
+    return v;
+  };
+  const auto times = column(&BulkStressSample::t);
+  const auto stress = analysis::fit_harmonic(times, column(&BulkStressSample::stress_xy), omega);
+  const auto rate = analysis::fit_harmonic(times, column(&BulkStressSample::shear_rate), omega);
+  const auto stresslet = analysis::fit_harmonic(times, column(&BulkStressSample::stresslet_xy), omega);
+  const std::complex<double> g = analysis::complex_modulus(stress.amplitude, rate.amplitude, omega);
+  // The walls' shear rate gamma0 omega sin(omega t) = Re(-i gamma0 omega e^{i omega t}).
+  const std::complex<double> wall_rate(0.0, -config.flow.strain_amplitude * omega);
+  double volume = 0.0;
+  for (const auto& h : window) volume += h.counted_volume;
+  volume /= static_cast<double>(window.size());
+  const double eta_m = config.matrix_viscosity, phi = volume / box_volume;
+
+  moduli["from_t"] = times.front();
+  moduli["to_t"] = times.back();
+  moduli["samples"] = times.size();
+  moduli["G_storage"] = g.real();
+  moduli["G_loss"] = g.imag();
+  moduli["G_loss_over_eta_m_omega"] = g.imag() / (eta_m * omega);
+  moduli["shear_rate_amplitude"] = std::abs(rate.amplitude);
+  moduli["shear_rate_phase_vs_wall"] = std::arg(rate.amplitude / wall_rate);
+  moduli["fit_residual_stress"] = stress.residual;
+  moduli["fit_residual_shear_rate"] = rate.residual;
+  moduli["volume_fraction"] = phi;
+  if (config.objects.empty() || volume == 0.0) return moduli;
+
+  // Drops: G' in units of Gamma / R, and Oldroyd's emulsion beside the run (objects[1]'s R, Gamma, lambda).
+  const io::ObjectConfig& drop = config.objects.front();
+  const double radius = io::mean_radius(drop.geometry), tension = drop.interfacial_tension;
+  const std::complex<double> intrinsic = stresslet.amplitude / (eta_m * volume * wall_rate);
+  moduli["stresslet_coefficient"] = {intrinsic.real(), intrinsic.imag()};
+  moduli["fit_residual_stresslet"] = stresslet.residual;
+  if (tension > 0.0 && drop.model == physics::viscoelastic::ConstitutiveModel::newtonian) {
+    const double tau_em = eta_m * radius / tension, omega_star = omega * tau_em;
+    moduli["omega_star"] = omega_star;
+    moduli["G_storage_R_over_Gamma"] = g.real() * radius / tension;
+    const auto theory = analysis::theory::oldroyd_moduli(drop.viscosity_ratio, phi, omega_star, drop.slip);
+    const auto dilute = analysis::theory::oldroyd_dilute_coefficient(drop.viscosity_ratio, omega_star, drop.slip);
+    moduli["oldroyd"] = {{"G_storage_R_over_Gamma", theory.storage},
+                         {"G_loss_over_eta_m_omega", theory.loss},
+                         {"dilute_coefficient", {dilute.real(), dilute.imag()}}};
+  }
+  return moduli;
 }
 
 }  // namespace softflow::simulation

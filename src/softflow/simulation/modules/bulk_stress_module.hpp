@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -39,6 +40,21 @@ struct BulkStress {
   double box_volume = 0.0;
 };
 
+/// One step's bulk quantities the moduli are fitted to (thesis eqs. 4.6-4.7).
+struct BulkStressSample {
+  double t, stress_xy, shear_rate, stresslet_xy, counted_volume;
+};
+
+/// G', G'' from the last `periods` periods of oscillatory flow
+/// (analysis::fit_harmonic of <sigma>_xy and <2 D_xy> at the flow's
+/// frequency): summary.json's "moduli", with the fit's residuals, the mean
+/// volume fraction, the counted drops' stresslet against the wall shear rate
+/// (S_xy = c eta_m V_d gamma_dot_w: c the intrinsic complex viscosity), and
+/// Oldroyd's predictions beside them (appendix A) when the objects are drops.
+/// A note instead when fewer periods have been run.
+nlohmann::json oscillatory_moduli(std::span<const BulkStressSample> history, const io::CaseConfig& config,
+                                  double box_volume);
+
 /// What one row of bulk_stress.csv is made from.
 struct BulkStressRow {
   const StepReport& report;
@@ -63,6 +79,9 @@ class BulkStressModule final : public StepModule {
   void measure(const StepContext& context, StepReport& report) override;
   [[nodiscard]] std::vector<ReportFile> report_files() const override;
   void summarise(nlohmann::json& summary) const override;
+  /// The history of the moduli's samples is checkpointed and carried over a remesh.
+  [[nodiscard]] std::vector<StatePart> state_parts() override;
+  void carry_over(StepModule& old, const fem::MeshTransfer& transfer) override;
 
   [[nodiscard]] const BulkStress& last() const { return last_; }
 
@@ -79,6 +98,8 @@ class BulkStressModule final : public StepModule {
   std::vector<double> tensions_;     // Gamma per object
   fem::Field velocity_, pressure_;
   BulkStress last_;
+  const io::CaseConfig& config_;
+  std::vector<BulkStressSample> history_;  // one per time measured, ascending t
 };
 
 }  // namespace softflow::simulation
