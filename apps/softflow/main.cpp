@@ -54,6 +54,7 @@
 #include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/migration_curves.hpp"
+#include "softflow/simulation/moduli_study.hpp"
 #include "softflow/simulation/report_tables.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "softflow/simulation/stokes_run.hpp"
@@ -355,6 +356,20 @@ int main(int argc, char** argv) {
                     "stop before this much wall time has passed: running cases checkpoint (exit "
                     "code 5), no new one starts; run the sweep again to resume");
 
+  auto* moduli = app.add_subcommand(
+      "moduli",
+      "the linear viscoelastic moduli of an emulsion in oscillatory shear: run a case whose "
+      "lists give the random configurations (emulsion.seed = [1, 2, 3, 4, 5]) and frequencies or "
+      "volume fractions, as a sweep (resumable), then G' and G'' per point with mean, standard "
+      "deviation and Oldroyd's theory beside them (moduli.md, .csv, .png)");
+  moduli->add_option("case", case_file, "case file (TOML) with lists")->required()->check(CLI::ExistingFile);
+  moduli->add_option("-j,--jobs", jobs, "cases run at the same time (each on one core)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  moduli->add_flag("-q,--quiet", quiet, "print nothing but errors");
+  moduli->add_option("--wall-time-limit", wall_time_limit,
+                     "stop before this much wall time has passed; run again to resume");
+
   softflow::simulation::ConvergeOptions converge_options;
   auto* converge = app.add_subcommand(
       "converge",
@@ -528,7 +543,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  if (*sweep || *converge) {  // no PETSc here: each case is its own softflow process
+  if (*sweep || *converge || *moduli) {  // no PETSc here: each case is its own softflow process
     try {
       softflow::simulation::SweepOptions sweep_options;
       sweep_options.jobs = jobs;
@@ -539,6 +554,7 @@ int main(int argc, char** argv) {
       for (std::size_t i = 1; i < petsc.size(); ++i) sweep_options.petsc_args.emplace_back(petsc[i]);
       if (*converge)
         return softflow::simulation::run_convergence(case_file, converge_options, sweep_options);
+      if (*moduli) return softflow::simulation::run_moduli_study(case_file, sweep_options);
       return softflow::simulation::run_sweep(case_file, sweep_options);
     } catch (const softflow::InputError& e) {
       error_stream() << "softflow: " << e.what() << "\n";
