@@ -10,7 +10,10 @@ random configurations (emulsion.seed = [1, 2]):
    deviation of G' R / Gamma and G'' / (eta_m omega) are those of the two runs'
    summary.json (recomputed here), and Oldroyd's moduli at their mean volume
    fraction computed here from eqs. A.1-A.5 independently of softflow.
-2. Running it again skips the finished runs and writes the same table.
+2. Running it again skips the finished runs and writes the same table; one
+   configuration stopped by SIGTERM inside the fitted period and restarted from its checkpoint
+   has the moduli of the uninterrupted run to round-off (the fitted history is
+   in the checkpoint).
 3. Cases that cannot give moduli are refused with exit code 1 naming the key:
    steady flow, no bulk_stress.box_side, no list.
 """
@@ -21,7 +24,9 @@ import os
 import shutil
 import sys
 
-from cli_support import fail, run
+import signal
+
+from cli_support import fail, run, stop_when_past
 
 CASE = """[case]
 name = "tiny_moduli"
@@ -118,6 +123,18 @@ def main(softflow, work):
     run([softflow, "moduli", case, "-q"])
     if open(os.path.join(out, "moduli.csv")).read() != before:
         fail("a second run changed moduli.csv")
+
+    restarted = os.path.join(work, "restarted")
+    code, output = stop_when_past([softflow, "run", os.path.join(out, "cases", "seed_1.toml"), "-o", restarted,
+                                   "-q"], restarted, 24, signal.SIGTERM)
+    if code != 5:
+        fail(f"the stopped run exited with {code}, expected 5:\n{output}")
+    run([softflow, "restart", restarted, "-q"])
+    again = json.load(open(os.path.join(restarted, "summary.json")))["moduli"]
+    whole = json.load(open(os.path.join(out, "seed_1", "summary.json")))["moduli"]
+    for key in ("G_storage", "G_loss", "volume_fraction", "samples"):
+        if not math.isclose(again[key], whole[key], rel_tol=1e-9, abs_tol=1e-14):
+            fail(f"moduli.{key} after a restart {again[key]}, uninterrupted {whole[key]}")
 
     # 3. Refusals before anything runs.
     for change, expected in (
