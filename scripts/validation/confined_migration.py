@@ -37,6 +37,10 @@ BETA = 0.4
 CA_E = 0.1
 HEIGHT = 2.0 / BETA
 STARTS = [0.05, 0.10, 0.15, 0.20, 0.27]  # y_p0 / H
+# The mirror image of a start: the rotation by 180 deg about z maps the case
+# onto its start, so v_p and Delta S must come out opposite; their sum is the
+# mesh's part (the two meshes are not mirror images).
+MIRRORS = [-0.15]
 T_END = 15.0
 DT = 0.04
 TRANSIENT = 5.0
@@ -83,7 +87,7 @@ interval_minutes = 10.0
 
 def jobs():
     # The near-wall start (the finest mesh) last.
-    return [(case_name(s), case_text(case_name(s), s)) for s in STARTS]
+    return [(case_name(s), case_text(case_name(s), s)) for s in STARTS + MIRRORS]
 
 
 def read_migration(directory):
@@ -99,6 +103,36 @@ def read_migration(directory):
 def remeshes(directory):
     path = os.path.join(directory, "remesh.csv")
     return len(read_csv(path)) if os.path.exists(path) else 0
+
+
+def mirror_lines(work, runs):
+    """Each mirror start against its start at the same times: v_p and Delta S split into
+    the antisymmetric part (the physics) and the common part (the meshes' asymmetry)."""
+    lines = []
+    for m in MIRRORS:
+        directory = os.path.join(work, case_name(m))
+        if -m not in runs or not os.path.exists(os.path.join(directory, "migration.csv")):
+            continue
+        mirror, start = read_migration(directory), runs[-m][1]
+        by_time = {round(t, 6): i for i, t in enumerate(start["t"])}
+        pairs = [(by_time[round(t, 6)], j) for j, t in enumerate(mirror["t"])
+                 if round(t, 6) in by_time and t >= TRANSIENT]
+        if not pairs:
+            continue
+        lines += ["", f"## The mirror pair y_p0 = +-{-m:.2f} H (t >= {TRANSIENT:g}, {len(pairs)} common times)", "",
+                  "| t | y_p (+) | y_p (-) | v_p (+) | v_p (-) | Delta S (+) | Delta S (-) | "
+                  "Delta S antisymmetric | Delta S common |", "|---|---|---|---|---|---|---|---|---|"]
+        for i, j in pairs[::max(1, len(pairs) // 8)] + [pairs[-1]]:
+            a, b = start["dS"][i], mirror["dS"][j]
+            lines.append(f"| {start['t'][i]:.2f} | {start['y'][i]:.4f} | {mirror['y'][j]:.4f} | {start['v'][i]:.3e} | "
+                         f"{mirror['v'][j]:.3e} | {a:+.4f} | {b:+.4f} | {(a - b) / 2:+.4f} | {(a + b) / 2:+.4f} |")
+        anti = [(start["dS"][i] - mirror["dS"][j]) / 2 for i, j in pairs]
+        common = [(start["dS"][i] + mirror["dS"][j]) / 2 for i, j in pairs]
+        dv = [abs(start["v"][i] + mirror["v"][j]) / abs(start["v"][i]) for i, j in pairs if start["v"][i] != 0]
+        lines += ["", f"Mean over the common times: Delta S antisymmetric {sum(anti) / len(anti):+.4f}, common "
+                  f"{sum(common) / len(common):+.4f}; |v_p(+) + v_p(-)| / |v_p(+)| median "
+                  f"{sorted(dv)[len(dv) // 2]:.3f}."]
+    return lines
 
 
 def report(work, build):
@@ -164,6 +198,7 @@ def report(work, build):
         lines.append(f"| {s:.2f} | {at5:.4f} | {r['y'][-1]:.4f} | {mean_v:.3e} | {r['dS'][-1]:.3e} | "
                      f"{remeshes(directory)} | {summary.get('unknowns', '')} | {summary.get('wall_seconds', 0):.0f} | "
                      f"{summary.get('status', 'running')} (t = {r['t'][-1]:g}) |")
+    lines += mirror_lines(work, runs)
     lines += ["", f"eq. 3.8 near the centre: v_p = {slope:.4f} y_p / y_p,max (gamma_dot H).", "",
               "## softflow migration (master curves, neutral heights, near-centre slope)", ""]
     md = os.path.join(combined, "migration.md")

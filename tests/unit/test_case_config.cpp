@@ -295,8 +295,9 @@ TEST(CaseConfigErrors, BulkStressCubeFitsTheCellAndThePhasesAreNewtonian) {
                "bulk_stress.box_side = 6.5: the cube must fit in the cell: allowed 0 < box_side "
                "<= 6, the smallest of cell.length = 8, height = 6, width = 8");
   EXPECT_ERROR("[bulk_stress]\nbox_side = -1.0\n", "bulk_stress.box_side");
-  EXPECT_ERROR("[bulk_stress]\nbox_side = 4.0\n[[objects]]\nslip = 0.5\n",
-               "the slip term of the bulk stress is not computed yet (objects[1] slip = 0.5)");
+  // Slip has its term of eq. 4.1 now: accepted.
+  EXPECT_EQ(parse_case("[bulk_stress]\nbox_side = 4.0\n[[objects]]\nslip = 0.5\n", "c.toml").objects[0].slip,
+            0.5);
   EXPECT_ERROR("[bulk_stress]\nbox_side = 4.0\n[[objects]]\nmodel = \"neo_hookean\"\n"
                "elastic_capillary_number = 0.1\n",
                "Newtonian drops only (objects[1] model = \"neo_hookean\")");

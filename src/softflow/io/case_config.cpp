@@ -367,7 +367,7 @@ void resolve_height(const TableRead& cell, const std::vector<TableRead>& objects
 
 /// The bulk stress's cube must fit in the cell, and eq. 4.1 is written here
 /// for Newtonian phases: the polymer and elastic stresses are not in its
-/// volume term yet, and the slip term needs both velocity copies.
+/// volume term yet.
 void check_bulk_stress(const TableRead& bulk, const CaseConfig& c, Diagnostics& diag) {
   if (bulk.status("box_side") != Read::ok || c.bulk_stress.box_side == 0.0) return;
   const Value& side = *bulk.value("box_side");
@@ -389,11 +389,6 @@ void check_bulk_stress(const TableRead& bulk, const CaseConfig& c, Diagnostics& 
                  fmt::format("the bulk stress is computed for Newtonian drops only (objects[{}] "
                              "model = \"{}\"): give bulk_stress.box_side = 0",
                              k + 1, physics::viscoelastic::to_string(o.model)));
-    else if (o.slip != 0.0)
-      diag.error(bulk.path("box_side"), side,
-                 fmt::format("the slip term of the bulk stress is not computed yet (objects[{}] "
-                             "slip = {:g}): give bulk_stress.box_side = 0 or slip = 0",
-                             k + 1, o.slip));
   }
 }
 

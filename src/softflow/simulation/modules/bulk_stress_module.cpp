@@ -52,6 +52,9 @@ const io::ReportTable<BulkStressRow>& bulk_stress_table() {
            [](const BulkStressRow& r) { return r.bulk.stress(1, 1) - r.bulk.stress(2, 2); }},
           {"tension_xy", "stress", "the interfacial-tension term's xy component (in sigma_xy)",
            kFull, [](const BulkStressRow& r) { return r.bulk.tension(0, 1); }},
+          {"slip_xy", "stress", "the slip term's xy component (in sigma_xy; 0 without slip): "
+           "eta_m/V sum_i int_S [(u_d - u_m) n + n (u_d - u_m)] dA", kFull,
+           [](const BulkStressRow& r) { return r.bulk.slip(0, 1); }},
           {"shear_rate", "1/time", "effective shear rate <2 D_xy> over the same volume (eq. 4.6, "
            "signed)", kFull, [](const BulkStressRow& r) { return r.bulk.shear_rate; }},
           {"viscosity", "stress time", "sigma_xy / shear_rate: the suspension's shear viscosity "
@@ -78,7 +81,10 @@ BulkStressModule::BulkStressModule(const ModuleSetup& setup)
       config_(setup.config) {
   // Newtonian phases (io::parse_case refuses the others): mu is eta.
   for (const auto& m : setup.models) viscosities_.push_back(m.solvent_viscosity());
-  for (const auto& o : setup.config.objects) tensions_.push_back(o.interfacial_tension);
+  for (const auto& o : setup.config.objects) {
+    tensions_.push_back(o.interfacial_tension);
+    slips_.push_back(o.slip != 0.0);
+  }
 }
 
 bool BulkStressModule::wanted(const ModuleSetup& setup) {
@@ -111,6 +117,34 @@ Matrix3d normal_moment(const physics::InterfaceMesh& s, const std::vector<Vector
     for (int q = 0; q < rule.size(); ++q) {
       const auto p = element::surface_point(nodes, rule.points[q]);
       m += rule.weights[q] * p.area_scale * (p.normal * p.normal.transpose() - Matrix3d::Identity() / 3.0);
+    }
+  }
+  return m;
+}
+
+/// int_S [(u_d - u_m) n + n (u_d - u_m)] dA over a curved P2 interface at
+/// positions x (eq. 4.1's slip term over eta_m), n out of the object, the
+/// two velocity copies of each interface node read through `value(dof)`.
+Matrix3d slip_moment(const physics::InterfaceMesh& s, const std::vector<Vector3d>& x,
+                     const fem::DofMap& dofs, const la::SelectedEntries& values) {
+  static const element::QuadratureRule rule = element::triangle_rule(4);
+  Matrix3d m = Matrix3d::Zero();
+  for (const auto& tri : s.triangles) {
+    element::TriangleNodes nodes;
+    Eigen::Matrix<double, 3, 6> jump;  // u_d - u_m at the six nodes
+    for (int k = 0; k < 6; ++k) {
+      nodes.col(k) = x[tri[k]];
+      const int node = s.volume_node[tri[k]];
+      for (int c = 0; c < 3; ++c)
+        jump(c, k) = values[dofs.dof(physics::kVelocityField, node, s.object, c)] -
+                     values[dofs.dof(physics::kVelocityField, node, 0, c)];
+    }
+    for (int q = 0; q < rule.size(); ++q) {
+      const auto p = element::surface_point(nodes, rule.points[q]);
+      const auto n = element::p2_triangle_values(rule.points[q]);
+      const Vector3d du = jump * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(n.data());
+      const Matrix3d outer = du * p.normal.transpose();
+      m += rule.weights[q] * p.area_scale * (outer + outer.transpose());
     }
   }
   return m;
@@ -183,7 +217,7 @@ void BulkStressModule::measure(const StepContext& context, StepReport& /*report*
   last_.box_volume = box_.volume();
   // The objects counted: centre of volume of the interface the flow was solved on.
   std::vector<bool> counted(mesh_.n_objects + 1, false);
-  Matrix3d tension = Matrix3d::Zero();
+  Matrix3d tension = Matrix3d::Zero(), slip = Matrix3d::Zero();
   double counted_volume = 0.0;
   for (std::size_t k = 0; k < context.interfaces.size(); ++k) {
     const auto& surface = context.interfaces[k].surface();
@@ -194,6 +228,11 @@ void BulkStressModule::measure(const StepContext& context, StepReport& /*report*
     counted_volume += integrals.volume;
     ++last_.objects_counted;
     tension -= tensions_.at(k) * normal_moment(surface, x);  // eq. 4.1, second term
+    // eq. 4.1, third term: with it, <sigma> - eta_m <2 D> (2 D averaged in each
+    // phase, the jump at the interface left out as eq. 4.6 leaves it out) is the
+    // objects' stresslet (docs/emulsions.md).
+    if (slips_.at(k) && context.interface_values != nullptr)
+      slip += viscosities_[0] * slip_moment(surface, x, stokes_.dofs(), *context.interface_values);
   }
   last_.volume_fraction = counted_volume / last_.box_volume;
   last_.tension = tension / last_.box_volume;
@@ -211,7 +250,8 @@ void BulkStressModule::measure(const StepContext& context, StepReport& /*report*
   MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM,
                 PETSC_COMM_WORLD);
   for (int i = 0; i < 9; ++i) stress(i / 3, i % 3) = sums[i];
-  last_.stress = (stress + tension) / last_.box_volume;
+  last_.stress = (stress + tension + slip) / last_.box_volume;
+  last_.slip = slip / last_.box_volume;
   last_.shear_rate = sums[9] / last_.box_volume;
   last_.stresslet_xy = last_.box_volume * (last_.stress(0, 1) - viscosities_[0] * last_.shear_rate);
 

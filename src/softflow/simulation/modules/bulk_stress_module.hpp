@@ -20,7 +20,8 @@ namespace softflow::simulation {
 /// The bulk quantities of one time, over the cube V (eq. 4.1):
 ///   <sigma> = 1/V [ int_{V_m} sigma_m dV + sum_i int_{V_i} sigma_i dV
 ///                   - sum_i Gamma_i int_{S_i} (n n - I/3) dA ]
-/// with V_m the matrix inside the cube and the sum over the objects whose
+/// (plus, for interfaces with Navier slip, eta_m/V sum_i int_S [(u_d - u_m) n
+/// + n (u_d - u_m)] dA), with V_m the matrix inside the cube and the sum over the objects whose
 /// centre of volume lies in it (each counted whole, inside the cube or not;
 /// an object whose centre lies outside is left out whole), sigma = -p I +
 /// 2 eta D. The effective shear rate is the same average of 2 D_xy (signed:
@@ -29,6 +30,9 @@ struct BulkStress {
   Eigen::Matrix3d stress = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   /// The tension term alone (its xy component is the drops' elastic part).
   Eigen::Matrix3d tension = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The slip term alone, eta_m/V sum_i int_S [(u_d - u_m) n + n (u_d - u_m)] dA
+  /// (0 without slip).
+  Eigen::Matrix3d slip = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   double shear_rate = std::numeric_limits<double>::quiet_NaN();  ///< <2 D_xy>
   /// V (<sigma>_xy - eta_m <2 D_xy>): the counted objects' stresslets S_xy
   /// summed (Batchelor 1970: int_V sigma = -int_V p I + 2 eta_m int_V D +
@@ -96,6 +100,7 @@ class BulkStressModule final : public StepModule {
   analysis::Box box_;
   std::vector<double> viscosities_;  // per region, 0 = the matrix
   std::vector<double> tensions_;     // Gamma per object
+  std::vector<bool> slips_;          // whether each object's interface slips
   fem::Field velocity_, pressure_;
   BulkStress last_;
   const io::CaseConfig& config_;
