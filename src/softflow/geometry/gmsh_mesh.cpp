@@ -148,6 +148,11 @@ void set_periodicity(const mesh::Box& box, const CellEntities& e) {
 //    measured at 12 equator nodes and a gap of 0.15 R), so that the mean
 //    edge of the tetrahedra the gap's shortest segment crosses
 //    (measure_wall_gap) is at most gap / gap_elements.
+//  - a gap between objects j and k that needs refining (the same rule,
+//    object_gap_element_size): (d_j + d_k) / gap_elements, the local width of
+//    the gap between their surfaces over the count. Such gaps appear when
+//    drops pass each other and are remeshed; a case whose objects start
+//    closer than one interface element is refused before meshing.
 class SizeField {
  public:
   /// `surfaces` empty: the objects of the spec as they are described
@@ -184,18 +189,31 @@ class SizeField {
       }
       terms_.push_back(t);
     }
+    for (std::size_t j = 0; j < spec.objects.size(); ++j)
+      for (std::size_t k = j + 1; k < spec.objects.size(); ++k) {
+        const double gap = surfaces.empty() ? object_gap(terms_[j], terms_[k], spec.objects[j])
+                                            : object_gap(surfaces[j], surfaces[k]);
+        if (std::isfinite(object_gap_element_size(spec.objects[j], spec.objects[k], spec.sizing, gap)))
+          gap_pairs_.push_back({static_cast<int>(j), static_cast<int>(k)});
+      }
   }
 
   double operator()(double x, double y, double z) const {
     double size = far_;
-    for (const auto& t : terms_) {
+    // Each object's distance, kept for the gaps between objects (none: no vector).
+    thread_local std::vector<double> distances;
+    if (!gap_pairs_.empty()) distances.resize(terms_.size());
+    for (std::size_t k = 0; k < terms_.size(); ++k) {
+      const Term& t = terms_[k];
       bool inside = false;
       const double distance =
           t.surface ? t.surface(Vector3d(x, y, z), inside) : described_distance(t, x, y, z, inside);
       size = std::min(size, t.h0 + (inside ? t.interior_growth : t.growth) * distance);
       for (int side : t.gap_walls)
         size = std::min(size, (half_height_ - side * y + distance) / gap_divisor_);
+      if (!gap_pairs_.empty()) distances[k] = distance;
     }
+    for (const auto& [j, k] : gap_pairs_) size = std::min(size, (distances[j] + distances[k]) / gap_divisor_);
     if (wall_size_) size = std::min(size, *wall_size_ + growth_ * (half_height_ - std::abs(y)));
     return size;
   }
@@ -235,12 +253,42 @@ class SizeField {
     return t.sphere ? std::abs(r - t.scale) : std::abs(r - 1.0) * t.scale;
   }
 
+  // The narrowest distance between two described objects: object j's surface
+  // sampled (sphere or ellipsoid, 48 x 96 points) against object k's distance.
+  static double object_gap(const Term& j, const Term& k, const ObjectSpec& object_j) {
+    const Matrix3d to_world = object_j.shape == ObjectShape::sphere ? Matrix3d::Identity() : rotation_matrix(object_j);
+    double gap = std::numeric_limits<double>::infinity();
+    constexpr int kPolar = 48, kAzimuth = 96;
+    for (int a = 0; a <= kPolar; ++a)
+      for (int b = 0; b < kAzimuth; ++b) {
+        const double theta = M_PI * a / kPolar, phi = 2.0 * M_PI * b / kAzimuth;
+        const Vector3d unit(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+        const Vector3d p = object_j.centre + to_world * object_j.semi_axes.cwiseProduct(unit);
+        bool inside = false;
+        const double d = described_distance(k, p.x(), p.y(), p.z(), inside);
+        gap = std::min(gap, inside ? 0.0 : d);
+      }
+    (void)j;
+    return gap;
+  }
+  // The same between two current surfaces: j's nodes against k's distance.
+  static double object_gap(const SurfaceDistance& j, const SurfaceDistance& k) {
+    double gap = std::numeric_limits<double>::infinity();
+    for (const Vector3d& p : j.points) {
+      bool inside = false;
+      const double d = k.distance(p, inside);
+      gap = std::min(gap, inside ? 0.0 : d);
+    }
+    return gap;
+  }
+
   double far_;
   double half_height_;
   double growth_;
   double gap_divisor_;  ///< kGapSizeFactor * gap_elements
   std::optional<double> wall_size_;
   std::vector<Term> terms_;
+  std::vector<std::pair<int, int>> gap_pairs_;  ///< objects whose gap needs refining
 };
 
 void set_size_and_order(const ShearCellSpec& spec, const std::vector<SurfaceDistance>& surfaces) {

@@ -65,6 +65,8 @@ void set_periodicity(const mesh::Box& box, const CellEntities& e);
 struct SurfaceDistance {
   std::function<double(const Eigen::Vector3d&, bool& inside)> distance;
   double gap_upper = 0.0, gap_lower = 0.0;
+  /// The surface's nodes: the gaps to the other objects are measured from them.
+  std::vector<Eigen::Vector3d> points;
   [[nodiscard]] double wall_gap(int side) const { return side > 0 ? gap_upper : gap_lower; }
 };
 

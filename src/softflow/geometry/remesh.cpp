@@ -183,6 +183,13 @@ std::vector<detail::SurfaceDistance> surface_distances(const mesh::Mesh& m) {
       y_max[k] = std::max(y_max[k], m.nodes[node].y());
       y_min[k] = std::min(y_min[k], m.nodes[node].y());
     }
+  std::vector<bool> listed(m.nodes.size(), false);  // an interface node belongs to one object
+  for (std::size_t f = 0; f < m.interface_faces.size(); ++f)
+    for (int node : m.interface_faces[f])
+      if (!listed[node]) {
+        listed[node] = true;
+        out[m.interface_object[f] - 1].points.push_back(m.nodes[node]);
+      }
   for (int k = 0; k < m.n_objects; ++k) {
     out[k].distance = InterfaceDistance(m, k + 1);
     out[k].gap_upper = m.box.height / 2 - y_max[k];

@@ -325,6 +325,12 @@ double wall_gap_element_size(const ObjectSpec& object, const MeshSizing& sizing,
   return gap / n;
 }
 
+double object_gap_element_size(const ObjectSpec& a, const ObjectSpec& b, const MeshSizing& sizing,
+                               double gap) {
+  const ObjectSpec& finer = interface_element_size(a, sizing) <= interface_element_size(b, sizing) ? a : b;
+  return wall_gap_element_size(finer, sizing, gap);
+}
+
 double smallest_wall_gap(const ObjectSpec& object, const MeshSizing& sizing) {
   return sizing.elements_across_gaps() * interface_element_size(object, sizing) / kMaxGapRefinement;
 }

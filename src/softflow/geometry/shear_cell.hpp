@@ -151,6 +151,11 @@ double wall_gap(const ObjectSpec& object, const mesh::Box& box, int side,
 /// of before the rule, to the bit.
 double wall_gap_element_size(const ObjectSpec& object, const MeshSizing& sizing, double gap);
 
+/// The same rule for the gap g between two objects (after a remesh: drops
+/// passing each other), with the smaller of their interface element sizes.
+double object_gap_element_size(const ObjectSpec& a, const ObjectSpec& b, const MeshSizing& sizing,
+                               double gap);
+
 /// The mesher asks kGapSizeFactor * gap_elements elements across a narrow
 /// object-wall gap, so that gap_elements are there by measure_wall_gap's
 /// count (gap / mean edge of the tetrahedra its shortest segment crosses).
