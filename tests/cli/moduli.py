@@ -16,6 +16,8 @@ random configurations (emulsion.seed = [1, 2]):
    in the checkpoint).
 3. Cases that cannot give moduli are refused with exit code 1 naming the key:
    steady flow, no bulk_stress.box_side, no list.
+4. Linearity (eq. 4.3): with strain_amplitude = [0.05, 0.1] (one seed), moduli.md
+   compares the doubled amplitude's G', G'' with the smaller's, as the two runs give them.
 """
 import csv
 import json
@@ -149,6 +151,22 @@ def main(softflow, work):
             fail(f"the refusal does not say {expected!r}:\n{result.stderr}")
         if os.path.exists(os.path.join(work, "bad")):
             fail("a refused study wrote its output directory")
+    # 4. The linearity section.
+    linear = os.path.join(work, "linear")
+    case = os.path.join(work, "linear.toml")
+    write(case, CASE.format(out=linear).replace("strain_amplitude = 0.05", "strain_amplitude = [0.05, 0.1]")
+          .replace("seed = [1, 2]", "seed = 1"))
+    run([softflow, "moduli", case, "-j", "2", "-q"])
+    small = json.load(open(os.path.join(linear, "strain_amplitude_0.05", "summary.json")))["moduli"]
+    large = json.load(open(os.path.join(linear, "strain_amplitude_0.1", "summary.json")))["moduli"]
+    md = open(os.path.join(linear, "moduli.md")).read()
+    change = 100 * (large["G_storage_R_over_Gamma"] / small["G_storage_R_over_Gamma"] - 1)
+    row = [line for line in md.splitlines() if "0.1 vs 0.05" in line]
+    if "## Linearity (eq. 4.3)" not in md or len(row) != 1:
+        fail("moduli.md has no linearity row for 0.1 vs 0.05:\n" + md)
+    shown = float(row[0].split("|")[3].strip().rstrip("%").strip())
+    if not math.isclose(shown, change, rel_tol=1e-2, abs_tol=1e-3):
+        fail(f"G' change {shown} % in moduli.md, the runs give {change} %")
     print("moduli: ok")
 
 

@@ -6,6 +6,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "softflow/analysis/theory/oldroyd_emulsion.hpp"
 #include "softflow/common/error.hpp"
@@ -54,6 +55,43 @@ double sample_std(const std::vector<double>& v) {
 
 std::string number(double x, int digits = 5) {
   return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : std::string("");
+}
+
+/// Eq. 4.3, the linearity check: with flow.strain_amplitude among the varied
+/// parameters, each point's moduli against those of the smallest amplitude
+/// with the same other values (the response is linear when they agree).
+std::string linearity_section(const io::Sweep& sweep, const std::vector<ModuliPoint>& points) {
+  int strain = -1, column = 0;
+  for (const auto& p : sweep.parameters) {
+    if (p.path == kSeedPath) continue;
+    if (p.path == "flow.strain_amplitude") strain = column;
+    ++column;
+  }
+  if (strain < 0) return {};
+  const auto others = [strain](const ModuliPoint& p) {
+    auto l = p.labels;
+    l.erase(l.begin() + strain);
+    return l;
+  };
+  std::string md =
+      "\n## Linearity (eq. 4.3)\n\nEach strain amplitude's moduli against those of the smallest "
+      "with the same other parameters: a linear response has the same G' and G''.\n\n"
+      "| point | strain amplitude | G' change | G'' change |\n|---|---|---|---|\n";
+  for (const auto& p : points) {
+    const ModuliPoint* base = nullptr;
+    for (const auto& q : points)
+      if (others(q) == others(p) && q.fitted > 0 &&
+          (base == nullptr || std::stod(q.labels[strain]) < std::stod(base->labels[strain])))
+        base = &q;
+    if (base == nullptr || base == &p || p.fitted == 0) continue;
+    const auto rest = others(p);
+    md += fmt::format("| {} | {} vs {} | {:+.3g} % | {:+.3g} % |\n",
+                      rest.empty() ? std::string("-") : fmt::format("{}", fmt::join(rest, ", ")),
+                      p.labels[strain], base->labels[strain],
+                      100.0 * (p.storage_mean / base->storage_mean - 1.0),
+                      100.0 * (p.loss_mean / base->loss_mean - 1.0));
+  }
+  return md;
 }
 
 }  // namespace
@@ -177,6 +215,7 @@ int run_moduli_study(const fs::path& case_file, const SweepOptions& options) {
                       number(p.oldroyd_storage), with_std(p.loss_mean, p.loss_std), number(p.oldroyd_loss),
                       number(p.worst_residual, 2));
   }
+  md += linearity_section(sweep, points);
   if (code != 0)
     md += "\nNot every case completed (exit code " + std::to_string(code) +
           "): run `softflow moduli` again to resume; the means are over the completed ones.\n";
