@@ -1606,8 +1606,21 @@ TEST(CaseConfigEmulsion, WhatCannotBePackedOrMeshedIsRefusedNamingTheKey) {
   EXPECT_ERROR(base + "[[objects]]\nradius = 1.0\n",
                "emulsion.volume_fraction = 0.05: an emulsion copies one [[objects]] entry");
   std::string small_gap = base;
-  small_gap.replace(small_gap.find("min_gap = 0.8"), 13, "min_gap = 0.1");
-  EXPECT_ERROR(small_gap, "emulsion.min_gap = 0.1: gaps below one interface element (0.628 R");
+  small_gap.replace(small_gap.find("min_gap = 0.8"), 13, "min_gap = 0.005");
+  // 20 equator nodes (P2: 10 edges): interface elements of 2 pi / 10 = 0.628 R, gaps refined
+  // down to 2 / 64 of that.
+  EXPECT_ERROR(small_gap, "emulsion.min_gap = 0.005: the narrowest gap between drops the mesh resolves is "
+                          "0.0196 R");
+  // Below one interface element but above that: packed, the drops kept one element from the cell's faces.
+  std::string narrow = base;
+  narrow.replace(narrow.find("min_gap = 0.8"), 13, "min_gap = 0.1");
+  const CaseConfig packed = parse_case(narrow, "n.toml");
+  const double element = 2 * M_PI / 10;
+  for (const auto& o : packed.objects)
+    for (int axis : {0, 2}) {
+      const double half = axis == 0 ? packed.box.length / 2 : packed.box.width / 2;
+      EXPECT_GE(half - std::abs(o.geometry.centre[axis]) - 1.0, element - 1e-12);
+    }
   std::string dense = base;
   dense.replace(dense.find("volume_fraction = 0.05"), 22, "volume_fraction = 0.4");
   EXPECT_ERROR(dense, "emulsion.volume_fraction = 0.4: random packing: after");

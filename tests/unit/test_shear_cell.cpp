@@ -348,12 +348,17 @@ TEST(ShearCellValidation, RejectsOverlappingSpheres) {
   EXPECT_NE(msg.find("overlaps objects[2]"), std::string::npos) << msg;
 }
 
-TEST(ShearCellValidation, RejectsSpheresCloserThanOneInterfaceElement) {
-  // h = 2 pi / 10 = 0.63: a gap of 0.3 is too small.
+TEST(ShearCellValidation, RejectsSpheresCloserThanTheNarrowestResolvedGap) {
+  // h = 2 pi / 10 = 0.63: a gap of 0.3 is refined by the mesh (2 elements across,
+  // down to 2 h / 64 = 0.0196); a gap of 0.01 is too small.
+  EXPECT_EQ(input_error_message(
+                small_cell(10, 6, 6, {sphere(Vector3d(-1.15, 0, 0), 1.0), sphere(Vector3d(1.15, 0, 0), 1.0)})),
+            "");
   const auto msg = input_error_message(
-      small_cell(10, 6, 6, {sphere(Vector3d(-1.15, 0, 0), 1.0), sphere(Vector3d(1.15, 0, 0), 1.0)}));
+      small_cell(10, 6, 6, {sphere(Vector3d(-1.005, 0, 0), 1.0), sphere(Vector3d(1.005, 0, 0), 1.0)}));
   EXPECT_NE(msg.find("objects[2]"), std::string::npos) << msg;
   EXPECT_NE(msg.find("too close to objects[1]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("gap 0.01 < 0.0196"), std::string::npos) << msg;
 }
 
 TEST(ShearCellValidation, RejectsASphereCrossingAWall) {
@@ -535,6 +540,26 @@ TEST(ShearCellConfinement, TheGapToAWallHasTheStatedElementsAcross) {
                 "elements across, %d nodes, min quality %.3f, %.2f s\n",
                 n, equator_nodes, gap.tets_crossed, gap.mean_edge, gap.elements_across(), report.n_nodes,
                 report.min_quality, report.seconds);
+  }
+}
+
+TEST(ShearCellConfinement, TheGapBetweenTwoObjectsHasTheStatedElementsAcross) {
+  // Two spheres 0.15 apart on the x axis (a quarter of an interface element at 12
+  // equator nodes): the size field's pair term puts gap_elements across, as at a wall.
+  auto spec = small_cell(8, 5, 5, {sphere(Vector3d(-1.075, 0, 0), 1.0), sphere(Vector3d(1.075, 0, 0), 1.0)});
+  spec.sizing.equator_nodes = 12;
+  for (const int n : {2, 3}) {
+    spec.sizing.gap_elements = n;
+    geometry::MeshReport report;
+    const auto m = geometry::build_shear_cell(spec, &report);
+    const auto gap = geometry::measure_segment(m, Vector3d(-0.075, 0, 0), Vector3d(0.075, 0, 0));
+    EXPECT_NEAR(gap.gap, 0.15, 1e-12);
+    EXPECT_GE(gap.elements_across(), n) << "mean edge " << gap.mean_edge;
+    EXPECT_GE(gap.tets_crossed, n);
+    EXPECT_GT(report.min_quality, 0.1);
+    std::printf("objects 0.15 apart, gap_elements = %d: %d tetrahedra crossed, mean edge %.4f, %.2f elements "
+                "across, %d nodes, min quality %.3f\n",
+                n, gap.tets_crossed, gap.mean_edge, gap.elements_across(), report.n_nodes, report.min_quality);
   }
 }
 

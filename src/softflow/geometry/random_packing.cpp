@@ -26,15 +26,18 @@ int sphere_count(const RandomPacking& p) {
 }
 
 std::vector<Eigen::Vector3d> random_sequential_addition(const RandomPacking& p) {
-  if (!(p.radius > 0.0) || !(p.min_gap >= 0.0) || !(p.volume_fraction > 0.0) || p.attempts_per_sphere < 1)
-    throw InputError(fmt::format("random packing: radius {} must be > 0, min_gap {} >= 0, volume fraction {} > 0",
-                                 p.radius, p.min_gap, p.volume_fraction));
-  // Centres lie where their sphere keeps min_gap from every face.
-  const Eigen::Vector3d half = p.region / 2.0 - Eigen::Vector3d::Constant(p.radius + p.min_gap);
+  const double face_gap = p.face_gap.value_or(p.min_gap);
+  if (!(p.radius > 0.0) || !(p.min_gap >= 0.0) || !(face_gap >= 0.0) || !(p.volume_fraction > 0.0) ||
+      p.attempts_per_sphere < 1)
+    throw InputError(fmt::format("random packing: radius {} must be > 0, min_gap {} and face gap {} >= 0, volume "
+                                 "fraction {} > 0",
+                                 p.radius, p.min_gap, face_gap, p.volume_fraction));
+  // Centres lie where their sphere keeps face_gap from every face.
+  const Eigen::Vector3d half = p.region / 2.0 - Eigen::Vector3d::Constant(p.radius + face_gap);
   if ((half.array() < 0.0).any())
     throw InputError(fmt::format(
         "random packing: a sphere of radius {} with gap {} to the faces does not fit in a region of {} x {} x {}",
-        p.radius, p.min_gap, p.region.x(), p.region.y(), p.region.z()));
+        p.radius, face_gap, p.region.x(), p.region.y(), p.region.z()));
   const int count = sphere_count(p);
   const double separation = 2.0 * p.radius + p.min_gap;
   std::mt19937_64 rng(p.seed);

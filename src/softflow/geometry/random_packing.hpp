@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,8 +21,13 @@ struct RandomPacking {
   /// nearest integer to phi V / (4/3 pi R^3) (at least one).
   double volume_fraction = 0.05;
   /// Smallest surface-to-surface distance between spheres, and from a
-  /// sphere to the region's faces.
+  /// sphere to the region's faces unless face_gap says otherwise.
   double min_gap = 0.1;
+  /// Smallest distance from a sphere to the region's faces (unset: min_gap).
+  /// A cell's periodic faces need one interface element, which the mesh
+  /// cannot refine below, while two spheres may come closer (the size
+  /// field's gap rule refines between them).
+  std::optional<double> face_gap;
   std::uint64_t seed = 1;
   /// Candidate centres tried per sphere before giving up.
   int attempts_per_sphere = 100000;
@@ -31,7 +37,7 @@ struct RandomPacking {
 [[nodiscard]] int sphere_count(const RandomPacking& packing);
 
 /// The centres, in the order they were placed. Each candidate is uniform in
-/// the region shrunk by R + min_gap and is kept if it lies at least
+/// the region shrunk by R + face_gap and is kept if it lies at least
 /// 2 R + min_gap from every sphere placed before. The same packing gives the
 /// same centres, to the bit, on every machine (std::mt19937_64 and an
 /// explicit map of its 64 bits to [0, 1)). Throws InputError when the

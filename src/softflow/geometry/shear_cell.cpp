@@ -210,30 +210,39 @@ double sampled_gap(const ObjectSpec& from, const ObjectSpec& to, double h) {
   return gap;
 }
 
+// Two objects closer than gap_elements interface elements get the size
+// field's gap term (gmsh_mesh.cpp), as an object and a wall do: the narrowest
+// gap accepted is the wall's, smallest_wall_gap of the finer object.
 void check_pair(int i, int j, const ShearCellSpec& spec) {
   const ObjectSpec &a = spec.objects[i], &b = spec.objects[j];
   const double h = std::max(interface_element_size(a, spec.sizing), interface_element_size(b, spec.sizing));
+  const double g_min = std::min(smallest_wall_gap(a, spec.sizing), smallest_wall_gap(b, spec.sizing));
   const double distance = (a.centre - b.centre).norm();
   if (distance >= a.semi_axes.maxCoeff() + b.semi_axes.maxCoeff() + h) return;  // bounding spheres apart
 
+  const std::string resolved = fmt::format(
+      "the narrowest gap the mesh resolves with mesh.gap_elements = {} at these interface elements is {}",
+      spec.sizing.elements_across_gaps(), num(g_min));
   if (a.shape == ObjectShape::sphere && b.shape == ObjectShape::sphere) {
-    const double minimum = a.semi_axes.x() + b.semi_axes.x() + h;
+    const double minimum = a.semi_axes.x() + b.semi_axes.x() + g_min;
     if (distance >= minimum) return;
-    const char* verb = distance <= a.semi_axes.x() + b.semi_axes.x() ? "overlaps" : "is too close to";
-    throw InputError(
-        fmt::format("{}: {} {} {} (centres {} apart, minimum {} = radii + one interface element); move it or "
-                    "make it smaller",
-                    label(j), describe(b), verb, label(i), num(distance), num(minimum)));
+    if (distance <= a.semi_axes.x() + b.semi_axes.x())
+      throw InputError(fmt::format("{}: {} overlaps {} (centres {} apart, radii {} and {}); move it or make it "
+                                   "smaller",
+                                   label(j), describe(b), label(i), num(distance), num(a.semi_axes.x()),
+                                   num(b.semi_axes.x())));
+    throw InputError(fmt::format("{}: {} is too close to {} (centres {} apart, gap {} < {}: {}); move it or make "
+                                 "it smaller",
+                                 label(j), describe(b), label(i), num(distance),
+                                 num(distance - a.semi_axes.x() - b.semi_axes.x()), num(g_min), resolved));
   }
   const double gap = std::min(sampled_gap(a, b, h), sampled_gap(b, a, h));
-  if (gap >= h) return;
+  if (gap >= g_min) return;
   if (gap < 0.0)
     throw InputError(fmt::format("{}: {} overlaps {} (the surfaces intersect); move it or make it smaller",
                                  label(j), describe(b), label(i)));
-  throw InputError(
-      fmt::format("{}: {} is too close to {} (gap about {}, minimum one interface element h = {}); move it "
-                  "or make it smaller",
-                  label(j), describe(b), label(i), num(gap), num(h)));
+  throw InputError(fmt::format("{}: {} is too close to {} (gap about {} < {}: {}); move it or make it smaller",
+                               label(j), describe(b), label(i), num(gap), num(g_min), resolved));
 }
 
 // An ellipsoid the mesh cannot resolve, or gmsh cannot finish meshing
@@ -810,7 +819,16 @@ WallGapResolution measure_wall_gap(const mesh::Mesh& m, const ObjectSpec& object
   r.gap = wall_gap(object, m.box, r.side, &p);
   if (!(r.gap > 0.0)) return r;
   const Vector3d q(p.x(), r.side * m.box.height / 2, p.z());  // the segment p -> q, along y
-  const double y_lo = std::min(p.y(), q.y()), y_hi = std::max(p.y(), q.y());
+  const WallGapResolution crossed = measure_segment(m, p, q);
+  r.tets_crossed = crossed.tets_crossed;
+  r.mean_edge = crossed.mean_edge;
+  return r;
+}
+
+WallGapResolution measure_segment(const mesh::Mesh& m, const Vector3d& p, const Vector3d& q) {
+  WallGapResolution r;
+  r.gap = (q - p).norm();
+  const Vector3d seg_lo = p.cwiseMin(q), seg_hi = p.cwiseMax(q);
   double edges = 0.0;
   for (int t = 0; t < m.n_tets(); ++t) {
     if (m.tet_region[t] != 0) continue;
@@ -821,9 +839,7 @@ WallGapResolution measure_wall_gap(const mesh::Mesh& m, const ObjectSpec& object
       lo = lo.cwiseMin(x);
       hi = hi.cwiseMax(x);
     }
-    if (p.x() < lo.x() || p.x() > hi.x() || p.z() < lo.z() || p.z() > hi.z() || hi.y() < y_lo ||
-        lo.y() > y_hi)
-      continue;
+    if ((hi.array() < seg_lo.array()).any() || (lo.array() > seg_hi.array()).any()) continue;
     // Barycentric coordinates along the segment, lambda(s) = l0 + s dl, s in [0, 1].
     Matrix3d e;
     for (int k = 0; k < 3; ++k) e.col(k) = v[k + 1] - v[0];

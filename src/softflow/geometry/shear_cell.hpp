@@ -181,6 +181,11 @@ double smallest_wall_gap(const ObjectSpec& object, const MeshSizing& sizing);
 /// (`object` = 0 in the result: the caller knows which it is).
 WallGapResolution measure_wall_gap(const mesh::Mesh& mesh, const ObjectSpec& object);
 
+/// The matrix tetrahedra the straight segment p -> q passes through and their
+/// mean (straight) edge: the resolution of a gap spanned by the segment
+/// (side and object 0; gap = |q - p|).
+WallGapResolution measure_segment(const mesh::Mesh& mesh, const Eigen::Vector3d& p, const Eigen::Vector3d& q);
+
 /// Checks the spec (objects inside the box, at least smallest_wall_gap from
 /// the walls and one interface element from periodic faces and each other,
 /// ellipsoids the mesh resolves). Throws InputError naming the offending

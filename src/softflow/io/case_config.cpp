@@ -539,13 +539,19 @@ void expand_emulsion(const TableRead& emulsion, CaseConfig& c, Diagnostics& diag
   packing.seed = static_cast<std::uint64_t>(c.emulsion.seed);
   const double element = geometry::interface_element_size(c.objects[0].geometry, c.sizing);
   packing.min_gap = c.emulsion.min_gap > 0.0 ? c.emulsion.min_gap * packing.radius : element;
-  if (packing.min_gap < element) {
+  // Between drops the mesh refines narrow gaps (geometry::object_gap_element_size);
+  // a cell's periodic faces need one interface element.
+  const double narrowest = geometry::smallest_wall_gap(c.objects[0].geometry, c.sizing);
+  if (packing.min_gap < narrowest) {
     diag.error(emulsion.path("min_gap"), *emulsion.value("min_gap"),
-               fmt::format("gaps below one interface element ({:.3g} R at mesh.equator_nodes = {}) are not "
-                           "meshed yet: min_gap >= {:.3g}, or 0 for that",
-                           element / packing.radius, c.sizing.equator_nodes, element / packing.radius));
+               fmt::format("the narrowest gap between drops the mesh resolves is {:.3g} R (mesh.gap_elements = "
+                           "{} elements across, at most {:g} times smaller than the interface elements of "
+                           "mesh.equator_nodes = {}): min_gap >= {:.3g}, or 0 for one interface element",
+                           narrowest / packing.radius, c.sizing.elements_across_gaps(),
+                           geometry::kMaxGapRefinement, c.sizing.equator_nodes, narrowest / packing.radius));
     return;
   }
+  if (!(c.emulsion.core_side > 0.0)) packing.face_gap = std::max(packing.min_gap, element);
   if (c.emulsion.core_side > std::min({c.box.length, c.box.height, c.box.width})) {
     diag.error(emulsion.path("core_side"), *emulsion.value("core_side"),
                "the core cube must fit in the cell: at most its length, height and width");

@@ -457,7 +457,9 @@ Table<CaseConfig> emulsion_table() {
                    "seed of the random placement: the same seed, the same drops"),
            number("min_gap", emulsion(&EmulsionConfig::min_gap), 0.0, Range::at_least(0),
                   "smallest gap between drops and to the region's faces, in drop radii (0: one "
-                  "interface element, the mesher's smallest)"),
+                  "interface element); gaps below one interface element are refined by the mesh "
+                  "(mesh.gap_elements across, down to gap_elements / 64 interface elements); the "
+                  "cell's faces keep at least one interface element"),
            number("core_side", emulsion(&EmulsionConfig::core_side), 0.0, Range::at_least(0),
                   "side of the centred cube the drops fill, the thesis's frame layout (0: the "
                   "whole cell)")}};
