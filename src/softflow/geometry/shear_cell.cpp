@@ -723,18 +723,22 @@ std::string slow_meshing_note(const ShearCellSpec& spec, double seconds) {
     fixes.push_back(fmt::format("fewer mesh.equator_nodes (now {}) or a rounder {}.semi_axes",
                                 sizing.equator_nodes, label(worst)));
   }
-  // Many objects keep the curved-element optimiser busy (50 spheres at 12
-  // equator nodes: more than 10 minutes; seconds without it).
+  // Many coarse objects keep the curved-element optimiser busy. Measured (50
+  // spheres of R = 1 in a 24 x 22 x 24 cell, docs/emulsions.md): more than 10
+  // minutes at 12 equator nodes and more than 2.5 at 14, 13 s at 16 and 11 s
+  // at 20: a sphere this coarse has one vertex inside it, so its interior
+  // tetrahedra span it and its curved faces fold them; the optimiser untangles
+  // them blob by blob. Without the optimiser such meshes come out inverted.
   const std::size_t count = spec.objects.size();
   if (sizing.optimize_high_order && count >= 5) {
     causes.push_back(fmt::format(
         "with {} objects, gmsh's curved-element optimiser (mesh.optimize_high_order = true) can "
-        "take many minutes (50 spheres: more than 10)",
+        "take many minutes on coarse objects (50 spheres: more than 10 at 12 equator nodes, 13 s at 16)",
         count));
     fixes.push_back(fmt::format(
-        "mesh.optimize_high_order = false (then check the minimum quality `softflow mesh` "
-        "reports), or a larger mesh.equator_nodes (now {}): coarse curved elements give the "
-        "optimiser more to untangle",
+        "a larger mesh.equator_nodes (now {}; 16 or more): coarse curved elements give the optimiser "
+        "more to untangle; or mesh.optimize_high_order = false (then check the minimum quality "
+        "`softflow mesh` reports: coarse objects come out inverted without it)",
         sizing.equator_nodes));
   }
   // A large mesh: about 0.4 N^2 interface nodes on a sphere (650 at N = 40,
