@@ -9,9 +9,12 @@
 
 #include <gtest/gtest.h>
 
+#include "softflow/common/error.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/checkpoint.hpp"
+#include "softflow/mesh/quality.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
+#include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/drop_simulation.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "support/verification/restart_runs.hpp"
@@ -128,4 +131,21 @@ TEST(RemeshRun, AnElasticParticleRemeshedMidwayKeepsItsStressAndRestartsToRoundO
   // at BDF1 and DEVSS-G without G_n instead left 4.2e-3 and 2.2e-2.
   EXPECT_NEAR(d / d_plain, 1.0, 3e-3);
   EXPECT_NEAR(s / s_plain, 1.0, 1e-3);
+}
+
+TEST(RemeshRun, AnInitialMeshBelowMinQualityIsRefusedUnlessTheRunRemeshesItFirst) {
+  auto config = io::parse_case(
+      "[cell]\nlength = 8.0\nheight = 6.0\nwidth = 8.0\n[[objects]]\nradius = 1.0\n"
+      "[mesh]\nequator_nodes = 12\n[time]\nstep = 0.05\nend = 0.1\n",
+      "quality.toml");
+  const auto meshed = simulation::build_mesh(config).mesh;
+  const double quality = mesh::min_quality(meshed);
+  config.time.min_quality = std::min(0.99, quality + 0.05);
+  EXPECT_THROW(simulation::check_initial_mesh_quality(config, meshed), softflow::MeshError);
+  // A mesh below remesh.quality is remeshed before the first step: that one is judged.
+  config.remesh.quality = std::min(0.99, quality + 0.1);
+  EXPECT_NO_THROW(simulation::check_initial_mesh_quality(config, meshed));
+  // Above remesh.quality (no remesh due) but below min_quality: refused again.
+  config.remesh.quality = quality / 2;
+  EXPECT_THROW(simulation::check_initial_mesh_quality(config, meshed), softflow::MeshError);
 }

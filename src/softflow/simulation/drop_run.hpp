@@ -33,6 +33,13 @@ namespace softflow::simulation {
 /// limit, end the run after the current step with a checkpoint: RunInterrupted
 /// is thrown once everything is written. A directory that holds an
 /// interrupted run is not replaced unless options.overwrite.
+/// A mesh that starts below time.min_quality would stop the run at its first
+/// step with advice about the time step: MeshError saying what it is and
+/// which mesh keys change it (issue 11), before anything is written. Not when
+/// the mesh is also below remesh.quality: the run remeshes before its first
+/// step, and time.min_quality judges that mesh.
+void check_initial_mesh_quality(const io::CaseConfig& config, const mesh::Mesh& mesh);
+
 nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& options,
                              MeshedCase meshed);
 
