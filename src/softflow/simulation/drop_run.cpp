@@ -157,6 +157,12 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
                        "with its mesh: {}\n", sim.steps(), sim.time(), failed.what());
           continue;
         }
+        // A remesh that cannot reach remesh.quality here (the remesher's best
+        // mesh of this shape is below it) is not repeated before every step
+        // (measured: a migrating particle remeshed at 60 steps in a row, 0.08-0.17
+        // each time); again after a further 5 % drop, as after a failure.
+        remesh_failed_at = e.quality_after < config.remesh.quality ? e.quality_after
+                                                                    : std::numeric_limits<double>::infinity();
         // The modules are new objects: their report files' rows with them.
         files.reports = sim.report_files();
         write_checkpoint();
