@@ -638,6 +638,9 @@ int main(int argc, char** argv) {
         const auto config = read_valid_case(case_file);
         directory = options.output_directory.value_or(std::filesystem::path(config.output_directory));
       }
+      // A request between taking the lock and naming its file to the handler
+      // would leave the file behind: held back until the handler knows it.
+      const softflow::simulation::StopSignalsHeld held;
       run_lock.emplace(directory, *run ? "run" : "restart");
       softflow::simulation::install_stop_handler(run_lock->lock_file());  // removed on a stop
     } catch (const softflow::InputError&) {

@@ -1,5 +1,7 @@
 #include "softflow/simulation/stop_requests.hpp"
 
+#include <pthread.h>
+
 #include <array>
 #include <csignal>
 #include <cstring>
@@ -75,6 +77,15 @@ void install_stop_handler(const std::filesystem::path& lock_file) {
     sigaction(s, &action, nullptr);
   }
 }
+
+StopSignalsHeld::StopSignalsHeld() {
+  sigset_t stops;
+  sigemptyset(&stops);
+  for (int s : kSignals) sigaddset(&stops, s);
+  pthread_sigmask(SIG_BLOCK, &stops, &previous_);
+}
+
+StopSignalsHeld::~StopSignalsHeld() { pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
 
 void leave_startup() { g_in_startup = 0; }
 

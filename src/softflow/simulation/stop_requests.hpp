@@ -2,6 +2,7 @@
 // nothing can be saved, at the end of a step once the run has state to save.
 #pragma once
 
+#include <csignal>
 #include <filesystem>
 #include <string>
 
@@ -19,6 +20,21 @@ inline constexpr int kInterruptedExitCode = 5;
 /// leave_startup() switches to recording the request for the run to act
 /// on at a consistent point (stop_requested).
 void install_stop_handler(const std::filesystem::path& lock_file = {});
+
+/// Holds SIGINT, SIGTERM and SIGUSR1 back on this thread while it lives (a
+/// request arriving meanwhile is delivered when it ends): around taking the
+/// run's lock and telling the handler its file, so that a request between
+/// the two cannot leave the lock file behind.
+class StopSignalsHeld {
+ public:
+  StopSignalsHeld();
+  ~StopSignalsHeld();
+  StopSignalsHeld(const StopSignalsHeld&) = delete;
+  StopSignalsHeld& operator=(const StopSignalsHeld&) = delete;
+
+ private:
+  sigset_t previous_{};
+};
 
 /// From now on a request is only recorded (the run checkpoints and stops
 /// after its step). Called by a run once it has output to keep or remove.
