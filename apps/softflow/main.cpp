@@ -338,19 +338,20 @@ int main(int argc, char** argv) {
       "= [0.05, 0.1, 0.2]), each in its own subdirectory; then one table and plot of the final "
       "values against theory. Re-running skips finished cases and resumes interrupted ones");
   sweep->add_option("case", case_file, "case file (TOML) with lists")->required()->check(CLI::ExistingFile);
+  const CLI::Validator whole_jobs(
+      [](const std::string& value) -> std::string {
+        try {
+          std::size_t used = 0;
+          const long n = std::stol(value, &used);
+          if (used == value.size() && n >= 1) return {};
+        } catch (const std::exception&) {
+        }
+        return "--jobs = " + value + ": a whole number of cases at a time, at least 1";
+      },
+      "INT >= 1");
   sweep->add_option("-j,--jobs", jobs, "cases run at the same time (each on one core)")
       ->capture_default_str()
-      ->check(CLI::Validator(
-          [](const std::string& value) -> std::string {
-            try {
-              std::size_t used = 0;
-              const long n = std::stol(value, &used);
-              if (used == value.size() && n >= 1) return {};
-            } catch (const std::exception&) {
-            }
-            return "--jobs = " + value + ": a whole number of cases at a time, at least 1";
-          },
-          "INT >= 1"));
+      ->check(whole_jobs);
   sweep->add_flag("-q,--quiet", quiet, "print nothing but errors");
   sweep->add_option("--wall-time-limit", wall_time_limit,
                     "stop before this much wall time has passed: running cases checkpoint (exit "
@@ -365,7 +366,7 @@ int main(int argc, char** argv) {
   moduli->add_option("case", case_file, "case file (TOML) with lists")->required()->check(CLI::ExistingFile);
   moduli->add_option("-j,--jobs", jobs, "cases run at the same time (each on one core)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(whole_jobs);
   moduli->add_flag("-q,--quiet", quiet, "print nothing but errors");
   moduli->add_option("--wall-time-limit", wall_time_limit,
                      "stop before this much wall time has passed; run again to resume");

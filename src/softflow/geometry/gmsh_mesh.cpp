@@ -150,9 +150,10 @@ void set_periodicity(const mesh::Box& box, const CellEntities& e) {
 //    (measure_wall_gap) is at most gap / gap_elements.
 //  - a gap between objects j and k that needs refining (the same rule,
 //    object_gap_element_size): (d_j + d_k) / gap_elements, the local width of
-//    the gap between their surfaces over the count. Such gaps appear when
-//    drops pass each other and are remeshed; a case whose objects start
-//    closer than one interface element is refused before meshing.
+//    the gap between their surfaces over the count (object_gap, or
+//    surface_gap at a remesh, decides which pairs). Such gaps come from
+//    dense emulsions and from drops passing each other; validate() refuses
+//    pairs closer than smallest_wall_gap, as it refuses walls.
 class SizeField {
  public:
   /// `surfaces` empty: the objects of the spec as they are described
@@ -191,8 +192,8 @@ class SizeField {
     }
     for (std::size_t j = 0; j < spec.objects.size(); ++j)
       for (std::size_t k = j + 1; k < spec.objects.size(); ++k) {
-        const double gap = surfaces.empty() ? object_gap(terms_[j], terms_[k], spec.objects[j])
-                                            : object_gap(surfaces[j], surfaces[k]);
+        const double gap = surfaces.empty() ? object_gap(spec.objects[j], spec.objects[k], spec.sizing)
+                                            : surface_gap(surfaces[j], surfaces[k]);
         if (std::isfinite(object_gap_element_size(spec.objects[j], spec.objects[k], spec.sizing, gap)))
           gap_pairs_.push_back({static_cast<int>(j), static_cast<int>(k)});
       }
@@ -253,26 +254,9 @@ class SizeField {
     return t.sphere ? std::abs(r - t.scale) : std::abs(r - 1.0) * t.scale;
   }
 
-  // The narrowest distance between two described objects: object j's surface
-  // sampled (sphere or ellipsoid, 48 x 96 points) against object k's distance.
-  static double object_gap(const Term& j, const Term& k, const ObjectSpec& object_j) {
-    const Matrix3d to_world = object_j.shape == ObjectShape::sphere ? Matrix3d::Identity() : rotation_matrix(object_j);
-    double gap = std::numeric_limits<double>::infinity();
-    constexpr int kPolar = 48, kAzimuth = 96;
-    for (int a = 0; a <= kPolar; ++a)
-      for (int b = 0; b < kAzimuth; ++b) {
-        const double theta = M_PI * a / kPolar, phi = 2.0 * M_PI * b / kAzimuth;
-        const Vector3d unit(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-        const Vector3d p = object_j.centre + to_world * object_j.semi_axes.cwiseProduct(unit);
-        bool inside = false;
-        const double d = described_distance(k, p.x(), p.y(), p.z(), inside);
-        gap = std::min(gap, inside ? 0.0 : d);
-      }
-    (void)j;
-    return gap;
-  }
-  // The same between two current surfaces: j's nodes against k's distance.
-  static double object_gap(const SurfaceDistance& j, const SurfaceDistance& k) {
+  // The narrowest distance between two current surfaces (a remesh): j's nodes
+  // against k's distance (object_gap is the described objects').
+  static double surface_gap(const SurfaceDistance& j, const SurfaceDistance& k) {
     double gap = std::numeric_limits<double>::infinity();
     for (const Vector3d& p : j.points) {
       bool inside = false;

@@ -236,7 +236,7 @@ void check_pair(int i, int j, const ShearCellSpec& spec) {
                                  label(j), describe(b), label(i), num(distance),
                                  num(distance - a.semi_axes.x() - b.semi_axes.x()), num(g_min), resolved));
   }
-  const double gap = std::min(sampled_gap(a, b, h), sampled_gap(b, a, h));
+  const double gap = object_gap(a, b, spec.sizing);
   if (gap >= g_min) return;
   if (gap < 0.0)
     throw InputError(fmt::format("{}: {} overlaps {} (the surfaces intersect); move it or make it smaller",
@@ -332,6 +332,13 @@ double wall_gap_element_size(const ObjectSpec& object, const MeshSizing& sizing,
   const double refined_below = sizing.gap_elements ? n * h0 : h0;
   if (gap >= refined_below) return std::numeric_limits<double>::infinity();
   return gap / n;
+}
+
+double object_gap(const ObjectSpec& a, const ObjectSpec& b, const MeshSizing& sizing) {
+  if (a.shape == ObjectShape::sphere && b.shape == ObjectShape::sphere)
+    return (a.centre - b.centre).norm() - a.semi_axes.x() - b.semi_axes.x();
+  const double h = std::max(interface_element_size(a, sizing), interface_element_size(b, sizing));
+  return std::min(sampled_gap(a, b, h), sampled_gap(b, a, h));
 }
 
 double object_gap_element_size(const ObjectSpec& a, const ObjectSpec& b, const MeshSizing& sizing,

@@ -151,6 +151,13 @@ double wall_gap(const ObjectSpec& object, const mesh::Box& box, int side,
 /// of before the rule, to the bit.
 double wall_gap_element_size(const ObjectSpec& object, const MeshSizing& sizing, double gap);
 
+/// The narrowest distance between the surfaces of objects a and b as the spec
+/// describes them (negative when they intersect): exact for two spheres, else
+/// each surface sampled against the other (at the finer of a few thousand
+/// points and the interface element size of `sizing`). validate() and the
+/// size field's gap term judge pairs by it.
+double object_gap(const ObjectSpec& a, const ObjectSpec& b, const MeshSizing& sizing);
+
 /// The same rule for the gap g between two objects (after a remesh: drops
 /// passing each other), with the smaller of their interface element sizes.
 double object_gap_element_size(const ObjectSpec& a, const ObjectSpec& b, const MeshSizing& sizing,
@@ -187,7 +194,7 @@ WallGapResolution measure_wall_gap(const mesh::Mesh& mesh, const ObjectSpec& obj
 WallGapResolution measure_segment(const mesh::Mesh& mesh, const Eigen::Vector3d& p, const Eigen::Vector3d& q);
 
 /// Checks the spec (objects inside the box, at least smallest_wall_gap from
-/// the walls and one interface element from periodic faces and each other,
+/// the walls and from each other, one interface element from periodic faces,
 /// ellipsoids the mesh resolves). Throws InputError naming the offending
 /// object (1-based index, as in the case file), what is wrong and the keys
 /// that change it.

@@ -136,11 +136,13 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
-  double remesh_failed_at = std::numeric_limits<double>::infinity();
+  // The mesh quality a remesh last could not get above remesh.quality from (it
+  // failed, or its best mesh was below the threshold): the next waits for a 5 % drop.
+  double remesh_fell_short_at = std::numeric_limits<double>::infinity();
   try {
     while (!at_end(config, sim.steps(), sim.time())) {
       if (config.remesh.quality > 0.0 && sim.mesh_quality() < config.remesh.quality &&
-          sim.mesh_quality() < 0.95 * remesh_failed_at) {
+          sim.mesh_quality() < 0.95 * remesh_fell_short_at) {
         // Before the step, outside the step taker (whose retries restore a
         // state of the mesh they started on). A checkpoint follows at once:
         // a restart continues on the new mesh without meshing again.
@@ -151,7 +153,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         } catch (const MeshError& failed) {
           // The run goes on with its mesh (time.min_quality still stops it
           // with its diagnosis); tried again after a further 5 % drop.
-          remesh_failed_at = sim.mesh_quality();
+          remesh_fell_short_at = sim.mesh_quality();
           if (root)
             fmt::print(stderr, "softflow: note: remeshing at step {} (t = {:.4f}) failed, the run goes on "
                        "with its mesh: {}\n", sim.steps(), sim.time(), failed.what());
@@ -161,8 +163,9 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         // mesh of this shape is below it) is not repeated before every step
         // (measured: a migrating particle remeshed at 60 steps in a row, 0.08-0.17
         // each time); again after a further 5 % drop, as after a failure.
-        remesh_failed_at = e.quality_after < config.remesh.quality ? e.quality_after
-                                                                    : std::numeric_limits<double>::infinity();
+        remesh_fell_short_at = e.quality_after < config.remesh.quality
+                                   ? e.quality_after
+                                   : std::numeric_limits<double>::infinity();
         // The modules are new objects: their report files' rows with them.
         files.reports = sim.report_files();
         write_checkpoint();

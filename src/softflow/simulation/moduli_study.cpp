@@ -102,6 +102,7 @@ std::vector<ModuliPoint> collect_moduli(const io::Sweep& sweep, const fs::path& 
     if (sweep.parameters[p].path == kSeedPath) seed = static_cast<int>(p);
   std::map<std::vector<int>, std::size_t> index;  // the other parameters' choice -> point
   std::vector<ModuliPoint> points;
+  std::vector<const io::SweepCase*> first_case;  // per point: its drops' lambda and slip
   std::vector<std::vector<double>> storage, loss, phi;
   for (const auto& c : sweep.cases) {
     std::vector<int> key;
@@ -119,6 +120,7 @@ std::vector<ModuliPoint> collect_moduli(const io::Sweep& sweep, const fs::path& 
       point.omega_star = c.config.flow.frequency * c.config.matrix_viscosity * io::mean_radius(drop.geometry) /
                          drop.interfacial_tension;
       points.push_back(point);
+      first_case.push_back(&c);
       storage.emplace_back();
       loss.emplace_back();
       phi.emplace_back();
@@ -153,9 +155,7 @@ std::vector<ModuliPoint> collect_moduli(const io::Sweep& sweep, const fs::path& 
       point.oldroyd_storage = point.oldroyd_loss = NAN;
       continue;
     }
-    const io::SweepCase& first = *std::find_if(sweep.cases.begin(), sweep.cases.end(),
-                                               [&](const io::SweepCase& c) { return c.label == point.cases.front(); });
-    const io::ObjectConfig& drop = first.config.objects.front();
+    const io::ObjectConfig& drop = first_case[k]->config.objects.front();
     const auto theory = analysis::theory::oldroyd_moduli(drop.viscosity_ratio, point.phi, point.omega_star, drop.slip);
     point.oldroyd_storage = theory.storage;
     point.oldroyd_loss = theory.loss;

@@ -305,7 +305,7 @@ nlohmann::json oscillatory_moduli(std::span<const BulkStressSample> history, con
   nlohmann::json moduli;
   moduli["frequency"] = omega;
   moduli["periods_fitted"] = periods;
-  if (history.size() - first < 4 || first >= history.size()) {
+  if (history.size() - first < 4) {  // first == history.size(): too few periods recorded
     const double run = t.empty() ? 0.0 : (t.back() - t.front()) * omega / (2.0 * M_PI);
     moduli["note"] = fmt::format(
         "not fitted: {:.3g} periods of oscillatory flow recorded, bulk_stress.fit_periods = {:g} "
