@@ -1,9 +1,10 @@
 """Running softflow cases for the validation scripts and reading their output.
 
 run_case writes CASE.toml in `work` and runs `softflow run` into work/NAME,
-unless that directory already holds a summary.json (a finished run: scripts
-can be re-run to regenerate their reports); a run interrupted with a checkpoint
-of the same case text is continued with `softflow restart`.
+unless that directory already holds the summary.json of a run that ended by
+itself (scripts can be re-run to regenerate their reports); a run interrupted
+(SIGTERM/SIGINT: its summary says "interrupted") or killed, with a checkpoint
+of the same case text, is continued with `softflow restart`.
 read_run reads summary.json and the time series, with steady values as the
 means over the rows at t >= t_end - window. validation_main is the command
 line the validation scripts share."""
@@ -18,9 +19,15 @@ import subprocess
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
+def finished(directory):
+    """A run that ended by itself (an interrupted one writes its summary too)."""
+    path = os.path.join(directory, "summary.json")
+    return os.path.exists(path) and json.load(open(path)).get("status") != "interrupted"
+
+
 def run_case(build, work, name, text, rerun=False):
     directory = os.path.join(work, name)
-    if not rerun and os.path.exists(os.path.join(directory, "summary.json")):
+    if not rerun and finished(directory):
         return directory
     os.makedirs(work, exist_ok=True)
     path = os.path.join(work, name + ".toml")
