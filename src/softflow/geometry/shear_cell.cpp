@@ -298,7 +298,8 @@ void check_point_symmetric(int k, const ObjectSpec& o) {
     throw InputError(fmt::format(
         "{}: {} is off the z axis, and mesh.point_symmetric = true needs every object mapped "
         "onto itself by the rotation by 180 deg about z: put its centre at x = y = 0 "
-        "({}.centre) or set mesh.point_symmetric = false",
+        "({}.centre), set mesh.point_symmetric_start = true to mesh it there and carry it to "
+        "its centre, or set mesh.point_symmetric = false",
         label(k), describe(o), label(k)));
   if (o.shape == ObjectShape::ellipsoid && !(half_turns(o.rotation_deg.x()) && half_turns(o.rotation_deg.y())))
     throw InputError(fmt::format(
@@ -308,7 +309,30 @@ void check_point_symmetric(int k, const ObjectSpec& o) {
         label(k), describe(o), vec(o.rotation_deg), label(k)));
 }
 
+// mesh.point_symmetric_start carries one object from the z axis to its
+// centre: the object must be mapped onto itself by the half turn once there.
+void check_symmetric_start(const ShearCellSpec& spec) {
+  const int n = static_cast<int>(spec.objects.size());
+  if (n != 1)
+    throw InputError(fmt::format(
+        "mesh.point_symmetric_start = true carries one object from the z axis to its centre, "
+        "and the case has {} objects: describe one object or set mesh.point_symmetric_start = "
+        "false",
+        n));
+  ObjectSpec on_axis = spec.objects[0];
+  on_axis.centre.x() = on_axis.centre.y() = 0.0;
+  check_point_symmetric(0, on_axis);
+}
+
 }  // namespace
+
+ShearCellSpec symmetric_start(const ShearCellSpec& spec) {
+  ShearCellSpec out = spec;
+  out.sizing.point_symmetric_start = false;
+  out.sizing.point_symmetric = true;
+  for (ObjectSpec& o : out.objects) o.centre.x() = o.centre.y() = 0.0;
+  return out;
+}
 
 double largest_ellipsoid_ratio(int equator_nodes) {
   const double n = equator_nodes;
@@ -354,9 +378,11 @@ double smallest_wall_gap(const ObjectSpec& object, const MeshSizing& sizing) {
 void validate(const ShearCellSpec& spec) {
   validate_box(spec.box);
   validate_sizing(spec.sizing);
+  if (spec.sizing.point_symmetric_start) check_symmetric_start(spec);
   for (int k = 0; k < static_cast<int>(spec.objects.size()); ++k) {
     validate_shape(k, spec.objects[k]);
-    if (spec.sizing.point_symmetric) check_point_symmetric(k, spec.objects[k]);
+    if (spec.sizing.point_symmetric && !spec.sizing.point_symmetric_start)
+      check_point_symmetric(k, spec.objects[k]);
     check_resolution(k, spec.objects[k], spec.sizing);
     const double h = interface_element_size(spec.objects[k], spec.sizing);
     check_wall(k, spec.objects[k], spec.box, spec.sizing);
@@ -788,8 +814,9 @@ std::string slow_meshing_note(const ShearCellSpec& spec, double seconds) {
 }
 
 mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
-  const auto start = std::chrono::steady_clock::now();
   validate(spec);
+  if (spec.sizing.point_symmetric_start) return build_shear_cell(symmetric_start(spec), report);
+  const auto start = std::chrono::steady_clock::now();
   mesh::Mesh m;
   {
     GmshSession session;

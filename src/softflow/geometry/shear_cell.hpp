@@ -66,6 +66,17 @@ struct MeshSizing {
   /// a migration measurement"). Off (the default): gmsh meshes the whole
   /// cell, the meshes of before the key to the bit.
   bool point_symmetric = false;
+  /// Mesh the cell as point_symmetric does with its one object moved onto
+  /// the z axis (symmetric_start(spec)), then carry the object to its
+  /// centre by the mesh motion's extension (physics::carry_objects, done by
+  /// simulation::build_mesh; build_shear_cell returns the mesh before it).
+  /// The half turn then maps the mesh onto the mesh of the mirror start
+  /// (-x, -y) to the extension's round-off, so the discretisation error
+  /// that breaks the symmetry grows from zero with the offset instead of
+  /// being the fixed drift of an unstructured mesh: a migration velocity
+  /// near the centre plane is then resolved relative to itself
+  /// (docs/confinement.md). One object only.
+  bool point_symmetric_start = false;
   [[nodiscard]] int elements_across_gaps() const { return gap_elements.value_or(kDefaultGapElements); }
 };
 
@@ -207,6 +218,12 @@ std::string slow_meshing_note(const ShearCellSpec& spec, double seconds);
 
 /// Meshes the cell with gmsh (OCC): box fragmented with the objects,
 /// periodic in x and/or z, P2 curved elements. Calls validate() first.
+/// With sizing.point_symmetric_start, the mesh of symmetric_start(spec).
 mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report = nullptr);
+
+/// For mesh.point_symmetric_start: the spec whose point-symmetric mesh is
+/// carried to `spec`'s placement, its one object on the z axis (x = y = 0,
+/// z kept). Expects a spec validate() accepted.
+[[nodiscard]] ShearCellSpec symmetric_start(const ShearCellSpec& spec);
 
 }  // namespace softflow::geometry

@@ -11,8 +11,11 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/mesh/fingerprint.hpp"
+#include "softflow/mesh/quality.hpp"
 #include "softflow/parallel/memory.hpp"
 #include "softflow/parallel/mesh_broadcast.hpp"
+#include "softflow/physics/ale/mesh_motion.hpp"
 #include "softflow/simulation/case_flow.hpp"
 
 namespace softflow::simulation {
@@ -95,6 +98,31 @@ std::optional<EarlyMesh>& early_mesh() {
   return mesh;
 }
 
+/// mesh.point_symmetric_start: the symmetric mesh of the object on the z
+/// axis, carried to the object's centre; the report then describes the
+/// carried mesh (its quality, wall gap and fingerprint) and the offset.
+/// Collective.
+void carry_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
+  const geometry::ShearCellSpec spec = config.shear_cell_spec();
+  const geometry::ShearCellSpec start = geometry::symmetric_start(spec);
+  const Eigen::Vector3d offset = spec.objects[0].centre - start.objects[0].centre;
+  physics::carry_objects(meshed.mesh, offset);
+  if (!is_root()) return;
+  auto& r = meshed.report;
+  r["point_symmetric_start"] = {{"offset", {offset.x(), offset.y(), offset.z()}},
+                                {"min_quality_before", r["min_quality"]},
+                                {"fingerprint_before", r["fingerprint"]}};
+  r["min_quality"] = mesh::min_quality(meshed.mesh);
+  r["fingerprint"] = fmt::format("{:016x}", mesh::fingerprint(meshed.mesh));
+  if (r.contains("wall_gap")) {
+    const geometry::WallGapResolution g = geometry::measure_wall_gap(meshed.mesh, spec.objects[0]);
+    r["wall_gap"]["wall_y"] = g.side * config.box.height / 2;
+    r["wall_gap"]["gap"] = g.gap;
+    r["wall_gap"]["elements_across"] = g.elements_across();
+    r["wall_gap"]["tetrahedra_crossed"] = g.tets_crossed;
+  }
+}
+
 }  // namespace
 
 void mesh_before_mpi(const io::CaseConfig& config) {
@@ -121,6 +149,7 @@ MeshedCase build_mesh(const io::CaseConfig& config) {
     }
   });
   parallel::broadcast_mesh(out.mesh, MPI_COMM_WORLD);
+  if (config.sizing.point_symmetric_start) carry_to_start(config, out);
   return out;
 }
 

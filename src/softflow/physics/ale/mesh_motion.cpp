@@ -10,6 +10,8 @@
 #include "softflow/la/csr_matrix.hpp"
 #include "softflow/la/saddle_point_solver.hpp"  // la::set_default_option
 #include "softflow/la/vector_values.hpp"
+#include "softflow/mesh/half_turn.hpp"
+#include "softflow/mesh/quality.hpp"
 
 namespace softflow::physics {
 
@@ -321,6 +323,36 @@ std::vector<Eigen::Vector3d> AleMeshMotion::solve(
   }
   last_solve_seconds_ = seconds_since(start);
   return d;
+}
+
+void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
+  // Factored: once per run, and the objects' interiors come out rigid to
+  // round-off, where CG would leave them rigid to its tolerance.
+  AleSettings settings;
+  settings.method = AleMethod::direct;
+  AleMeshMotion motion(mesh, settings);
+  std::vector<Eigen::Vector3d> d(mesh.n_nodes(), Eigen::Vector3d::Zero());
+  for (int node : motion.interface_nodes()) d[node] = offset;
+  std::vector<Eigen::Vector3d> displacement = motion.solve(d);
+  // On a point-symmetric mesh the extension is equivariant only to the
+  // solver's round-off; averaged with its image (the mirror case's
+  // displacement is -R of it) it is so to the bit, so that the mirror
+  // case's mesh is this one's image to the bit and a run's discrete choices
+  // (node relocation's comparisons) come out mirrored.
+  if (const std::vector<int> image = mesh::half_turn_images(mesh); !image.empty()) {
+    const std::vector<Eigen::Vector3d> solved = displacement;
+    for (int i = 0; i < mesh.n_nodes(); ++i)
+      displacement[i] = 0.5 * (solved[i] - mesh::half_turn(solved[image[i]]));
+  }
+  for (int i = 0; i < mesh.n_nodes(); ++i) mesh.nodes[i] += displacement[i];
+  const int worst = mesh::worst_tet(mesh);
+  if (!(mesh::tet_quality(mesh, worst) > 0.0))
+    throw MeshError(fmt::format(
+        "mesh.point_symmetric_start: carrying the object by ({:g}, {:g}, {:g}) from the z axis "
+        "to its centre inverts an element ({}): the offset is too large for the elements "
+        "between the object and the wall; move the object nearer the centre plane, refine the "
+        "mesh there (mesh.wall_size, mesh.growth), or set mesh.point_symmetric_start = false",
+        offset.x(), offset.y(), offset.z(), mesh::describe_element(mesh, worst)));
 }
 
 }  // namespace softflow::physics

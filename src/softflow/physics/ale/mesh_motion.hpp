@@ -166,4 +166,15 @@ class AleMeshMotion {
   std::array<int, 3> last_iterations_{0, 0, 0};
 };
 
+/// Carries every object of `mesh` rigidly by `offset` (mesh.point_symmetric_start):
+/// the interface nodes move by it, every other node by the mesh motion's
+/// extension of it (eq. 2.55), so the objects' interiors move rigidly too
+/// (the extension of constant data is constant), the walls stay, and the
+/// liquid's elements between them take up the offset. The extension is
+/// equivariant under any symmetry of the mesh: carried by -offset, the
+/// image of a symmetric mesh is the image of the mesh carried by +offset.
+/// Collective. Throws MeshError naming mesh.point_symmetric_start if an
+/// element inverts (an offset too large for the elements around it).
+void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset);
+
 }  // namespace softflow::physics
