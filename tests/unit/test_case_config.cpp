@@ -94,7 +94,6 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.time.max_volume_drift, b.time.max_volume_drift);
   EXPECT_EQ(a.time.ale_rebuild_quality, b.time.ale_rebuild_quality);
   EXPECT_EQ(a.time.relocation_quality, b.time.relocation_quality);
-  EXPECT_EQ(a.relocation_quality(), b.relocation_quality());
   EXPECT_EQ(a.remesh.quality, b.remesh.quality);
   EXPECT_EQ(a.time.steady_tolerance, b.time.steady_tolerance);
   EXPECT_EQ(a.time.steady_window, b.time.steady_window);
@@ -142,11 +141,11 @@ TEST(CaseConfig, RemeshQualityDefaultsToNeverAndMustLieAboveMinQuality) {
 }
 
 TEST(CaseConfig, NodeRelocationIsOffByDefaultOnlyForAPointSymmetricStart) {
-  EXPECT_EQ(parse_case("", "case.toml").relocation_quality(), 0.2);
+  EXPECT_EQ(parse_case("", "case.toml").time.relocation_quality, 0.2);
   const char* start = "[[objects]]\ncentre = [0.0, 0.3, 0.0]\n[mesh]\npoint_symmetric_start = true\n";
-  EXPECT_EQ(parse_case(start, "case.toml").relocation_quality(), 0.0);
-  EXPECT_EQ(parse_case(std::string(start) + "[time]\nrelocation_quality = 0.3\n", "case.toml").relocation_quality(), 0.3);
-  EXPECT_EQ(parse_case("[time]\nrelocation_quality = 0.0\n", "case.toml").relocation_quality(), 0.0);
+  EXPECT_EQ(parse_case(start, "case.toml").time.relocation_quality, 0.0);
+  EXPECT_EQ(parse_case(std::string(start) + "[time]\nrelocation_quality = 0.3\n", "case.toml").time.relocation_quality, 0.3);
+  EXPECT_EQ(parse_case("[time]\nrelocation_quality = 0.0\n", "case.toml").time.relocation_quality, 0.0);
 }
 
 TEST(CaseConfig, EmptyFileIsTheUndisturbedShearFlow) {

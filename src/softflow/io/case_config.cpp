@@ -926,6 +926,10 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   check_relaxation_steps(read["time"], read["matrix"], objects_read, c, diag);
   check_oscillatory_steps(read["time"], read["flow"], c, diag);
   check_bulk_stress(read["bulk_stress"], c, diag);
+  // Node relocation's search does not keep a carried mesh the image of its
+  // mirror case's (docs/confinement.md): off unless the file asks for it.
+  if (c.sizing.point_symmetric_start && read["time"].status("relocation_quality") == schema::Read::absent)
+    c.time.relocation_quality = 0.0;
   diag.throw_if_any();
   expand_emulsion(read["emulsion"], c, diag);
   diag.throw_if_any();

@@ -96,8 +96,9 @@ struct TimeConfig {
   double ale_rebuild_quality = 0.2;
   /// Below this element quality the free nodes (vertices and edge nodes) of the elements below it
   /// are relocated to improve them (mesh::NodeRelocation), as part of the
-  /// step's mesh motion; 0 = never. Unset: CaseConfig::relocation_quality().
-  std::optional<double> relocation_quality;
+  /// step's mesh motion; 0 = never. Unset in the file: 0.2, and 0 with
+  /// mesh.point_symmetric_start, whose mirror symmetry the search breaks.
+  double relocation_quality = 0.2;
   /// > 0: stop before `end` once every object's D, shape vector
   /// D (cos 2 theta, sin 2 theta) and centre velocity relative to the shear
   /// flow at the centre (in units gamma_dot R)
@@ -206,11 +207,6 @@ struct CaseConfig {
 
   /// The geometry the mesher needs (geometry::validate checks overlaps and walls).
   [[nodiscard]] geometry::ShearCellSpec shear_cell_spec() const;
-  /// time.relocation_quality, or its default: 0.2, and 0 (no relocation)
-  /// with mesh.point_symmetric_start, whose mirror symmetry the search breaks.
-  [[nodiscard]] double relocation_quality() const {
-    return time.relocation_quality.value_or(sizing.point_symmetric_start ? 0.0 : 0.2);
-  }
   /// u_w = gamma_dot H / 2: the walls y = +-H/2 move with (+-u_w, 0, 0)
   /// (the largest wall speed for start-up, cessation and oscillatory flow).
   [[nodiscard]] double wall_velocity() const { return shear_rate * box.height / 2.0; }

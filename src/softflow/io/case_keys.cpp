@@ -319,7 +319,8 @@ Table<CaseConfig> mesh_table() {
                "then the half turn's image of the mirror start's, and the numerical drift "
                "across streamlines grows from zero with the offset instead of being fixed by "
                "the mesh (migration near the centre plane; docs/confinement.md). One object; "
-               "a remesh gives this up")}};
+               "a remesh gives this up")
+           .printed_if([](const CaseConfig& c) { return c.sizing.point_symmetric_start; })}};
 }
 
 Table<CaseConfig> solver_table() {
@@ -388,13 +389,12 @@ Table<CaseConfig> time_table() {
               Range::right_open(0, 1),
               "below this element quality the mesh-motion operator is rebuilt on the current "
               "mesh (and after each further 5 % drop); 0 = never"),
-       optional_number("relocation_quality", time(&TimeConfig::relocation_quality),
-                       Computed{"0.2; 0 with mesh.point_symmetric_start"}, Range::right_open(0, 1),
-                       "below this element quality the free nodes of the bad elements (not on "
-                       "an interface, a wall or a periodic face) are moved to improve them; 0 = "
-                       "never. Off by default with mesh.point_symmetric_start: the search does "
-                       "not keep a carried mesh the mirror image of its mirror case's "
-                       "(docs/confinement.md)"),
+       number("relocation_quality", time(&TimeConfig::relocation_quality), 0.2,
+              Range::right_open(0, 1),
+              "below this element quality the free nodes of the bad elements (not on an "
+              "interface, a wall or a periodic face) are moved to improve them; 0 = never. "
+              "Unset with mesh.point_symmetric_start: 0 (the search does not keep a carried "
+              "mesh the mirror image of its mirror case's: docs/confinement.md)"),
        number("steady_tolerance", time(&TimeConfig::steady_tolerance), 0.0, Range::at_least(0),
               "> 0: stop at steady state, once every object's D, shape vector D (cos 2 theta, "
               "sin 2 theta) and centre velocity relative to the shear flow at the centre / "

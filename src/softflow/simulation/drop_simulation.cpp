@@ -44,7 +44,7 @@ void DropSimulation::build_parts() {
                                                     has_interface_slip(config_));
   moving_mesh_ = std::make_unique<physics::MovingMesh>(
       mesh_, physics::MovingMeshSettings{config_.time.ale_rebuild_quality,
-                                         config_.relocation_quality()});
+                                         config_.time.relocation_quality});
   interfaces_ = std::make_unique<ObjectInterfaces>(config_, mesh_);
   modules_ = make_modules({config_, mesh_, *stokes_, models_});
 }
@@ -372,7 +372,7 @@ double DropSimulation::move_mesh_ale(const InterfacePositions& x_hat, double dt)
             ? "the mesh, and remeshing (remesh.quality) could not replace it (see the notes "
               "above: docs/remeshing.md says which deformations it cannot mesh yet)"
             : "a mesh that is never remeshed ([remesh] quality > 0 remeshes it)",
-        config_.relocation_quality() > 0.0
+        config_.time.relocation_quality > 0.0
             ? " (node relocation, time.relocation_quality, could not keep it valid: a finer "
               "mesh gives it nodes to move)"
             : "; time.relocation_quality > 0 moves free nodes to keep elements valid",
