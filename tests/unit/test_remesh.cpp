@@ -127,6 +127,21 @@ TEST(Remesh, AnUnchangedMeshKeepsItsInterfaceAndVolumes) {
   EXPECT_DOUBLE_EQ(r.report.quality_after, mesh::min_quality(r.mesh));
   EXPECT_EQ(r.mesh.n_objects, 1);
   EXPECT_GT(std::count(r.mesh.tet_region.begin(), r.mesh.tet_region.end(), 1), 0);
+  // The report says what bounds the new mesh at the interface (kept as it
+  // is) and which of gmsh's algorithms made it.
+  EXPECT_EQ(r.report.interface_shape, mesh::min_interface_shape(before));
+  EXPECT_EQ(r.report.interface_shape, mesh::min_interface_shape(r.mesh));
+  EXPECT_GT(r.report.interface_shape, 0.3);  // gmsh's surface mesh of a sphere
+  EXPECT_TRUE(r.report.algorithm == 1 || r.report.algorithm == 10) << r.report.algorithm;
+}
+
+TEST(MeshQuality, TriangleShapeIsOneForAnEquilateralTriangleAndZeroForADegenerateOne) {
+  const mesh::Point a(0, 0, 0), b(1, 0, 0), c(0.5, std::sqrt(3.0) / 2, 0);
+  EXPECT_NEAR(mesh::triangle_shape(a, b, c), 1.0, 1e-15);
+  EXPECT_NEAR(mesh::triangle_shape(a, c, b), 1.0, 1e-15);  // either orientation
+  EXPECT_EQ(mesh::triangle_shape(a, b, mesh::Point(2, 0, 0)), 0.0);
+  // A right isosceles triangle: 4 sqrt(3) (1/2) / (1 + 1 + 2).
+  EXPECT_NEAR(mesh::triangle_shape(a, b, mesh::Point(0, 1, 0)), std::sqrt(3.0) / 2, 1e-15);
 }
 
 TEST(Remesh, AMovedTranslatedMeshGetsGoodElementsAndTheSameVolumes) {

@@ -417,6 +417,7 @@ Remeshed remesh(const ShearCellSpec& spec, const mesh::Mesh& current) {
   for (int algorithm : {1, 10}) {
     try {
       Remeshed candidate = remesh_with(spec, current, old_interfaces, algorithm);
+      candidate.report.algorithm = algorithm;
       if (best.mesh.tets.empty() || candidate.report.quality_after > best.report.quality_after)
         best = std::move(candidate);
     } catch (const MeshError& e) {
@@ -429,6 +430,7 @@ Remeshed remesh(const ShearCellSpec& spec, const mesh::Mesh& current) {
   r.nodes_before = current.n_nodes();
   r.tets_before = current.n_tets();
   r.quality_before = mesh::min_quality(current);
+  r.interface_shape = mesh::min_interface_shape(current);
   r.nodes_after = best.mesh.n_nodes();
   r.tets_after = best.mesh.n_tets();
   r.quality_after = detail::check_quality(best.mesh, spec.sizing.optimize_high_order);

@@ -14,6 +14,10 @@ struct RemeshReport {
   int nodes_before = 0, nodes_after = 0;
   int tets_before = 0, tets_after = 0;
   double quality_before = 0.0, quality_after = 0.0;  ///< mesh::min_quality
+  /// mesh::min_interface_shape of the interfaces kept: the new elements on
+  /// them are shaped by these triangles, which the remesh does not change.
+  double interface_shape = 1.0;
+  int algorithm = 1;  ///< gmsh's Mesh.Algorithm3D of the mesh kept: 1 Delaunay, 10 HXT
   double seconds = 0.0;
 };
 

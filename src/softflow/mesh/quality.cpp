@@ -124,4 +124,17 @@ std::string describe_element(const Mesh& mesh, int tet) {
                      mesh.tet_region[tet], x.x(), x.y(), x.z());
 }
 
+double triangle_shape(const Point& a, const Point& b, const Point& c) {
+  const double edges2 = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
+  if (!(edges2 > 0.0)) return 0.0;
+  return 2.0 * std::sqrt(3.0) * (b - a).cross(c - a).norm() / edges2;
+}
+
+double min_interface_shape(const Mesh& mesh) {
+  double worst = 1.0;
+  for (const auto& f : mesh.interface_faces)
+    worst = std::min(worst, triangle_shape(mesh.nodes[f[0]], mesh.nodes[f[1]], mesh.nodes[f[2]]));
+  return worst;
+}
+
 }  // namespace softflow::mesh

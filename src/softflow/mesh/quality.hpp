@@ -30,4 +30,13 @@ int worst_tet(const Mesh& mesh);
 /// vertex: how failure messages say where an element is.
 std::string describe_element(const Mesh& mesh, int tet);
 
+/// Shape of a triangle's corners, 4 sqrt(3) area / (sum of squared edges):
+/// 1 for an equilateral triangle, -> 0 as it degenerates.
+double triangle_shape(const Point& a, const Point& b, const Point& c);
+
+/// The smallest triangle_shape of the interface triangles (their corner
+/// nodes); 1 without interfaces. A tetrahedron with a face on an interface
+/// cannot be much better shaped than that face.
+double min_interface_shape(const Mesh& mesh);
+
 }  // namespace softflow::mesh

@@ -89,10 +89,10 @@ void append_remesh_row(const fs::path& directory, const RemeshEvent& e) {
   std::ofstream out(path, std::ios::app);
   if (fresh)
     out << "step,t,reason,nodes_before,nodes_after,quality_before,quality_after,volume_change,"
-           "transfer_extrapolation,seconds\n";
-  out << fmt::format("{},{:.10g},\"{}\",{},{},{:.6g},{:.6g},{:.3e},{:.3e},{:.4g}\n", e.step, e.time, e.reason,
-                     e.nodes_before, e.nodes_after, e.quality_before, e.quality_after, e.volume_change,
-                     e.extrapolation, e.seconds);
+           "transfer_extrapolation,seconds,interface_shape,algorithm\n";
+  out << fmt::format("{},{:.10g},\"{}\",{},{},{:.6g},{:.6g},{:.3e},{:.3e},{:.4g},{:.4g},{}\n", e.step, e.time,
+                     e.reason, e.nodes_before, e.nodes_after, e.quality_before, e.quality_after,
+                     e.volume_change, e.extrapolation, e.seconds, e.interface_shape, e.algorithm);
   if (!out) throw Error(fmt::format("cannot write {}", path.string()));
 }
 
@@ -171,10 +171,10 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
         write_checkpoint();
         on_root_sharing_failure([&] { append_remesh_row(directory, e); });
         if (console)
-          fmt::print("remesh at step {} (t = {:.4f}): {}; nodes {} -> {}, worst quality {:.3f} -> {:.3f}, "
-                     "volume change {:.1e}, {:.2f} s\n",
+          fmt::print("remesh at step {} (t = {:.4f}): {}; nodes {} -> {}, worst quality {:.3f} -> {:.3f} "
+                     "({}; worst interface triangle {:.3f}), volume change {:.1e}, {:.2f} s\n",
                      e.step, e.time, e.reason, e.nodes_before, e.nodes_after, e.quality_before,
-                     e.quality_after, e.volume_change, e.seconds);
+                     e.quality_after, e.algorithm, e.interface_shape, e.volume_change, e.seconds);
       }
       last = stepper.take(sim);
       add(ledger.total, last.stages);

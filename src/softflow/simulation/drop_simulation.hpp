@@ -51,6 +51,10 @@ struct RemeshEvent {
   std::string reason;
   int nodes_before = 0, nodes_after = 0;
   double quality_before = 0.0, quality_after = 0.0;
+  /// The worst interface triangle's shape (mesh::min_interface_shape): the
+  /// interfaces are kept as they are, so it bounds the new mesh's elements there.
+  double interface_shape = 1.0;
+  std::string algorithm;  ///< gmsh's 3D algorithm of the mesh kept: "delaunay" or "hxt"
   /// Largest relative change of an object's enclosed volume (0 to round-off:
   /// the interfaces are carried over node for node).
   double volume_change = 0.0;
