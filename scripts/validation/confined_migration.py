@@ -20,16 +20,16 @@ beginnings lie (after the first TRANSIENT time units, the particle's
 deformation from a sphere, which the thesis drops as "the very early
 stages").
 Usage: scripts/validation/confined_migration.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import csv
 import os
-import subprocess
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_csv, validation_main  # noqa: E402
+from case_runs import validation_main  # noqa: E402
+from migration_runs import (combine, plot_trajectories, read_migration, read_starts, start_table,  # noqa: E402
+                            write_series)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -90,21 +90,6 @@ def jobs():
     return [(case_name(s), case_text(case_name(s), s)) for s in STARTS + MIRRORS]
 
 
-def read_migration(directory):
-    rows = [r for r in read_csv(os.path.join(directory, "migration.csv")) if r["object"] == "1"]
-    return {
-        "t": [float(r["t"]) for r in rows],
-        "y": [float(r["y_p"]) / HEIGHT for r in rows],
-        "v": [float(r["v_p"]) / HEIGHT for r in rows],  # units gamma_dot H
-        "dS": [float(r["delta_s"]) for r in rows],
-    }
-
-
-def remeshes(directory):
-    path = os.path.join(directory, "remesh.csv")
-    return len(read_csv(path)) if os.path.exists(path) else 0
-
-
 def mirror_lines(work, runs):
     """Each mirror start against its start at the same times: v_p and Delta S split into
     the antisymmetric part (the physics) and the common part (the meshes' asymmetry)."""
@@ -113,7 +98,7 @@ def mirror_lines(work, runs):
         directory = os.path.join(work, case_name(m))
         if -m not in runs or not os.path.exists(os.path.join(directory, "migration.csv")):
             continue
-        mirror, start = read_migration(directory), runs[-m][1]
+        mirror, start = read_migration(directory, HEIGHT), runs[-m][1]
         by_time = {round(t, 6): i for i, t in enumerate(start["t"])}
         pairs = [(by_time[round(t, 6)], j) for j, t in enumerate(mirror["t"])
                  if round(t, 6) in by_time and t >= TRANSIENT]
@@ -136,39 +121,24 @@ def mirror_lines(work, runs):
 
 
 def report(work, build):
-    runs = {}
-    for s in STARTS:
-        directory = os.path.join(work, case_name(s))
-        if os.path.exists(os.path.join(directory, "migration.csv")):
-            runs[s] = (directory, read_migration(directory))
+    runs = read_starts(work, STARTS, case_name, HEIGHT)
     if not runs:
         print("no runs to report")
         return
-    combined = os.path.join(work, "combined")
-    subprocess.run([os.path.join(build, "softflow"), "migration", *[d for d, _ in runs.values()],
-                    "--transient", str(TRANSIENT), "-o", combined], check=True)
-
+    combined_lines = combine(build, work, runs, TRANSIENT)
     os.makedirs(OUT, exist_ok=True)
-    with open(os.path.join(OUT, "confined_migration.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["y_p0_over_H", "t", "y_p_over_H", "v_p_over_gamma_dot_H", "delta_S"])
-        for s, (_, r) in runs.items():
-            for row in zip(r["t"], r["y"], r["v"], r["dS"]):
-                w.writerow([f"{s:.2f}", *(f"{x:.6g}" for x in row)])
+    write_series(os.path.join(OUT, "confined_migration.csv"), runs)
 
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.4))
+    plot_trajectories(ax, runs, Y_MAX, TRANSIENT)
     for s, (_, r) in runs.items():
-        ax[0].plot(r["t"], r["y"], label=f"y_p0 = {s:.2f} H")
         late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT]
-        ax[1].plot([r["y"][i] for i in late], [r["v"][i] for i in late], ".", ms=2, label=f"y_p0 = {s:.2f} H")
         ax[2].plot([r["y"][i] for i in late], [r["dS"][i] for i in late], ".", ms=2, label=f"y_p0 = {s:.2f} H")
-    ax[0].axhspan(Y_MAX, 0.5, color="0.85")
-    ax[0].set(xlabel="gamma_dot t", ylabel="y_p / H", ylim=(0, 0.5), title="trajectories (Fig. 3.5)")
+    ax[0].set(title="trajectories (Fig. 3.5)")
     slope = -2 * BETA ** 3 * CA_E  # eq. 3.8, v_p / (gamma_dot H) against y_p / y_p,max
     ys = [0, Y_MAX]
     ax[1].plot(ys, [slope * y / Y_MAX for y in ys], "k--", lw=0.8, label="eq. 3.8 (near the centre)")
-    ax[1].set(xlabel="y_p / H", ylabel="v_p / (gamma_dot H)", xlim=(0, 0.3),
-              title=f"migration velocity, t >= {TRANSIENT:g} (Fig. 3.6)")
+    ax[1].set(xlim=(0, 0.3), title=f"migration velocity, t >= {TRANSIENT:g} (Fig. 3.6)")
     ax[2].set(xlabel="y_p / H", ylabel="Delta S (eq. 3.6)", xlim=(0, 0.3),
               title=f"surface imbalance, t >= {TRANSIENT:g} (Fig. 3.8)")
     for a in ax:
@@ -185,25 +155,11 @@ def report(work, build):
         f"cell 20 x {HEIGHT:g} x 20 (R = 1), dt = {DT}, t = 0 ... {T_END:g} per start, "
         "[remesh] quality = 0.2. v_p in units of gamma_dot H, y_p in units of H.",
         "",
-        "| y_p0 / H | y_p / H at t = 5 | y_p / H at end | mean v_p, t >= 5 | Delta S at end | remeshes | unknowns | wall s | status |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    import json
-    for s, (directory, r) in runs.items():
-        summary = json.load(open(os.path.join(directory, "summary.json"))) if os.path.exists(
-            os.path.join(directory, "summary.json")) else {}
-        late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT]
-        at5 = r["y"][late[0]] if late else float("nan")
-        mean_v = (r["y"][-1] - at5) / (r["t"][-1] - r["t"][late[0]]) if len(late) > 1 else float("nan")
-        lines.append(f"| {s:.2f} | {at5:.4f} | {r['y'][-1]:.4f} | {mean_v:.3e} | {r['dS'][-1]:.3e} | "
-                     f"{remeshes(directory)} | {summary.get('unknowns', '')} | {summary.get('wall_seconds', 0):.0f} | "
-                     f"{summary.get('status', 'running')} (t = {r['t'][-1]:g}) |")
+    ] + start_table(runs, TRANSIENT)
     lines += mirror_lines(work, runs)
     lines += ["", f"eq. 3.8 near the centre: v_p = {slope:.4f} y_p / y_p,max (gamma_dot H).", "",
               "## softflow migration (master curves, neutral heights, near-centre slope)", ""]
-    md = os.path.join(combined, "migration.md")
-    if os.path.exists(md):
-        lines += [line.rstrip("\n") for line in open(md)][1:]
+    lines += combined_lines
     with open(os.path.join(OUT, "confined_migration.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

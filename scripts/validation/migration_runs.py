@@ -1,0 +1,85 @@
+"""Reading and combining the runs of a migration study (one particle started
+at several heights): what scripts/validation/confined_migration.py and
+giesekus_migration.py share. Heights in units of H, velocities in gamma_dot H."""
+import csv
+import json
+import os
+import subprocess
+
+from case_runs import read_csv
+
+
+def read_migration(directory, height):
+    """The first object's t, y_p / H, v_p / (gamma_dot H) and Delta S per step."""
+    rows = [r for r in read_csv(os.path.join(directory, "migration.csv")) if r["object"] == "1"]
+    return {
+        "t": [float(r["t"]) for r in rows],
+        "y": [float(r["y_p"]) / height for r in rows],
+        "v": [float(r["v_p"]) / height for r in rows],
+        "dS": [float(r["delta_s"]) for r in rows],
+    }
+
+
+def read_starts(work, starts, case_name, height):
+    """{start: (directory, series)} of the starts whose runs have begun, by height."""
+    runs = {}
+    for s in sorted(starts):
+        directory = os.path.join(work, case_name(s))
+        if os.path.exists(os.path.join(directory, "migration.csv")):
+            runs[s] = (directory, read_migration(directory, height))
+    return runs
+
+
+def combine(build, work, runs, transient):
+    """`softflow migration` over the runs (master curves, neutral heights) into
+    work/combined; returns the lines of its migration.md after the title."""
+    combined = os.path.join(work, "combined")
+    subprocess.run([os.path.join(build, "softflow"), "migration", *[d for d, _ in runs.values()],
+                    "--transient", str(transient), "-o", combined], check=True)
+    md = os.path.join(combined, "migration.md")
+    return [line.rstrip("\n") for line in open(md)][1:] if os.path.exists(md) else []
+
+
+def write_series(path, runs):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["y_p0_over_H", "t", "y_p_over_H", "v_p_over_gamma_dot_H", "delta_S"])
+        for s, (_, r) in runs.items():
+            for row in zip(r["t"], r["y"], r["v"], r["dS"]):
+                w.writerow([f"{s:.2f}", *(f"{x:.6g}" for x in row)])
+
+
+def remeshes(directory):
+    path = os.path.join(directory, "remesh.csv")
+    return len(read_csv(path)) if os.path.exists(path) else 0
+
+
+def start_table(runs, transient):
+    """One Markdown row per start: heights, the mean v_p after the transient
+    (slope of y_p), Delta S at the end, remeshes, size, time and status."""
+    lines = [f"| y_p0 / H | y_p / H at t = {transient:g} | y_p / H at end | mean v_p, t >= {transient:g} | "
+             "Delta S at end | remeshes | unknowns | wall s | status |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for s, (directory, r) in runs.items():
+        path = os.path.join(directory, "summary.json")
+        summary = json.load(open(path)) if os.path.exists(path) else {}
+        late = [i for i, t in enumerate(r["t"]) if t >= transient]
+        at_transient = r["y"][late[0]] if late else float("nan")
+        mean_v = ((r["y"][-1] - at_transient) / (r["t"][-1] - r["t"][late[0]]) if len(late) > 1
+                  else float("nan"))
+        lines.append(f"| {s:.2f} | {at_transient:.4f} | {r['y'][-1]:.4f} | {mean_v:.3e} | {r['dS'][-1]:.3e} | "
+                     f"{remeshes(directory)} | {summary.get('unknowns', '')} | "
+                     f"{summary.get('wall_seconds', 0):.0f} | {summary.get('status', 'running')} "
+                     f"(t = {r['t'][-1]:g}) |")
+    return lines
+
+
+def plot_trajectories(ax, runs, y_max, transient):
+    """Trajectories (ax[0]) and v_p(y_p) after the transient (ax[1])."""
+    for s, (_, r) in runs.items():
+        ax[0].plot(r["t"], r["y"], label=f"y_p0 = {s:.2f} H")
+        late = [i for i, t in enumerate(r["t"]) if t >= transient]
+        ax[1].plot([r["y"][i] for i in late], [r["v"][i] for i in late], ".", ms=2, label=f"y_p0 = {s:.2f} H")
+    ax[0].axhspan(y_max, 0.5, color="0.85")
+    ax[0].set(xlabel="gamma_dot t", ylabel="y_p / H", ylim=(0, 0.5))
+    ax[1].set(xlabel="y_p / H", ylabel="v_p / (gamma_dot H)")
