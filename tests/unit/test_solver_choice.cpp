@@ -1,5 +1,6 @@
-// solver.type = "auto": direct up to la::kDirectSolverLimit unknowns,
-// iterative above, decided by the Stokes system from its own dof count.
+// solver.type = "auto": direct up to la::kDirectSolverLimit unknowns for a
+// run long enough to repay the factorisation, iterative otherwise, decided by
+// the Stokes system from its own dof count and the case's planned steps.
 #include <gtest/gtest.h>
 
 #include "softflow/common/error.hpp"
@@ -44,6 +45,47 @@ TEST(SolverChoice, AutoSwitchesToIterativeAboveTheLimit) {
   EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, kDirectSolverLimit + 1), SaddlePointMethod::iterative);
   EXPECT_EQ(resolve_method(SaddlePointMethod::direct, 10 * kDirectSolverLimit), SaddlePointMethod::direct);
   EXPECT_EQ(resolve_method(SaddlePointMethod::iterative, 100), SaddlePointMethod::iterative);
+}
+
+TEST(SolverChoice, AutoFactorsOnlyForARunLongEnoughToRepayIt) {
+  using la::resolve_method;
+  using la::SaddlePointMethod;
+  // Issue 34's case: 94k unknowns, 10 steps of dt 0.1. Measured there
+  // (docs/benchmarks/solver_crossover.md): the iterative path's first step
+  // 4.3 s and later ones 2.4 s, the direct path's 24.4 s and 2.2 s: it
+  // repays its factorisation after 96 steps.
+  const long unknowns = 94320;
+  EXPECT_EQ(la::direct_solver_crossover_steps(unknowns), 99);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 10), SaddlePointMethod::iterative);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 98), SaddlePointMethod::iterative);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 99), SaddlePointMethod::direct);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 2000), SaddlePointMethod::direct);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 0), SaddlePointMethod::direct);  // not known
+  // Memory first: above the limit never direct, however long the run.
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, la::kDirectSolverLimit + 1, 100000),
+            SaddlePointMethod::iterative);
+  // Below the measured sizes a factorisation takes seconds: direct, as before.
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, la::kRunLengthRuleFrom - 1, 1), SaddlePointMethod::direct);
+  // An explicit choice is kept.
+  EXPECT_EQ(resolve_method(SaddlePointMethod::direct, unknowns, 1), SaddlePointMethod::direct);
+  // The run's report says why.
+  EXPECT_NE(la::method_reason(SaddlePointMethod::automatic, unknowns, 10).find("10 steps planned, fewer than the 99"),
+            std::string::npos) << la::method_reason(SaddlePointMethod::automatic, unknowns, 10);
+  EXPECT_EQ(la::method_reason(SaddlePointMethod::iterative, unknowns, 10), "solver.type");
+}
+
+TEST(SolverChoice, ACasePlansItsStepsFromEndAndStep) {
+  io::TimeConfig time;
+  EXPECT_EQ(simulation::planned_steps(time), 1);  // end = 0: one solve
+  time.end = 10.0;
+  time.step = 0.05;
+  EXPECT_EQ(simulation::planned_steps(time), 200);
+  time.step = 0.03;
+  EXPECT_EQ(simulation::planned_steps(time), 334);  // the last step shortened
+  time.adaptive_tolerance = 1e-3;
+  EXPECT_EQ(simulation::planned_steps(time), 0);  // adaptive without max_step: not known
+  time.max_step = 0.5;
+  EXPECT_EQ(simulation::planned_steps(time), 20);  // at least end / max_step
 }
 
 TEST(SolverChoice, AnUnresolvedMethodIsRefusedBySolverItself) {

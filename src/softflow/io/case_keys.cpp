@@ -327,8 +327,10 @@ Table<CaseConfig> solver_table() {
   return {"solver", "The Stokes solver; options go to PETSc under the prefix stokes_.", false,
           {choice("type", field(&CaseConfig::solver), SolverType::automatic,
                   {{"auto", SolverType::automatic,
-                    "direct up to 150000 unknowns, iterative above (LU memory: 3.5 GB at 124k, "
-                    "19 GB at 366k unknowns)"},
+                    "direct when the run is long enough to repay the factorisation (about "
+                    "100 (unknowns / 95000)^1.5 steps: docs/benchmarks/solver_crossover.md) and "
+                    "below 150000 unknowns (LU memory: 3.5 GB at 124k, 19 GB at 366k), iterative "
+                    "otherwise; the run prints which and why"},
                    {"direct", SolverType::direct, "LU (MUMPS)"},
                    {"iterative", SolverType::iterative, "GMRES with a Schur-complement fieldsplit"}},
                   "how the saddle-point system is solved"),

@@ -13,9 +13,10 @@
 namespace softflow::la {
 
 enum class SaddlePointMethod {
-  /// direct up to kDirectSolverLimit unknowns, iterative above; the system
-  /// that owns the matrix resolves it (resolve_method) before the solver
-  /// is made, since only it knows the size.
+  /// direct for a run long enough to repay the factorisation
+  /// (direct_solver_crossover_steps) up to kDirectSolverLimit unknowns,
+  /// iterative otherwise; the system that owns the matrix resolves it
+  /// (resolve_method) before the solver is made, since only it knows the size.
   automatic,
   direct,     ///< MUMPS LU (exact; practical up to ~150k unknowns, PLATFORM.md)
   iterative,  ///< GMRES (right) + lower Schur fieldsplit, BoomerAMG on velocity
@@ -27,11 +28,33 @@ enum class SaddlePointMethod {
 /// (PLATFORM.md); below it the direct solver's factor reuse wins.
 inline constexpr int kDirectSolverLimit = 150000;
 
-/// `method` with automatic replaced by the choice for `unknowns`.
-SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns);
+/// The number of time steps from which factoring once (and reusing the
+/// factors as a preconditioner) costs less than the iterative path, for a
+/// system of `unknowns`: the factorisation makes the direct path's first
+/// step slow (4.0 / 7.4 / 12.3 / 24.4 s against 1.1 / 1.6 / 2.8 / 4.3 s at
+/// 28k / 37k / 61k / 94k unknowns) and its later steps only 10-30 %
+/// cheaper, so it pays off after S* = 18 / 37 / 54 / 96 steps
+/// (docs/benchmarks/solver_crossover.md, bench/run_solver_crossover.py):
+/// 100 (unknowns / 95,000)^1.5 fits them within their noise. Below
+/// kRunLengthRuleFrom unknowns (not measured; a factorisation takes under
+/// 4 s) 0: the direct path for any run, as before the rule.
+long direct_solver_crossover_steps(long unknowns);
+inline constexpr long kRunLengthRuleFrom = 20000;
+
+/// `method` with automatic replaced by the choice for `unknowns` and a run
+/// of `planned_steps` time steps (0: not known, taken as a long run):
+/// iterative above kDirectSolverLimit (memory) or for a run shorter than
+/// direct_solver_crossover_steps, direct otherwise.
+SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns, long planned_steps = 0);
+
+/// Why resolve_method chose as it did, for the run's report.
+std::string method_reason(SaddlePointMethod requested, long unknowns, long planned_steps);
 
 struct SaddlePointSettings {
   SaddlePointMethod method = SaddlePointMethod::direct;
+  /// For SaddlePointMethod::automatic: the run's planned number of time
+  /// steps (0: not known), which decides whether a factorisation pays off.
+  long planned_steps = 0;
   double rtol = 1e-8;
   int max_iterations = 500;
   /// Direct method in a time loop: keep the LU factors of an earlier matrix

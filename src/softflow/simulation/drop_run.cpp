@@ -317,6 +317,10 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
         "results written; run the case again to start it",
         signal_name(signal)));
   if (ledger.steady) ledger.steady->add(first.time, steady_sample(first, wall_motion(config)));
+  if (!options.quiet && is_root())
+    fmt::print("Stokes solver: {} ({})\n",
+               sim.stokes().settings().method == la::SaddlePointMethod::direct ? "direct" : "iterative",
+               sim.stokes().method_reason());
   RunFiles files;
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));

@@ -79,6 +79,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
   summary["stokes_iterations_per_step"] = static_cast<double>(ledger.stokes_iterations) * per_step;
   summary["stokes_solver"] =
       sim.stokes().settings().method == la::SaddlePointMethod::direct ? "direct" : "iterative";
+  summary["stokes_solver_reason"] = sim.stokes().method_reason();
   summary["stokes_factorizations"] = sim.stokes().n_factorizations();
   summary["ale_rebuilds"] = sim.ale_rebuilds();
   summary["relocation_steps"] = sim.relocation_steps();

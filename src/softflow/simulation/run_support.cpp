@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <optional>
@@ -177,7 +178,15 @@ la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
   }
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
+  s.planned_steps = planned_steps(config.time);
   return s;
+}
+
+long planned_steps(const io::TimeConfig& time) {
+  if (time.end <= 0.0) return 1;  // one Stokes solve of the initial state
+  if (time.adaptive_tolerance > 0.0)  // at least end / max_step; unbounded: not known
+    return time.max_step > 0.0 ? static_cast<long>(std::ceil(time.end / time.max_step - 1e-9)) : 0;
+  return static_cast<long>(std::ceil(time.end / time.step - 1e-9));
 }
 
 nlohmann::json peak_memory_summary() {

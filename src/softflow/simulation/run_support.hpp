@@ -42,10 +42,18 @@ MeshedCase build_mesh(const io::CaseConfig& config);
 void mesh_before_mpi(const io::CaseConfig& config);
 
 /// The Stokes solver's settings for `config`. solver.type = "auto" stays
-/// SaddlePointMethod::automatic: the StokesSystem decides it from its
-/// number of unknowns (la::kDirectSolverLimit); stokes().settings() then
-/// holds the method it chose.
+/// SaddlePointMethod::automatic, with the case's planned_steps: the
+/// StokesSystem decides it from its number of unknowns and those steps
+/// (la::resolve_method); stokes().settings() then holds the method it chose.
 la::SaddlePointSettings solver_settings(const io::CaseConfig& config);
+
+/// The time steps a case plans (what solver.type = "auto" weighs a
+/// factorisation against): end / step for constant steps, end / max_step
+/// (a lower bound) for adaptive ones, 0 (not known) for adaptive steps
+/// without max_step, 1 for end = 0 (one solve). A steady stop may end the
+/// run earlier; the count is the whole run's, so a restart chooses as the
+/// run did.
+long planned_steps(const io::TimeConfig& time);
 
 /// summary.json's "peak_memory_mb": the largest rank's and all ranks' peak
 /// resident set (parallel::peak_memory). Collective.

@@ -106,6 +106,8 @@ class StokesSystem {
   }
   /// The solver settings in use (solver.type "auto" resolved).
   [[nodiscard]] const la::SaddlePointSettings& settings() const { return settings_; }
+  /// Why settings().method is the one in use (la::method_reason).
+  [[nodiscard]] const std::string& method_reason() const { return method_reason_; }
 
   /// The direct method's factorisation reuse as a part of the run's state
   /// ("stokes"): whether the next solve refactors, the builds so far, and
@@ -249,6 +251,7 @@ class StokesSystem {
 
   const mesh::Mesh& mesh_;
   la::SaddlePointSettings settings_;
+  std::string method_reason_;
   bool slip_ = false;
   std::vector<InterfaceMesh> surfaces_;    // with slip: for the node normals
   std::vector<int> owned_interface_nodes_;  // with slip: nodes whose multipliers this rank owns
