@@ -165,9 +165,10 @@ std::string method_reason(SaddlePointMethod requested, long unknowns, long plann
   if (planned_steps > 0 && planned_steps < crossover)
     return fmt::format("auto: {} steps planned, fewer than the {} a factorisation of {} unknowns "
                        "needs to pay off", planned_steps, crossover, unknowns);
+  const std::string planned = planned_steps > 0 ? fmt::format("{}", planned_steps) : "unknown";
   return fmt::format("auto: {} steps planned, at least the {} a factorisation of {} unknowns needs "
-                     "to pay off", planned_steps > 0 ? fmt::format("{}", planned_steps) : std::string("unknown"),
-                     crossover, unknowns);
+                     "to pay off",
+                     planned, crossover, unknowns);
 }
 
 SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings,

@@ -119,7 +119,8 @@ void carry_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
   // search keeps the symmetry exactly (mesh::NodeRelocation pairs mirror
   // nodes): measured, an element of quality 0.048 folded (0.0005) at the
   // second step of a particle at beta = 0.2 otherwise.
-  const auto relocated = mesh::NodeRelocation(meshed.mesh).improve(meshed.mesh.nodes, kStartRelocationQuality);
+  const auto relocated =
+      mesh::NodeRelocation(meshed.mesh).improve(meshed.mesh.nodes, kStartRelocationQuality);
   physics::carry_objects(meshed.mesh, offset);
   if (!is_root()) return;
   auto& r = meshed.report;
