@@ -30,7 +30,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_csv, validation_main  # noqa: E402
+from case_runs import validation_main  # noqa: E402
+from migration_runs import mean_velocity, read_migration  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -97,21 +98,9 @@ def eq_3_8(beta, ca, y_rel):
 
 
 def read(directory, beta):
-    path = os.path.join(directory, "migration.csv")
-    if not os.path.exists(path):
+    if not os.path.exists(os.path.join(directory, "migration.csv")):
         return None
-    rows = [r for r in read_csv(path) if r["object"] == "1"]
-    h = height(beta)
-    return {"t": [float(r["t"]) for r in rows], "y": [float(r["y_p"]) / h for r in rows],
-            "v": [float(r["v_p"]) / h for r in rows], "dS": [float(r["delta_s"]) for r in rows]}
-
-
-def mean_velocity(r):
-    late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT - 1e-9]
-    if len(late) < 2:
-        return None
-    i, j = late[0], late[-1]
-    return (r["y"][j] - r["y"][i]) / (r["t"][j] - r["t"][i])
+    return read_migration(directory, height(beta))
 
 
 def report(work):
@@ -124,7 +113,7 @@ def report(work):
             continue
         summary_path = os.path.join(directory, "summary.json")
         summary = json.load(open(summary_path)) if os.path.exists(summary_path) else {}
-        v = mean_velocity(r)
+        v = mean_velocity(r, TRANSIENT)
         late = [d for t, d in zip(r["t"], r["dS"]) if t >= TRANSIENT - 1e-9]
         mean_ds = sum(late) / len(late) if late else None
         y_rel = (sum(r["y"]) / len(r["y"])) / y_max(beta)

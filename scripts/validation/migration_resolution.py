@@ -13,7 +13,8 @@ Usage: scripts/validation/migration_resolution.py [build_dir] [work_dir] [--jobs
 import csv
 import os
 
-from case_runs import read_csv, validation_main  # noqa: E402
+from case_runs import validation_main  # noqa: E402
+from migration_runs import mean_velocity, read_migration  # noqa: E402
 from confined_migration import HEIGHT, TRANSIENT, case_text  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -39,16 +40,11 @@ def jobs():
     return [(name, text(name, n, dt)) for name, n, dt in LEVELS]
 
 
-def mean_velocity(directory):
-    rows = [r for r in read_csv(os.path.join(directory, "migration.csv"))
-            if r["object"] == "1" and float(r["t"]) <= T_END + 1e-9]
-    t = [float(r["t"]) for r in rows]
-    y = [float(r["y_p"]) / HEIGHT for r in rows]
-    late = [i for i, s in enumerate(t) if s >= TRANSIENT]
-    if len(late) < 2:
-        return None, t[-1] if t else 0.0
-    i, j = late[0], late[-1]
-    return (y[j] - y[i]) / (t[j] - t[i]), t[-1]
+def mean_velocity_to_end(directory):
+    """Mean v_p over t = TRANSIENT ... T_END and the last time reached (up to T_END)."""
+    r = read_migration(directory, HEIGHT)
+    t = [s for s in r["t"] if s <= T_END + 1e-9]
+    return mean_velocity(r, TRANSIENT, T_END), t[-1] if t else 0.0
 
 
 def report(work):
@@ -56,7 +52,7 @@ def report(work):
     for name, n, dt in [("figures' run (N20_dt0.04)", 20, 0.04)] + LEVELS:
         directory = REFERENCE if n == 20 and dt == 0.04 else os.path.join(work, name)
         if os.path.exists(os.path.join(directory, "migration.csv")):
-            v, t_last = mean_velocity(directory)
+            v, t_last = mean_velocity_to_end(directory)
             rows.append((name, n, dt, v, t_last))
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "migration_resolution.csv"), "w", newline="") as f:

@@ -20,6 +20,16 @@ def read_migration(directory, height):
     }
 
 
+def mean_velocity(r, transient, t_end=float("inf")):
+    """The slope of y_p(t) between the first row at t >= transient and the last
+    at t <= t_end (the mean v_p after the transient), or None without two rows."""
+    rows = [i for i, t in enumerate(r["t"]) if transient - 1e-9 <= t <= t_end + 1e-9]
+    if len(rows) < 2:
+        return None
+    i, j = rows[0], rows[-1]
+    return (r["y"][j] - r["y"][i]) / (r["t"][j] - r["t"][i])
+
+
 def read_starts(work, starts, case_name, height):
     """{start: (directory, series)} of the starts whose runs have begun, by height."""
     runs = {}
@@ -65,8 +75,8 @@ def start_table(runs, transient):
         summary = json.load(open(path)) if os.path.exists(path) else {}
         late = [i for i, t in enumerate(r["t"]) if t >= transient]
         at_transient = r["y"][late[0]] if late else float("nan")
-        mean_v = ((r["y"][-1] - at_transient) / (r["t"][-1] - r["t"][late[0]]) if len(late) > 1
-                  else float("nan"))
+        mean_v = mean_velocity(r, transient)
+        mean_v = float("nan") if mean_v is None else mean_v
         lines.append(f"| {s:.2f} | {at_transient:.4f} | {r['y'][-1]:.4f} | {mean_v:.3e} | {r['dS'][-1]:.3e} | "
                      f"{remeshes(directory)} | {summary.get('unknowns', '')} | "
                      f"{summary.get('wall_seconds', 0):.0f} | {summary.get('status', 'running')} "

@@ -47,7 +47,7 @@ std::vector<int> partial_half_turn_images(const mesh::Mesh& m) {
   for (int i = 0; i < m.n_nodes(); ++i) at[{m.nodes[i].x(), m.nodes[i].y(), m.nodes[i].z()}] = i;
   std::vector<int> image(m.n_nodes(), -1);
   for (int i = 0; i < m.n_nodes(); ++i) {
-    const auto p = geometry::rotate_half_turn(m.nodes[i]);
+    const auto p = mesh::half_turn(m.nodes[i]);
     const auto it = at.find({p.x(), p.y(), p.z()});
     if (it != at.end()) image[i] = it->second;
   }
@@ -179,7 +179,7 @@ TEST(PointSymmetricMesh, NodeRelocationKeepsTheSymmetry) {
   int moved = 0;
   for (int i = 0; i < m.n_nodes(); ++i) {
     moved += nodes[i] != m.nodes[i];
-    EXPECT_EQ(nodes[image[i]], geometry::rotate_half_turn(nodes[i])) << "node " << i;
+    EXPECT_EQ(nodes[image[i]], mesh::half_turn(nodes[i])) << "node " << i;
     if (image[i] == i) {
       EXPECT_FALSE(relocation.is_free(i)) << "node " << i << " on the z axis";
     }

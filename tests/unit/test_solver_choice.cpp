@@ -69,9 +69,9 @@ TEST(SolverChoice, AutoFactorsOnlyForARunLongEnoughToRepayIt) {
   // An explicit choice is kept.
   EXPECT_EQ(resolve_method(SaddlePointMethod::direct, unknowns, 1), SaddlePointMethod::direct);
   // The run's report says why.
-  EXPECT_NE(la::method_reason(SaddlePointMethod::automatic, unknowns, 10).find("10 steps planned, fewer than the 99"),
-            std::string::npos) << la::method_reason(SaddlePointMethod::automatic, unknowns, 10);
-  EXPECT_EQ(la::method_reason(SaddlePointMethod::iterative, unknowns, 10), "solver.type");
+  const std::string reason = la::choose_method(SaddlePointMethod::automatic, unknowns, 10).reason;
+  EXPECT_NE(reason.find("10 steps planned, fewer than the 99"), std::string::npos) << reason;
+  EXPECT_EQ(la::choose_method(SaddlePointMethod::iterative, unknowns, 10).reason, "solver.type");
 }
 
 TEST(SolverChoice, ACasePlansItsStepsFromEndAndStep) {

@@ -103,7 +103,7 @@ mesh::Mesh complete_by_half_turn(const mesh::Mesh& half, const std::vector<int>&
     const mesh::Point& p = half.nodes[i];
     if (std::abs(p.y()) > tolerance)
       throw MeshError(fmt::format("cut-plane node {} at y = {:g} is off the plane y = 0", i, p.y()));
-    const int j = plane.find(rotate_half_turn(p));
+    const int j = plane.find(mesh::half_turn(p));
     if (j < 0)
       throw MeshError(fmt::format("cut-plane node {} at ({:g}, 0, {:g}) has no mirror node at x = {:g}: "
                                   "the plane's mesh is not symmetric",
@@ -125,7 +125,7 @@ mesh::Mesh complete_by_half_turn(const mesh::Mesh& half, const std::vector<int>&
   for (int i = 0; i < n_half; ++i) {
     if (image[i] >= 0) continue;
     image[i] = m.n_nodes();
-    m.nodes.push_back(rotate_half_turn(m.nodes[i]));
+    m.nodes.push_back(mesh::half_turn(m.nodes[i]));
     m.is_vertex.push_back(half.is_vertex[i]);
   }
 
@@ -181,7 +181,7 @@ int nodes_without_half_turn_image(const mesh::Mesh& m, double tolerance) {
   for (int i = 0; i < m.n_nodes(); ++i) all.insert(i, m.nodes[i]);
   int missing = 0;
   for (const auto& p : m.nodes)
-    if (all.find(rotate_half_turn(p)) < 0) ++missing;
+    if (all.find(mesh::half_turn(p)) < 0) ++missing;
   return missing;
 }
 

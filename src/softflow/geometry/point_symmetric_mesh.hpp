@@ -15,12 +15,10 @@
 
 #include <vector>
 
+#include "softflow/mesh/half_turn.hpp"
 #include "softflow/mesh/mesh.hpp"
 
 namespace softflow::geometry {
-
-/// R (x, y, z) = (-x, -y, z), the rotation by pi about the z axis.
-inline mesh::Point rotate_half_turn(const mesh::Point& p) { return {-p.x(), -p.y(), p.z()}; }
 
 /// The whole cell from a mesh of its upper half y >= 0 and the nodes of the
 /// half's cut plane y = 0, whose mesh R must map onto itself (x -> -x on the

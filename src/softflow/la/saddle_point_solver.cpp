@@ -145,30 +145,24 @@ long direct_solver_crossover_steps(long unknowns) {
   return static_cast<long>(std::ceil(100.0 * std::pow(static_cast<double>(unknowns) / 95000.0, 1.5)));
 }
 
-SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns, long planned_steps) {
-  if (method != SaddlePointMethod::automatic) return method;
-  if (unknowns > kDirectSolverLimit) return SaddlePointMethod::iterative;
-  if (planned_steps > 0 && planned_steps < direct_solver_crossover_steps(unknowns))
-    return SaddlePointMethod::iterative;
-  return SaddlePointMethod::direct;
-}
-
-std::string method_reason(SaddlePointMethod requested, long unknowns, long planned_steps) {
-  if (requested != SaddlePointMethod::automatic) return "solver.type";
+MethodChoice choose_method(SaddlePointMethod method, long unknowns, long planned_steps) {
+  using enum SaddlePointMethod;
+  if (method != automatic) return {method, "solver.type"};
   if (unknowns > kDirectSolverLimit)
-    return fmt::format("auto: {} unknowns, above the {} a factorisation fits in memory for", unknowns,
-                       kDirectSolverLimit);
+    return {iterative, fmt::format("auto: {} unknowns, above the {} a factorisation fits in memory for",
+                                   unknowns, kDirectSolverLimit)};
   const long crossover = direct_solver_crossover_steps(unknowns);
   if (crossover == 0)
-    return fmt::format("auto: {} unknowns, fewer than {}: a factorisation costs seconds", unknowns,
-                       kRunLengthRuleFrom);
+    return {direct, fmt::format("auto: {} unknowns, fewer than {}: a factorisation costs seconds",
+                                unknowns, kRunLengthRuleFrom)};
   if (planned_steps > 0 && planned_steps < crossover)
-    return fmt::format("auto: {} steps planned, fewer than the {} a factorisation of {} unknowns "
-                       "needs to pay off", planned_steps, crossover, unknowns);
+    return {iterative, fmt::format("auto: {} steps planned, fewer than the {} a factorisation of {} "
+                                   "unknowns needs to pay off",
+                                   planned_steps, crossover, unknowns)};
   const std::string planned = planned_steps > 0 ? fmt::format("{}", planned_steps) : "unknown";
-  return fmt::format("auto: {} steps planned, at least the {} a factorisation of {} unknowns needs "
-                     "to pay off",
-                     planned, crossover, unknowns);
+  return {direct, fmt::format("auto: {} steps planned, at least the {} a factorisation of {} "
+                              "unknowns needs to pay off",
+                              planned, crossover, unknowns)};
 }
 
 SaddlePointSolver::SaddlePointSolver(const SaddlePointSettings& settings,

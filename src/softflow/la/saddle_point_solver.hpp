@@ -41,14 +41,23 @@ inline constexpr int kDirectSolverLimit = 150000;
 long direct_solver_crossover_steps(long unknowns);
 inline constexpr long kRunLengthRuleFrom = 20000;
 
+/// A resolved method and why it is the one, for the run's report.
+struct MethodChoice {
+  SaddlePointMethod method;
+  std::string reason;
+};
+
 /// `method` with automatic replaced by the choice for `unknowns` and a run
 /// of `planned_steps` time steps (0: not known, taken as a long run):
 /// iterative above kDirectSolverLimit (memory) or for a run shorter than
 /// direct_solver_crossover_steps, direct otherwise.
-SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns, long planned_steps = 0);
+MethodChoice choose_method(SaddlePointMethod method, long unknowns, long planned_steps);
 
-/// Why resolve_method chose as it did, for the run's report.
-std::string method_reason(SaddlePointMethod requested, long unknowns, long planned_steps);
+/// choose_method's method alone.
+inline SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns,
+                                        long planned_steps = 0) {
+  return choose_method(method, unknowns, planned_steps).method;
+}
 
 struct SaddlePointSettings {
   SaddlePointMethod method = SaddlePointMethod::direct;

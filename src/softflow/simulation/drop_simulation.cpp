@@ -82,12 +82,13 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
     MPI_Bcast(r.new_node_of_old.data(), old_mesh.n_nodes(), MPI_INT, 0, PETSC_COMM_WORLD);
     MPI_Bcast(&r.report.quality_after, 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
     MPI_Bcast(&r.report.algorithm, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+    MPI_Bcast(&r.report.interface_shape, 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
   }
   event.nodes_before = old_mesh.n_nodes();
   event.quality_before = moving_mesh_->quality();
   event.nodes_after = r.mesh.n_nodes();
   event.quality_after = r.report.quality_after;
-  event.interface_shape = mesh::min_interface_shape(old_mesh);
+  event.interface_shape = r.report.interface_shape;
   event.algorithm = r.report.algorithm == 10 ? "hxt" : "delaunay";
 
   // The parts on the new mesh, from scratch; then the state carried over.

@@ -60,6 +60,16 @@ void on_root_sharing_failure(const std::function<void()>& work) {
 
 namespace {
 
+/// The report's "wall_gap": how an object's gap to its nearest wall was meshed.
+nlohmann::json wall_gap_report(const geometry::WallGapResolution& g, const io::CaseConfig& config) {
+  return {{"object", g.object},
+          {"wall_y", g.side * config.box.height / 2},
+          {"gap", g.gap},
+          {"elements_across", g.elements_across()},
+          {"tetrahedra_crossed", g.tets_crossed},
+          {"gap_elements_requested", config.sizing.elements_across_gaps()}};
+}
+
 /// Meshes `config` in this process (gmsh), with the report.
 MeshedCase mesh_here(const io::CaseConfig& config) {
   MeshedCase out;
@@ -77,12 +87,7 @@ MeshedCase mesh_here(const io::CaseConfig& config) {
                 {"seconds", r.seconds},
                 {"fingerprint", fmt::format("{:016x}", r.fingerprint)}};
   if (r.wall_gap)  // an object close to a wall: how its gap was meshed
-    out.report["wall_gap"] = {{"object", r.wall_gap->object},
-                              {"wall_y", r.wall_gap->side * config.box.height / 2},
-                              {"gap", r.wall_gap->gap},
-                              {"elements_across", r.wall_gap->elements_across()},
-                              {"tetrahedra_crossed", r.wall_gap->tets_crossed},
-                              {"gap_elements_requested", config.sizing.elements_across_gaps()}};
+    out.report["wall_gap"] = wall_gap_report(*r.wall_gap, config);
   return out;
 }
 
@@ -132,11 +137,9 @@ void carry_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
   r["min_quality"] = mesh::min_quality(meshed.mesh);
   r["fingerprint"] = fmt::format("{:016x}", mesh::fingerprint(meshed.mesh));
   if (r.contains("wall_gap")) {
-    const geometry::WallGapResolution g = geometry::measure_wall_gap(meshed.mesh, spec.objects[0]);
-    r["wall_gap"]["wall_y"] = g.side * config.box.height / 2;
-    r["wall_gap"]["gap"] = g.gap;
-    r["wall_gap"]["elements_across"] = g.elements_across();
-    r["wall_gap"]["tetrahedra_crossed"] = g.tets_crossed;
+    geometry::WallGapResolution g = geometry::measure_wall_gap(meshed.mesh, spec.objects[0]);
+    g.object = r["wall_gap"]["object"];
+    r["wall_gap"] = wall_gap_report(g, config);
   }
 }
 

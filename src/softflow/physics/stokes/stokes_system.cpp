@@ -76,8 +76,9 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
     throw SolverError(fmt::format("StokesSystem: {} element dofs, the kernels take {}",
                                   dofs_.element_size(), TetMatrix::RowsAtCompileTime));
   // Before create_matrices, which lays the matrices out for the method.
-  method_reason_ = la::method_reason(settings_.method, dofs_.n_dofs(), settings_.planned_steps);
-  settings_.method = la::resolve_method(settings_.method, dofs_.n_dofs(), settings_.planned_steps);
+  la::MethodChoice choice = la::choose_method(settings_.method, dofs_.n_dofs(), settings_.planned_steps);
+  settings_.method = choice.method;
+  method_reason_ = std::move(choice.reason);
   partition();
   create_matrices();
   if (gauge_after_solve()) attach_pressure_nullspace();

@@ -106,7 +106,7 @@ class StokesSystem {
   }
   /// The solver settings in use (solver.type "auto" resolved).
   [[nodiscard]] const la::SaddlePointSettings& settings() const { return settings_; }
-  /// Why settings().method is the one in use (la::method_reason).
+  /// Why settings().method is the one in use (la::choose_method).
   [[nodiscard]] const std::string& method_reason() const { return method_reason_; }
 
   /// The direct method's factorisation reuse as a part of the run's state
