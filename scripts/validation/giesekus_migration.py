@@ -39,7 +39,7 @@ CA_E = 0.1
 P = 4.5
 SOLVENT, POLYMER, MOBILITY = 0.1, 0.9, 0.2
 HEIGHT = 2.0 / BETA
-STARTS = [0.35, 0.10, 0.28, 0.20]  # y_p0 / H; the two ends of the curve first
+STARTS = [0.28, 0.20, 0.35, 0.10]  # y_p0 / H; the two that bracket the thesis's y_N = 0.26 first
 T_END = 15.0
 DT = 0.04
 TRANSIENT = 5.0

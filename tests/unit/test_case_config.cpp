@@ -140,6 +140,51 @@ TEST(CaseConfig, RemeshQualityDefaultsToNeverAndMustLieAboveMinQuality) {
   EXPECT_EQ(error_of("[time]\nmin_quality = 0.01\n[remesh]\nquality = 0.05\n"), "");
 }
 
+TEST(CaseConfig, StepsAreAdaptiveByDefaultWhereAvailableAndConstantOneKeyAway) {
+  // A drop in time with neither time.step nor time.adaptive_tolerance:
+  // adaptive from the default first step, bounded only by the redistribution.
+  const CaseConfig drop = parse_case("[[objects]]\n[time]\nend = 1.0\n", "case.toml");
+  EXPECT_EQ(drop.time.adaptive_tolerance, 1e-3);
+  EXPECT_EQ(drop.time.step, 0.005);
+  EXPECT_EQ(drop.time.max_step, 0.0);
+  EXPECT_EQ(drop.time.steps_chosen_by, "default");
+  // The resolved case reads back as the same steps (a restart's case.toml).
+  const CaseConfig again = parse_case(to_toml(drop), "case.toml");
+  EXPECT_EQ(again.time.adaptive_tolerance, 1e-3);
+  EXPECT_EQ(again.time.max_step, 0.0);
+  // One key away: a step makes them constant, as does a zero tolerance.
+  const CaseConfig constant = parse_case("[[objects]]\n[time]\nend = 1.0\nstep = 0.05\n", "c.toml");
+  EXPECT_EQ(constant.time.adaptive_tolerance, 0.0);
+  EXPECT_EQ(constant.time.steps_chosen_by, "time.step");
+  const CaseConfig off =
+      parse_case("[[objects]]\n[time]\nend = 1.0\nadaptive_tolerance = 0.0\n", "c.toml");
+  EXPECT_EQ(off.time.adaptive_tolerance, 0.0);
+  EXPECT_EQ(off.time.steps_chosen_by, "time.adaptive_tolerance");
+  // Where adaptive steps are not available the default stays constant: one
+  // Stokes solve, no object to estimate from, a period to resolve, remeshing.
+  EXPECT_EQ(parse_case("[[objects]]\n", "c.toml").time.adaptive_tolerance, 0.0);
+  EXPECT_EQ(parse_case("[time]\nend = 1.0\n", "c.toml").time.adaptive_tolerance, 0.0);
+  EXPECT_EQ(parse_case("[[objects]]\n[flow]\ntype = \"oscillatory\"\nstrain_amplitude = 0.1\n"
+                       "frequency = 1.0\nperiods = 1\n",
+                       "c.toml")
+                .time.adaptive_tolerance,
+            0.0);
+  EXPECT_EQ(parse_case("[[objects]]\n[time]\nend = 1.0\n[remesh]\nquality = 0.2\n", "c.toml")
+                .time.adaptive_tolerance,
+            0.0);
+  // A conformation to carry bounds the step: 0.04, or the shortest relaxation time.
+  const CaseConfig particle = parse_case(
+      "[[objects]]\nmodel = \"neo_hookean\"\nelastic_capillary_number = 0.1\n[time]\nend = 1.0\n",
+      "c.toml");
+  EXPECT_EQ(particle.time.adaptive_tolerance, 1e-3);
+  EXPECT_EQ(particle.time.max_step, 0.04);
+  const CaseConfig matrix = parse_case(
+      "[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\npolymer_viscosity = 0.5\n"
+      "relaxation_time = 0.02\n[[objects]]\n[time]\nend = 1.0\n",
+      "c.toml");
+  EXPECT_EQ(matrix.time.max_step, 0.02);
+}
+
 TEST(CaseConfig, NodeRelocationIsOffByDefaultOnlyForAPointSymmetricStart) {
   EXPECT_EQ(parse_case("", "case.toml").time.relocation_quality, 0.2);
   const char* start = "[[objects]]\ncentre = [0.0, 0.3, 0.0]\n[mesh]\npoint_symmetric_start = true\n";

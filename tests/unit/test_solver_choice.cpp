@@ -75,17 +75,24 @@ TEST(SolverChoice, AutoFactorsOnlyForARunLongEnoughToRepayIt) {
 }
 
 TEST(SolverChoice, ACasePlansItsStepsFromEndAndStep) {
-  io::TimeConfig time;
-  EXPECT_EQ(simulation::planned_steps(time), 1);  // end = 0: one solve
+  io::CaseConfig config;
+  io::TimeConfig& time = config.time;
+  EXPECT_EQ(simulation::planned_step_count(config), 1);  // end = 0: one solve
   time.end = 10.0;
   time.step = 0.05;
-  EXPECT_EQ(simulation::planned_steps(time), 200);
+  EXPECT_EQ(simulation::planned_step_count(config), 200);
   time.step = 0.03;
-  EXPECT_EQ(simulation::planned_steps(time), 334);  // the last step shortened
+  EXPECT_EQ(simulation::planned_step_count(config), 334);  // the last step shortened
+  // Adaptive: at least end over the largest step, the redistribution's
+  // bound 1 / (k gamma_dot) = 0.1 without max_step.
   time.adaptive_tolerance = 1e-3;
-  EXPECT_EQ(simulation::planned_steps(time), 0);  // adaptive without max_step: not known
+  EXPECT_EQ(simulation::planned_step_count(config), 100);
   time.max_step = 0.5;
-  EXPECT_EQ(simulation::planned_steps(time), 20);  // at least end / max_step
+  EXPECT_EQ(simulation::planned_step_count(config), 100);
+  config.interface.redistribution_factor = 0.0;
+  EXPECT_EQ(simulation::planned_step_count(config), 20);  // end / max_step
+  time.max_step = 0.0;
+  EXPECT_EQ(simulation::planned_step_count(config), 0);  // no bound at all: not known
 }
 
 TEST(SolverChoice, AnUnresolvedMethodIsRefusedBySolverItself) {

@@ -596,18 +596,23 @@ void check_remesh(const TableRead& remesh, const TableRead& time, const CaseConf
 /// step 1 with NaN in the Stokes system. So a step (and an adaptive run's
 /// largest step) must not exceed the shortest relaxation time: there the
 /// mode decays by 42 % a step.
-void check_relaxation_steps(const TableRead& time, const TableRead& matrix,
-                            const std::vector<TableRead>& objects, const CaseConfig& c,
-                            Diagnostics& diag) {
-  if (time.status("step") == Read::bad || time.status("end") == Read::bad) return;
-  if (!(c.time.end > 0.0)) return;  // one Stokes solve: no step is taken
+/// The shortest relaxation time of the case's viscoelastic phases and the key
+/// that sets it (infinity and "" without one; elastic particles relax no
+/// conformation of their own: their Finger tensor has no relaxation time).
+struct ShortestRelaxation {
+  double time = std::numeric_limits<double>::infinity();
   std::string key;
-  double lambda = std::numeric_limits<double>::infinity();
+};
+
+ShortestRelaxation shortest_relaxation(const TableRead& matrix,
+                                       const std::vector<TableRead>& objects,
+                                       const CaseConfig& c) {
+  ShortestRelaxation shortest;
   const auto consider = [&](const TableRead& t, const ConstitutiveValues& values) {
     if (t.status("relaxation_time") != Read::ok || !values.relaxation_time) return;
-    if (*values.relaxation_time < lambda) {
-      lambda = *values.relaxation_time;
-      key = t.path("relaxation_time");
+    if (*values.relaxation_time < shortest.time) {
+      shortest.time = *values.relaxation_time;
+      shortest.key = t.path("relaxation_time");
     }
   };
   if (c.matrix_model != ConstitutiveModel::newtonian) consider(matrix, c.matrix_parameters);
@@ -615,6 +620,15 @@ void check_relaxation_steps(const TableRead& time, const TableRead& matrix,
     if (!is_elastic_solid(c.objects[k].model) &&
         c.objects[k].model != ConstitutiveModel::newtonian)
       consider(objects[k], c.objects[k].parameters);
+  return shortest;
+}
+
+void check_relaxation_steps(const TableRead& time, const TableRead& matrix,
+                            const std::vector<TableRead>& objects, const CaseConfig& c,
+                            Diagnostics& diag) {
+  if (time.status("step") == Read::bad || time.status("end") == Read::bad) return;
+  if (!(c.time.end > 0.0)) return;  // one Stokes solve: no step is taken
+  const auto [lambda, key] = shortest_relaxation(matrix, objects, c);
   if (key.empty()) return;
   const auto refuse = [&](std::string_view step_key, double step) {
     const Value* given = time.value(step_key);
@@ -658,6 +672,44 @@ void check_oscillatory_steps(const TableRead& time, const TableRead& flow, const
       time.path("step"), step ? schema::describe(*step) : schema::toml_float(c.time.step),
       flow.path("frequency"), schema::describe(*flow.value("frequency")), period / c.time.step,
       period, kStepsPerPeriod, largest));
+}
+
+/// A case that gives neither time.step nor time.adaptive_tolerance runs with
+/// adaptive steps wherever they are available and verified: a run in time
+/// with objects (the estimate watches their interfaces), a flow without a
+/// period to resolve, and no remeshing (a remesh between an accepted step
+/// and a retried one is not verified). The first step is time.step's
+/// default (0.005: no rejections from rest, docs/time_stepping.md); the
+/// largest is bounded by the tangential redistribution's 1 / (k gamma_dot)
+/// alone for Newtonian phases, and with a conformation to carry by
+/// kDefaultConformationMaxStep (an elastic particle's steady D moved by
+/// 0.2 % between max_step 0.04 and constant 0.02, docs/time_stepping.md)
+/// and the shortest relaxation time (check_relaxation_steps). Any case
+/// outside these keeps constant steps of time.step.
+constexpr double kDefaultAdaptiveTolerance = 1e-3;
+constexpr double kDefaultConformationMaxStep = 0.04;
+
+void resolve_default_steps(const TableRead& time, const TableRead& matrix,
+                           const std::vector<TableRead>& objects, CaseConfig& c) {
+  const bool step_given = time.status("step") != Read::absent;
+  const bool tolerance_given = time.status("adaptive_tolerance") != Read::absent;
+  if (step_given || tolerance_given) {
+    c.time.steps_chosen_by = tolerance_given ? "time.adaptive_tolerance" : "time.step";
+    return;
+  }
+  c.time.steps_chosen_by = "default";
+  if (!(c.time.end > 0.0) || c.objects.empty() || c.flow.type == FlowType::oscillatory ||
+      c.remesh.quality > 0.0 || time.status("max_step") != Read::absent ||
+      time.status("max_growth") != Read::absent)
+    return;
+  c.time.adaptive_tolerance = kDefaultAdaptiveTolerance;
+  const bool conformation =
+      c.matrix_model != ConstitutiveModel::newtonian ||
+      std::any_of(c.objects.begin(), c.objects.end(),
+                  [](const ObjectConfig& o) { return o.model != ConstitutiveModel::newtonian; });
+  if (conformation)
+    c.time.max_step = std::max(
+        c.time.step, std::min(kDefaultConformationMaxStep, shortest_relaxation(matrix, objects, c).time));
 }
 
 /// The output directory, given or output/<name>, must be one softflow can
@@ -925,6 +977,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
   }
   check_relaxation_steps(read["time"], read["matrix"], objects_read, c, diag);
   check_oscillatory_steps(read["time"], read["flow"], c, diag);
+  resolve_default_steps(read["time"], read["matrix"], objects_read, c);
   check_bulk_stress(read["bulk_stress"], c, diag);
   // Node relocation's search does not keep a carried mesh the image of its
   // mirror case's (docs/confinement.md): off unless the file asks for it.

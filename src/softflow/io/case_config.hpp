@@ -116,6 +116,10 @@ struct TimeConfig {
   double adaptive_tolerance = 0.0;
   double max_step = 0.0;    ///< adaptive steps: largest step (0: no bound but max_growth)
   double max_growth = 2.0;  ///< adaptive steps: largest ratio of a step to the one before
+  /// Not a key: what chose the steps, "time.step", "time.adaptive_tolerance"
+  /// or "default" (neither given: adaptive where available, constant
+  /// otherwise; resolve_default_steps). Printed by a run and in summary.json.
+  std::string steps_chosen_by = "default";
 };
 
 /// [checkpoint]: when a run in time saves its state (checkpoint.h5 in the

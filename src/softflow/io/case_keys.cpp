@@ -373,7 +373,8 @@ Table<CaseConfig> time_table() {
       "The time loop (thesis Steps 1-5).",
       false,
       {number("step", time(&TimeConfig::step), 0.005, Range::above(0),
-              "dt; at most the shortest relaxation_time of a viscoelastic phase (its relaxation "
+              "dt: given (without adaptive_tolerance), every step's; with adaptive steps, the "
+              "first. At most the shortest relaxation_time of a viscoelastic phase (its relaxation "
               "is explicit: stable below 4/3 of it), and for oscillatory flow at most 2 pi / (10 "
               "frequency), 10 steps per period"),
        number("end", time(&TimeConfig::end), 0.0, Range::at_least(0),
@@ -414,7 +415,11 @@ Table<CaseConfig> time_table() {
               "> 0: adaptive steps, step is the first one; each step's largest distance between "
               "an interface node's predicted and corrected position, over the object's radius, "
               "is kept below this: a step above it is taken again, smaller, as is a step that "
-              "fails (solver, mesh quality), down to step / 1000. 0 = constant steps"),
+              "fails (solver, mesh quality), down to step / 1000. 0 = constant steps. Neither "
+              "this nor step given: 1e-3 in a run in time with objects, a flow without period "
+              "and no remeshing (max_step then 0.04, or the shortest relaxation time, with a "
+              "conformation to carry), constant steps otherwise; summary.json time_steps says "
+              "which"),
        number("max_step", time(&TimeConfig::max_step), 0.0, Range::at_least(0),
               "adaptive steps: the largest step (0: none; needed with a viscoelastic phase or "
               "an elastic particle, and at most the shortest relaxation_time); adaptive "

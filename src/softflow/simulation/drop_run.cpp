@@ -321,6 +321,8 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
     fmt::print("Stokes solver: {} ({})\n",
                sim.stokes().settings().method == la::SaddlePointMethod::direct ? "direct" : "iterative",
                sim.stokes().method_reason());
+  if (!options.quiet && is_root() && config.time.end > 0.0)
+    fmt::print("Time steps: {}\n", describe_steps(config));
   RunFiles files;
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));

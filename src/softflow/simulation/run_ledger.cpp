@@ -41,6 +41,31 @@ time::StepController step_controller(const io::CaseConfig& config) {
   return time::StepController(s);
 }
 
+nlohmann::json steps_json(const io::CaseConfig& config) {
+  if (config.time.adaptive_tolerance > 0.0)
+    return {{"kind", "adaptive"},
+            {"tolerance", config.time.adaptive_tolerance},
+            {"first_step", config.time.step},
+            {"largest_step", adaptive_step_bound(config)},
+            {"chosen_by", config.time.steps_chosen_by}};
+  return {{"kind", "constant"}, {"step", config.time.step}, {"chosen_by", config.time.steps_chosen_by}};
+}
+
+std::string describe_steps(const io::CaseConfig& config) {
+  const std::string& by = config.time.steps_chosen_by;
+  const std::string why =
+      by != "default" ? by
+      : config.time.adaptive_tolerance > 0.0
+          ? "the default: neither time.step nor time.adaptive_tolerance given"
+          : "the default: adaptive steps need objects, a flow without a period and no "
+            "remeshing; time.step sets the step";
+  if (config.time.adaptive_tolerance > 0.0)
+    return fmt::format("adaptive, tolerance {:g}, first step {:g}, at most {:g} ({})",
+                       config.time.adaptive_tolerance, config.time.step,
+                       adaptive_step_bound(config), why);
+  return fmt::format("constant, dt = {:g} ({})", config.time.step, why);
+}
+
 nlohmann::json adaptive_json(const AdaptiveSteps& a) {
   return {{"next_step", a.next_step},
           {"rejected", a.rejected},

@@ -40,6 +40,15 @@ double adaptive_step_bound(const io::CaseConfig& config);
 
 time::StepController step_controller(const io::CaseConfig& config);
 
+/// The run's time steps and what chose them, for the progress output and
+/// summary.json: kind "adaptive" or "constant", the step(s) and the key (or
+/// the default) that decided.
+nlohmann::json steps_json(const io::CaseConfig& config);
+
+/// One line: "adaptive, tolerance 0.001, first step 0.005, at most 0.1
+/// (default: ...)" or "constant, dt = 0.05 (time.step)".
+std::string describe_steps(const io::CaseConfig& config);
+
 nlohmann::json adaptive_json(const AdaptiveSteps& a);
 
 AdaptiveSteps adaptive_from_json(const nlohmann::json& j);

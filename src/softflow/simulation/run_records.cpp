@@ -80,6 +80,7 @@ nlohmann::json make_summary(const io::CaseConfig& config, const DropSimulation& 
   summary["stokes_solver"] =
       sim.stokes().settings().method == la::SaddlePointMethod::direct ? "direct" : "iterative";
   summary["stokes_solver_reason"] = sim.stokes().method_reason();
+  if (config.time.end > 0.0) summary["time_steps"] = steps_json(config);
   summary["stokes_factorizations"] = sim.stokes().n_factorizations();
   summary["ale_rebuilds"] = sim.ale_rebuilds();
   summary["relocation_steps"] = sim.relocation_steps();

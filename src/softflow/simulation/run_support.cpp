@@ -19,6 +19,7 @@
 #include "softflow/parallel/mesh_broadcast.hpp"
 #include "softflow/physics/ale/mesh_motion.hpp"
 #include "softflow/simulation/case_flow.hpp"
+#include "softflow/simulation/run_ledger.hpp"
 
 namespace softflow::simulation {
 
@@ -182,14 +183,17 @@ la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
   }
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
-  s.planned_steps = planned_steps(config.time);
+  s.planned_steps = planned_step_count(config);
   return s;
 }
 
-long planned_steps(const io::TimeConfig& time) {
+long planned_step_count(const io::CaseConfig& config) {
+  const io::TimeConfig& time = config.time;
   if (time.end <= 0.0) return 1;  // one Stokes solve of the initial state
-  if (time.adaptive_tolerance > 0.0)  // at least end / max_step; unbounded: not known
-    return time.max_step > 0.0 ? static_cast<long>(std::ceil(time.end / time.max_step - 1e-9)) : 0;
+  if (time.adaptive_tolerance > 0.0) {  // at least end / the largest step; unbounded: not known
+    const bool bounded = time.max_step > 0.0 || redistribution_rate(config) > 0.0;
+    return bounded ? static_cast<long>(std::ceil(time.end / adaptive_step_bound(config) - 1e-9)) : 0;
+  }
   return static_cast<long>(std::ceil(time.end / time.step - 1e-9));
 }
 

@@ -48,12 +48,13 @@ void mesh_before_mpi(const io::CaseConfig& config);
 la::SaddlePointSettings solver_settings(const io::CaseConfig& config);
 
 /// The time steps a case plans (what solver.type = "auto" weighs a
-/// factorisation against): end / step for constant steps, end / max_step
-/// (a lower bound) for adaptive ones, 0 (not known) for adaptive steps
-/// without max_step, 1 for end = 0 (one solve). A steady stop may end the
+/// factorisation against): end / step for constant steps, end / the largest
+/// adaptive step (max_step and the redistribution's bound, adaptive_step_bound:
+/// a lower bound) for adaptive ones, 0 (not known) for adaptive steps
+/// without any bound, 1 for end = 0 (one solve). A steady stop may end the
 /// run earlier; the count is the whole run's, so a restart chooses as the
 /// run did.
-long planned_steps(const io::TimeConfig& time);
+long planned_step_count(const io::CaseConfig& config);
 
 /// summary.json's "peak_memory_mb": the largest rank's and all ranks' peak
 /// resident set (parallel::peak_memory). Collective.
