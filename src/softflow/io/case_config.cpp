@@ -328,6 +328,34 @@ void check_slip(const TableRead& t, const CaseConfig& c, const ObjectConfig& o,
                          physics::viscoelastic::to_string(o.model)));
 }
 
+/// initial_deformation = "taylor" needs what small-deformation theory
+/// describes: a Newtonian drop with a tension in steady (or started-up) shear,
+/// without slip (whose own theory is not the start's).
+void check_initial_deformation(const TableRead& t, const CaseConfig& c, const ObjectConfig& o,
+                               Diagnostics& diag) {
+  if (t.status("initial_deformation") != Read::ok ||
+      o.initial_deformation == InitialDeformation::none)
+    return;
+  const auto refuse = [&](const std::string& why) {
+    diag.error(t.path("initial_deformation"), *t.value("initial_deformation"), why);
+  };
+  if (o.model != ConstitutiveModel::newtonian)
+    refuse(fmt::format("the theory's ellipsoid is a Newtonian drop's; model = \"{}\" takes "
+                       "initial_deformation = \"none\"",
+                       physics::viscoelastic::to_string(o.model)));
+  else if (!(o.interfacial_tension > 0.0))
+    refuse("the theory's ellipsoid needs an interfacial tension (capillary_number, or "
+           "interfacial_tension > 0)");
+  else if (o.slip > 0.0)
+    refuse("with slip > 0 the start would be the no-slip drop's ellipsoid: use "
+           "initial_deformation = \"none\"");
+  else if ((c.flow.type != FlowType::steady && c.flow.type != FlowType::start_up) ||
+           !(c.shear_rate > 0.0) || c.matrix_model != ConstitutiveModel::newtonian)
+    refuse("the theory's ellipsoid is the steady shape in steady shear of a Newtonian matrix "
+           "(flow.type \"steady\" or \"start_up\", flow.shear_rate > 0, matrix.model "
+           "\"newtonian\")");
+}
+
 /// The height from [cell] blockage_ratio beta = 2R/H (thesis ch. 3), R the
 /// equivalent radius (abc)^(1/3) of objects[1]: H = 2R / beta. It replaces
 /// the height, so the two together are ambiguous and refused.
@@ -974,6 +1002,7 @@ CaseConfig parse_case(const std::string& toml_text, const std::string& source_na
     if (model_known && !is_elastic_solid(o.model))
       resolve_tension(objects_read[k], c, flow, o, diag);
     if (model_known) check_slip(objects_read[k], c, o, diag);
+    if (model_known) check_initial_deformation(objects_read[k], c, o, diag);
   }
   check_relaxation_steps(read["time"], read["matrix"], objects_read, c, diag);
   check_oscillatory_steps(read["time"], read["flow"], c, diag);

@@ -37,6 +37,10 @@ struct FlowConfig {
 };
 
 /// One suspended object of the case file ([[objects]]).
+/// [[objects]] initial_deformation: the shape a sphere's mesh is deformed
+/// into before the first step.
+enum class InitialDeformation { none, taylor };
+
 struct ObjectConfig {
   geometry::ObjectSpec geometry;
   /// The constitutive model of the object ([[objects]] model): a Newtonian
@@ -78,6 +82,10 @@ struct ObjectConfig {
   /// matrix's zero-shear viscosity. 0 = no slip (the default); finite and
   /// >= 0, and 0 for an elastic particle.
   double slip = 0.0;
+  /// taylor: the sphere's mesh deformed into the steady ellipsoid of
+  /// small-deformation theory before the first step (Newtonian drops in
+  /// steady shear without slip); none: the sphere itself.
+  InitialDeformation initial_deformation = InitialDeformation::none;
 };
 
 /// [time]: the time loop (thesis §2.3.3). end = 0 means one Stokes solve of

@@ -621,6 +621,22 @@ Table<ObjectConfig> objects_table() {
              "takes 0)")
           // Cases without slip print as they always did.
           .printed_if([](const ObjectConfig& o) { return o.slip != 0.0; }));
+  table.keys.push_back(
+      choice("initial_deformation", field(&ObjectConfig::initial_deformation),
+             InitialDeformation::none,
+             {{"none", InitialDeformation::none, ""},
+              {"taylor", InitialDeformation::taylor,
+               "the steady ellipsoid of small-deformation theory"}},
+             "\"taylor\": a Newtonian drop in steady shear starts as the ellipsoid of "
+             "small-deformation theory (Taylor's D, Chaffey-Brenner's angle, the vorticity axis "
+             "kept, volume kept): the sphere's mesh deformed by that linear map, extended into "
+             "the liquid by the mesh motion, so that the run keeps the sphere's mesh and starts "
+             "near the steady shape (whether it gets there sooner depends on the mesh: "
+             "docs/time_stepping.md)")
+          .only_when("shape", {"sphere"})
+          .printed_if([](const ObjectConfig& o) {
+            return o.initial_deformation != InitialDeformation::none;
+          }));
   return table;
 }
 

@@ -8,8 +8,10 @@
 #include <optional>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <mpi.h>
 
+#include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/mesh/fingerprint.hpp"
@@ -144,6 +146,46 @@ void carry_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
   }
 }
 
+/// [[objects]] initial_deformation = "taylor": the map that turns the drop's
+/// sphere into the steady ellipsoid of small-deformation theory about its
+/// centre: semi-axes R s, R / s, R (s^2 = (1 + D) / (1 - D), so that
+/// (L - B) / (L + B) = D and the volume is kept), the long axis at
+/// Chaffey-Brenner's angle theta from the flow direction, towards +y.
+physics::ObjectDeformation taylor_start(const io::CaseConfig& config, int object) {
+  const io::ObjectConfig& o = config.objects[object - 1];
+  const double radius = io::mean_radius(o.geometry);
+  const double ca = config.matrix_viscosity * config.shear_rate * radius / o.interfacial_tension;
+  const double d = analysis::theory::taylor_deformation(o.viscosity_ratio, ca);
+  const double theta =
+      analysis::theory::chaffey_brenner_angle_deg(o.viscosity_ratio, ca) * M_PI / 180.0;
+  const double s = std::sqrt((1.0 + d) / (1.0 - d));
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  physics::ObjectDeformation f;
+  f.object = object;
+  f.centre = o.geometry.centre;
+  f.map = turn * Eigen::Vector3d(s, 1.0 / s, 1.0).asDiagonal() * turn.transpose();
+  return f;
+}
+
+/// The objects that start deformed, deformed; their start in the mesh report.
+void deform_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
+  std::vector<physics::ObjectDeformation> deformations;
+  nlohmann::json report = nlohmann::json::array();
+  for (int k = 1; k <= static_cast<int>(config.objects.size()); ++k) {
+    if (config.objects[k - 1].initial_deformation != io::InitialDeformation::taylor) continue;
+    deformations.push_back(taylor_start(config, k));
+    const Eigen::Matrix3d& m = deformations.back().map;
+    report.push_back({{"object", k}, {"map", {{m(0, 0), m(0, 1), m(0, 2)}, {m(1, 0), m(1, 1), m(1, 2)},
+                                              {m(2, 0), m(2, 1), m(2, 2)}}}});
+  }
+  if (deformations.empty()) return;
+  physics::deform_objects(meshed.mesh, deformations);
+  if (!is_root()) return;
+  meshed.report["initial_deformation"] = report;
+  meshed.report["min_quality"] = mesh::min_quality(meshed.mesh);
+  meshed.report["fingerprint"] = fmt::format("{:016x}", mesh::fingerprint(meshed.mesh));
+}
+
 }  // namespace
 
 void mesh_before_mpi(const io::CaseConfig& config) {
@@ -171,6 +213,7 @@ MeshedCase build_mesh(const io::CaseConfig& config) {
   });
   parallel::broadcast_mesh(out.mesh, MPI_COMM_WORLD);
   if (config.sizing.point_symmetric_start) carry_to_start(config, out);
+  deform_to_start(config, out);
   return out;
 }
 

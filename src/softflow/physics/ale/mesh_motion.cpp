@@ -355,4 +355,41 @@ void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
         offset.x(), offset.y(), offset.z(), mesh::describe_element(mesh, worst)));
 }
 
+void deform_objects(mesh::Mesh& mesh, const std::vector<ObjectDeformation>& deformations) {
+  if (deformations.empty()) return;
+  // The object of every node inside or on an object (0: liquid only).
+  std::vector<int> node_object(mesh.n_nodes(), 0);
+  for (int t = 0; t < mesh.n_tets(); ++t)
+    if (mesh.tet_region[t] > 0)
+      for (int node : mesh.tets[t]) node_object[node] = mesh.tet_region[t];
+  std::vector<Eigen::Vector3d> exact(mesh.n_nodes(), Eigen::Vector3d::Zero());
+  std::vector<bool> moved(mesh.n_nodes(), false);
+  for (const ObjectDeformation& f : deformations)
+    for (int i = 0; i < mesh.n_nodes(); ++i)
+      if (node_object[i] == f.object) {
+        exact[i] = (f.map - Eigen::Matrix3d::Identity()) * (mesh.nodes[i] - f.centre);
+        moved[i] = true;
+      }
+  AleSettings settings;
+  settings.method = AleMethod::direct;
+  AleMeshMotion motion(mesh, settings);
+  std::vector<Eigen::Vector3d> d(mesh.n_nodes(), Eigen::Vector3d::Zero());
+  for (int node : motion.interface_nodes()) d[node] = exact[node];
+  std::vector<Eigen::Vector3d> displacement = motion.solve(d);
+  // The extension of linear data is not linear where the stiffness varies:
+  // the objects' own nodes take the map itself.
+  for (int i = 0; i < mesh.n_nodes(); ++i) {
+    if (moved[i]) displacement[i] = exact[i];
+    mesh.nodes[i] += displacement[i];
+  }
+  const int worst = mesh::worst_tet(mesh);
+  if (!(mesh::tet_quality(mesh, worst) > 0.0))
+    throw MeshError(fmt::format(
+        "objects[].initial_deformation: deforming the objects' meshes into their start shapes "
+        "inverts an element ({}): the deformation is too large for the elements around the "
+        "object; refine the mesh there (mesh.equator_nodes, mesh.growth) or start from the "
+        "sphere (initial_deformation = \"none\")",
+        mesh::describe_element(mesh, worst)));
+}
+
 }  // namespace softflow::physics

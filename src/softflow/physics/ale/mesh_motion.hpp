@@ -177,4 +177,21 @@ class AleMeshMotion {
 /// element inverts (an offset too large for the elements around it).
 void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset);
 
+/// A linear deformation of one object about a point: x -> centre + map (x - centre).
+struct ObjectDeformation {
+  int object = 0;  ///< 1-based
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d map = Eigen::Matrix3d::Identity();
+};
+
+/// Deforms objects of `mesh` by linear maps ([[objects]] initial_deformation):
+/// every node of an object (its interface and interior) moves exactly by its
+/// map, every liquid node by the mesh motion's extension of the interface
+/// displacement (eq. 2.55, one factored solve), the walls stay. A map of
+/// determinant 1 keeps the object's discrete volume exactly (the P2
+/// geometry composed with a linear map), and the interface nodes of a
+/// sphere land on the ellipsoid the map makes of it. Collective. Throws
+/// MeshError naming initial_deformation if an element inverts.
+void deform_objects(mesh::Mesh& mesh, const std::vector<ObjectDeformation>& deformations);
+
 }  // namespace softflow::physics
