@@ -150,6 +150,9 @@ class SaddlePointSolver {
   /// Iterative method: the fewest iterations since the last rebuild (the
   /// reference of max_reuse_growth).
   [[nodiscard]] int fewest_iterations() const { return fewest_iterations_; }
+  /// The next solve builds a fresh preconditioner, whatever the reuse
+  /// policy would say (the owner knows the matrix changed too much).
+  void refactor_at_next_solve() { refactor_next_ = true; }
   void restore_reuse_state(bool refactor_next, int n_setups, int fewest_iterations) {
     refactor_next_ = refactor_next;
     n_setups_ = n_setups;

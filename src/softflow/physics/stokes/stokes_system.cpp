@@ -645,6 +645,7 @@ StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout la
   StokesResult result;
   result.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (factors_are_off_step(problem)) solver_->refactor_at_next_solve();
   const int setups = solver_->n_setups();
   result.solve = solver_->solve(rhs.get(), x.get(), static_cast<bool>(previous_solution_));
   if (solver_->n_setups() > setups) record_factorization(problem);
@@ -654,6 +655,25 @@ StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout la
   if (layout == SolutionLayout::gathered) result.solution = la::gather_to_all(x.get());
   result.distributed = std::move(x);
   return result;
+}
+
+/// LU factors precondition a matrix whose semi-implicit tension term
+/// (Gamma theta dt times a surface Laplacian) is kStaleStepRatio times
+/// larger or smaller than theirs poorly, though GMRES still converges
+/// within max_reuse_iterations: adaptive steps growing from 0.005 to 0.1 on
+/// factors of the first step took 5.7 iterations a step where constant
+/// steps take 2.7 (docs/time_stepping.md, "Default steps"). Steps that
+/// double every time refactor every second step until they settle; a
+/// constant step's BDF1-to-BDF2 change (theta dt from dt to 2 dt / 3) does
+/// not. The record is part of the saved state, so a restart decides alike.
+constexpr double kStaleStepRatio = 2.0;
+
+bool StokesSystem::factors_are_off_step(const StokesProblem& problem) const {
+  if (settings_.method != la::SaddlePointMethod::direct || !factors_) return false;
+  const double then = factors_->problem.semi_implicit_tension.theta_dt;
+  const double now = problem.semi_implicit_tension.theta_dt;
+  if (!(then > 0.0) || !(now > 0.0)) return false;
+  return now > kStaleStepRatio * then || then > kStaleStepRatio * now;
 }
 
 void StokesSystem::record_factorization(const StokesProblem& problem) {

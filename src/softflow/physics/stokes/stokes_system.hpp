@@ -137,6 +137,9 @@ class StokesSystem {
   /// Assembles the matrix of `record` and builds the preconditioner (factors) on it.
   void factor(const MatrixRecord& record);
   void record_factorization(const StokesProblem& problem);
+  /// Whether the direct method's factors were made at a step so different
+  /// from `problem`'s that they should be made again (kStaleStepRatio).
+  [[nodiscard]] bool factors_are_off_step(const StokesProblem& problem) const;
   void partition();
   void create_matrices();
   /// The iterative method without slip: the Schur complement's
