@@ -325,15 +325,38 @@ std::vector<Eigen::Vector3d> AleMeshMotion::solve(
   return d;
 }
 
-void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
-  // Factored: once per run, and the objects' interiors come out rigid to
-  // round-off, where CG would leave them rigid to its tolerance.
+namespace {
+
+/// The mesh motion's extension (eq. 2.55) of `interface` (indexed by mesh
+/// node, read at the interface nodes), factored: used once per run, and the
+/// objects' interiors come out as their data to round-off, where CG would
+/// leave them so to its tolerance.
+std::vector<Eigen::Vector3d> extend_once(const mesh::Mesh& mesh,
+                                         const std::vector<Eigen::Vector3d>& interface) {
   AleSettings settings;
   settings.method = AleMethod::direct;
   AleMeshMotion motion(mesh, settings);
   std::vector<Eigen::Vector3d> d(mesh.n_nodes(), Eigen::Vector3d::Zero());
-  for (int node : motion.interface_nodes()) d[node] = offset;
-  std::vector<Eigen::Vector3d> displacement = motion.solve(d);
+  for (int node : motion.interface_nodes()) d[node] = interface[node];
+  return motion.solve(d);
+}
+
+/// Moves every node of `mesh` by `displacement`; throws MeshError with
+/// `inverted(element)` if an element inverts.
+template <class Message>
+void move_nodes(mesh::Mesh& mesh, const std::vector<Eigen::Vector3d>& displacement,
+                const Message& inverted) {
+  for (int i = 0; i < mesh.n_nodes(); ++i) mesh.nodes[i] += displacement[i];
+  const int worst = mesh::worst_tet(mesh);
+  if (!(mesh::tet_quality(mesh, worst) > 0.0))
+    throw MeshError(inverted(mesh::describe_element(mesh, worst)));
+}
+
+}  // namespace
+
+void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
+  std::vector<Eigen::Vector3d> displacement =
+      extend_once(mesh, std::vector<Eigen::Vector3d>(mesh.n_nodes(), offset));
   // On a point-symmetric mesh the extension is equivariant only to the
   // solver's round-off; averaged with its image (the mirror case's
   // displacement is -R of it) it is so to the bit, so that the mirror
@@ -344,15 +367,14 @@ void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
     for (int i = 0; i < mesh.n_nodes(); ++i)
       displacement[i] = 0.5 * (solved[i] - mesh::half_turn(solved[image[i]]));
   }
-  for (int i = 0; i < mesh.n_nodes(); ++i) mesh.nodes[i] += displacement[i];
-  const int worst = mesh::worst_tet(mesh);
-  if (!(mesh::tet_quality(mesh, worst) > 0.0))
-    throw MeshError(fmt::format(
+  move_nodes(mesh, displacement, [&](const std::string& element) {
+    return fmt::format(
         "mesh.point_symmetric_start: carrying the object by ({:g}, {:g}, {:g}) from the z axis "
         "to its centre inverts an element ({}): the offset is too large for the elements "
         "between the object and the wall; move the object nearer the centre plane, refine the "
         "mesh there (mesh.wall_size, mesh.growth), or set mesh.point_symmetric_start = false",
-        offset.x(), offset.y(), offset.z(), mesh::describe_element(mesh, worst)));
+        offset.x(), offset.y(), offset.z(), element);
+  });
 }
 
 void deform_objects(mesh::Mesh& mesh, const std::vector<ObjectDeformation>& deformations) {
@@ -370,26 +392,19 @@ void deform_objects(mesh::Mesh& mesh, const std::vector<ObjectDeformation>& defo
         exact[i] = (f.map - Eigen::Matrix3d::Identity()) * (mesh.nodes[i] - f.centre);
         moved[i] = true;
       }
-  AleSettings settings;
-  settings.method = AleMethod::direct;
-  AleMeshMotion motion(mesh, settings);
-  std::vector<Eigen::Vector3d> d(mesh.n_nodes(), Eigen::Vector3d::Zero());
-  for (int node : motion.interface_nodes()) d[node] = exact[node];
-  std::vector<Eigen::Vector3d> displacement = motion.solve(d);
+  std::vector<Eigen::Vector3d> displacement = extend_once(mesh, exact);
   // The extension of linear data is not linear where the stiffness varies:
   // the objects' own nodes take the map itself.
-  for (int i = 0; i < mesh.n_nodes(); ++i) {
+  for (int i = 0; i < mesh.n_nodes(); ++i)
     if (moved[i]) displacement[i] = exact[i];
-    mesh.nodes[i] += displacement[i];
-  }
-  const int worst = mesh::worst_tet(mesh);
-  if (!(mesh::tet_quality(mesh, worst) > 0.0))
-    throw MeshError(fmt::format(
+  move_nodes(mesh, displacement, [](const std::string& element) {
+    return fmt::format(
         "objects[].initial_deformation: deforming the objects' meshes into their start shapes "
         "inverts an element ({}): the deformation is too large for the elements around the "
         "object; refine the mesh there (mesh.equator_nodes, mesh.growth) or start from the "
         "sphere (initial_deformation = \"none\")",
-        mesh::describe_element(mesh, worst)));
+        element);
+  });
 }
 
 }  // namespace softflow::physics
