@@ -30,7 +30,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from case_runs import validation_main  # noqa: E402
-from migration_runs import combine, plot_trajectories, read_starts, start_table, write_series  # noqa: E402
+from migration_runs import combine, mean_velocity, plot_trajectories, read_starts, start_table, write_series  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -120,6 +120,21 @@ def report(work, build):
              f"cell 20 x {HEIGHT:g} x 20 (R = 1), 20 equator nodes, dt = {DT}, t = 0 ... {T_END:g} per start, "
              "[remesh] quality = 0.2. v_p in units of gamma_dot H, y_p in units of H.", ""]
     lines += start_table(runs, TRANSIENT)
+    lines += ["", "The thesis (§3.2.3, Figs. 3.12-3.13): the starts 0.10 and 0.20 migrate upwards (towards the "
+              "wall), 0.28 and 0.35 downwards, to the neutral height y_N = 0.26 H; v_p is largest at "
+              "y_p = 0.16 H. Beside each start, the sign of its mean v_p and the Newtonian matrix's law "
+              "(eq. 3.8, -2 beta^3 Ca_e y_p / y_p,max) at its mean height:", "",
+              "| y_p0 / H | mean y_p / H, t >= transient | mean v_p | direction | eq. 3.8 (Newtonian) | ratio |",
+              "|---|---|---|---|---|---|"]
+    for start, (_, r) in runs.items():
+        v = mean_velocity(r, TRANSIENT)
+        late = [y for t, y in zip(r["t"], r["y"]) if t >= TRANSIENT]
+        if v is None or not late:
+            continue
+        y_mean = sum(late) / len(late)
+        law = -2.0 * BETA ** 3 * CA_E * y_mean / Y_MAX
+        lines.append(f"| {start:.2f} | {y_mean:.4f} | {v:.3e} | {'towards the wall' if v > 0 else 'towards the centre'} "
+                     f"| {law:.3e} | {v / law:.2f} |")
     lines += ["", "## softflow migration (master curve, neutral heights)", ""] + combined_lines
     with open(os.path.join(OUT, "giesekus_migration.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
