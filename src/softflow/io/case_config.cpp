@@ -446,6 +446,15 @@ void check_steady(const TableRead& time, const CaseConfig& c, Diagnostics& diag)
                            c.time.steady_window, c.time.step, c.time.end));
 }
 
+/// Whether a phase carries a conformation (a viscoelastic matrix or object,
+/// or an elastic particle's Finger tensor), whose time error the adaptive
+/// steps' interface estimate does not see.
+bool carries_conformation(const CaseConfig& c) {
+  return c.matrix_model != ConstitutiveModel::newtonian ||
+         std::any_of(c.objects.begin(), c.objects.end(),
+                     [](const ObjectConfig& o) { return o.model != ConstitutiveModel::newtonian; });
+}
+
 /// Adaptive steps estimate their error from the interfaces: they need
 /// objects, and a flow whose period the steps would otherwise skip over is
 /// refused. max_step and max_growth mean something only with them.
@@ -476,10 +485,7 @@ void check_adaptive(const TableRead& time, const CaseConfig& c, Diagnostics& dia
   // first order (the decoupled elastic stress, G dt): measured, a particle
   // at Ca_e = 0.1 (20 equator nodes) settled 0.8 % higher in D with steps
   // growing to 0.22 than at a constant 0.02. A bound must be chosen.
-  const bool conformation =
-      c.matrix_model != ConstitutiveModel::newtonian ||
-      std::any_of(c.objects.begin(), c.objects.end(),
-                  [](const ObjectConfig& o) { return o.model != ConstitutiveModel::newtonian; });
+  const bool conformation = carries_conformation(c);
   if (conformation && !(c.time.max_step > 0.0))
     diag.error(time.path("adaptive_tolerance"), *tolerance,
                "with a viscoelastic phase or an elastic particle, adaptive steps need a "
@@ -731,10 +737,7 @@ void resolve_default_steps(const TableRead& time, const TableRead& matrix,
       time.status("max_growth") != Read::absent)
     return;
   c.time.adaptive_tolerance = kDefaultAdaptiveTolerance;
-  const bool conformation =
-      c.matrix_model != ConstitutiveModel::newtonian ||
-      std::any_of(c.objects.begin(), c.objects.end(),
-                  [](const ObjectConfig& o) { return o.model != ConstitutiveModel::newtonian; });
+  const bool conformation = carries_conformation(c);
   if (conformation)
     c.time.max_step = std::max(
         c.time.step, std::min(kDefaultConformationMaxStep, shortest_relaxation(matrix, objects, c).time));
