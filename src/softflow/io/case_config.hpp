@@ -36,11 +36,11 @@ struct FlowConfig {
   double periods = 0.0;
 };
 
-/// One suspended object of the case file ([[objects]]).
 /// [[objects]] initial_deformation: the shape a sphere's mesh is deformed
 /// into before the first step.
 enum class InitialDeformation { none, taylor };
 
+/// One suspended object of the case file ([[objects]]).
 struct ObjectConfig {
   geometry::ObjectSpec geometry;
   /// The constitutive model of the object ([[objects]] model): a Newtonian
