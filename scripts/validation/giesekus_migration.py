@@ -30,6 +30,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from case_runs import validation_main  # noqa: E402
+from giesekus_shear import relaxation_time_for_p  # noqa: E402
 from migration_runs import combine, mean_velocity, plot_trajectories, read_starts, start_table, write_series  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -39,20 +40,30 @@ CA_E = 0.1
 P = 4.5
 SOLVENT, POLYMER, MOBILITY = 0.1, 0.9, 0.2
 HEIGHT = 2.0 / BETA
-STARTS = [0.28, 0.20, 0.35, 0.10]  # y_p0 / H; the two that bracket the thesis's y_N = 0.26 first
+STARTS = [0.28, 0.20, 0.35, 0.10]  # y_p0 / H
 T_END = 15.0
 DT = 0.04
 TRANSIENT = 5.0
 Y_MAX = (1.0 - BETA) / 2.0
 
 
-def case_name(start):
-    return f"yp0_{start:.2f}"
+# Two readings of p (see the module's docstring): the zero-shear Psi_1 of
+# chapter 2 and softflow's summary (lambda_m = p Ca_e / eta_p), and chapter 3's
+# N / Ca_e^2 with N_1 at the shear rate (giesekus_shear). Case names: yp0_Y and
+# n1_yp0_Y. The first ran at 0.28 and 0.20 H; the second runs all four starts.
+DEFINITIONS = {
+    "zero_shear": ("", P * CA_E / POLYMER, [0.28, 0.20]),
+    "n1": ("n1_", relaxation_time_for_p(P, CA_E, SOLVENT, POLYMER, MOBILITY), [0.28, 0.10, 0.35, 0.20]),
+}
 
 
-def case_text(start):
+def case_name(start, definition="zero_shear"):
+    return f"{DEFINITIONS[definition][0]}yp0_{start:.2f}"
+
+
+def case_text(start, definition="zero_shear"):
     return f"""[case]
-name = "{case_name(start)}"
+name = "{case_name(start, definition)}"
 [cell]
 length = 20.0
 width = 20.0
@@ -61,7 +72,7 @@ blockage_ratio = {BETA}
 model = "giesekus"
 solvent_viscosity = {SOLVENT}
 polymer_viscosity = {POLYMER}
-relaxation_time = {P * CA_E / POLYMER:.10g}
+relaxation_time = {DEFINITIONS[definition][1]:.10g}
 mobility = {MOBILITY}
 [flow]
 shear_rate = 1.0
@@ -89,7 +100,7 @@ fields = false
 
 
 def jobs():
-    return [(case_name(s), case_text(s)) for s in STARTS]
+    return [(case_name(s, d), case_text(s, d)) for d in ("n1", "zero_shear") for s in DEFINITIONS[d][2]]
 
 
 def report(work, build):

@@ -1355,6 +1355,32 @@ TEST(DimensionlessGroups, ElasticParticles) {
   EXPECT_FALSE(has_group(groups, "p_d", 3));
 }
 
+TEST(DimensionlessGroups, ParticlePFromTheFirstNormalStressDifferenceAtTheShearRate) {
+  // Thesis ch. 3: p = N / Ca_e^2, N = N_1(gamma_dot) / (2 G). Oldroyd-B: the
+  // same as the zero-shear p. Giesekus (alpha = 0.2, mu = 0.1, eta_p = 0.9,
+  // Ca_e = 0.1): lambda_m = 0.6514052979 gives p = 4.5 by the closed form of
+  // scripts/validation/giesekus_shear.py (N_1 = 0.9), where the zero-shear
+  // p = eta_p lambda_m / Ca_e is 5.863.
+  const auto groups_of = [](const std::string& matrix) {
+    return dimensionless_groups(parse_case(
+        "[matrix]\n" + matrix + "[flow]\nshear_rate = 1\n[[objects]]\nmodel = \"neo_hookean\"\n"
+        "elastic_capillary_number = 0.1\n", "g.toml"));
+  };
+  const auto ob = groups_of("model = \"oldroyd_b\"\nsolvent_viscosity = 0.1\n"
+                            "polymer_viscosity = 0.9\nrelaxation_time = 0.5\n");
+  EXPECT_NEAR(find_group(ob, "p_N1", 1).value, find_group(ob, "p", 1).value, 1e-10);
+  const auto gk = groups_of("model = \"giesekus\"\nsolvent_viscosity = 0.1\n"
+                            "polymer_viscosity = 0.9\nrelaxation_time = 0.6514052979\nmobility = 0.2\n");
+  EXPECT_NEAR(find_group(gk, "p_N1", 1).value, 4.5, 1e-8);
+  EXPECT_NEAR(find_group(gk, "p", 1).value, 0.9 * 0.6514052979 / 0.1, 1e-10);
+  // Not defined in oscillatory flow (no steady shear rate).
+  const auto osc = dimensionless_groups(parse_case(
+      "[matrix]\nmodel = \"ucm\"\nmodulus = 1\nrelaxation_time = 0.5\n[flow]\n"
+      "type = \"oscillatory\"\nstrain_amplitude = 0.5\nfrequency = 1\n[[objects]]\n"
+      "model = \"neo_hookean\"\nmodulus = 1\n", "g.toml"));
+  EXPECT_FALSE(has_group(osc, "p_N1", 1));
+}
+
 TEST(DimensionlessGroups, OscillatoryFlowAddsDeborahNumbers) {
   const CaseConfig c = parse_case(
       "[matrix]\nmodel = \"ucm\"\nmodulus = 1\nrelaxation_time = 0.5\n"
