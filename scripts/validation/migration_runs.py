@@ -40,10 +40,10 @@ def read_starts(work, starts, case_name, height):
     return runs
 
 
-def combine(build, work, runs, transient):
+def combine(build, work, runs, transient, name="combined"):
     """`softflow migration` over the runs (master curves, neutral heights) into
-    work/combined; returns the lines of its migration.md after the title."""
-    combined = os.path.join(work, "combined")
+    work/NAME; returns the lines of its migration.md after the title."""
+    combined = os.path.join(work, name)
     subprocess.run([os.path.join(build, "softflow"), "migration", *[d for d, _ in runs.values()],
                     "--transient", str(transient), "-o", combined], check=True)
     md = os.path.join(combined, "migration.md")
@@ -84,12 +84,15 @@ def start_table(runs, transient):
     return lines
 
 
-def plot_trajectories(ax, runs, y_max, transient):
-    """Trajectories (ax[0]) and v_p(y_p) after the transient (ax[1])."""
+def plot_trajectories(ax, runs, y_max, transient, prefix="", linestyle="-", marker="."):
+    """Trajectories (ax[0]) and v_p(y_p) after the transient (ax[1]); labels
+    start with `prefix` when several series share the axes."""
     for s, (_, r) in runs.items():
-        ax[0].plot(r["t"], r["y"], label=f"y_p0 = {s:.2f} H")
+        label = f"{prefix}y_p0 = {s:.2f} H"
+        line, = ax[0].plot(r["t"], r["y"], linestyle, label=label)
         late = [i for i, t in enumerate(r["t"]) if t >= transient]
-        ax[1].plot([r["y"][i] for i in late], [r["v"][i] for i in late], ".", ms=2, label=f"y_p0 = {s:.2f} H")
+        ax[1].plot([r["y"][i] for i in late], [r["v"][i] for i in late], marker, ms=2, color=line.get_color(),
+                   label=label)
     ax[0].axhspan(y_max, 0.5, color="0.85")
     ax[0].set(xlabel="gamma_dot t", ylabel="y_p / H", ylim=(0, 0.5))
     ax[1].set(xlabel="y_p / H", ylabel="v_p / (gamma_dot H)")
