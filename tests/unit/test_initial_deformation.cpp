@@ -75,6 +75,36 @@ TEST(InitialDeformation, TheSpheresMeshBecomesTheTheorysEllipsoidWithItsVolume) 
   EXPECT_TRUE(deformed.report.contains("initial_deformation"));
 }
 
+TEST(InitialDeformation, TheMeshReportDescribesTheDeformedDropsWallGap) {
+  // A drop close to the upper wall (gap 0.25 R, below one interface element:
+  // gmsh refines it and the report measures it): after the Taylor start the
+  // report's wall gap is the ellipsoid's, H/2 - y_c - (its half extent in
+  // y), not the sphere's that gmsh meshed.
+  const std::string text =
+      "[cell]\nlength = 6.0\nheight = 3.0\nwidth = 6.0\n[mesh]\nequator_nodes = 12\n"
+      "far_size = 2.0\n[[objects]]\ncentre = [0.0, 0.25, 0.0]\nviscosity_ratio = 1.0\n"
+      "capillary_number = 0.2\ninitial_deformation = \"taylor\"\n";
+  const simulation::MeshedCase deformed = simulation::build_mesh(io::parse_case(text, "c.toml"));
+  ASSERT_TRUE(deformed.report.contains("wall_gap"));
+  const double d = analysis::theory::taylor_deformation(1.0, 0.2);
+  const double theta = analysis::theory::chaffey_brenner_angle_deg(1.0, 0.2) * M_PI / 180.0;
+  const double s = std::sqrt((1.0 + d) / (1.0 - d));
+  // The y extent of the turned ellipsoid: sqrt((s sin theta)^2 + (cos theta / s)^2).
+  const double extent = std::hypot(s * std::sin(theta), std::cos(theta) / s);
+  const double gap = 1.5 - 0.25 - extent;
+  const double reported = deformed.report["wall_gap"]["gap"];
+  EXPECT_NEAR(reported, gap, 1e-12);
+  EXPECT_GT(std::abs(reported - 0.25), 1e-2);  // not the sphere's gap
+  EXPECT_EQ(deformed.report["wall_gap"]["object"], 1);
+  EXPECT_GT(deformed.report["wall_gap"]["tetrahedra_crossed"].get<int>(), 0);
+  // The interface's highest node lies on the ellipsoid, at most at its top.
+  double top = -1e300;
+  for (const auto& face : deformed.mesh.interface_faces)
+    for (int node : face) top = std::max(top, deformed.mesh.nodes[node].y());
+  EXPECT_LE(top, 1.5 - gap + 1e-12);
+  EXPECT_GT(top, 1.5 - gap - 0.05);
+}
+
 TEST(InitialDeformation, OnlyWhatTheTheoryDescribesIsAccepted) {
   EXPECT_EQ(error_of(kDrop + "initial_deformation = \"taylor\"\n"), "");
   EXPECT_NE(error_of(kDrop + "initial_deformation = \"round\"\n").find("objects[1].initial_deformation"),

@@ -339,14 +339,21 @@ double largest_ellipsoid_ratio(int equator_nodes) {
   return std::min(n / 8.0, kMaxLongestCircumferenceNodes / n);
 }
 
-double wall_gap(const ObjectSpec& object, const mesh::Box& box, int side, Vector3d* closest) {
-  // The ellipsoid x = c + M u, |u| = 1, M = R diag(a), reaches furthest along
-  // e_y at u = M^T e_y / |M^T e_y|: y_c + |M^T e_y| (half_extents' y).
-  const Matrix3d m = rotation_matrix(object) * object.semi_axes.asDiagonal();
-  const Vector3d direction = m.row(1).transpose();  // M^T e_y
+Ellipsoid ellipsoid_of(const ObjectSpec& object) {
+  return {object.centre, rotation_matrix(object) * object.semi_axes.asDiagonal()};
+}
+
+double wall_gap(const Ellipsoid& object, const mesh::Box& box, int side, Vector3d* closest) {
+  // The ellipsoid x = c + M u, |u| = 1, reaches furthest along e_y at
+  // u = M^T e_y / |M^T e_y|: y_c + |M^T e_y| (half_extents' y).
+  const Vector3d direction = object.map.row(1).transpose();  // M^T e_y
   const double extent = direction.norm();
-  if (closest) *closest = object.centre + side * m * direction / extent;
+  if (closest) *closest = object.centre + side * object.map * direction / extent;
   return box.height / 2 - side * object.centre.y() - extent;
+}
+
+double wall_gap(const ObjectSpec& object, const mesh::Box& box, int side, Vector3d* closest) {
+  return wall_gap(ellipsoid_of(object), box, side, closest);
 }
 
 double wall_gap_element_size(const ObjectSpec& object, const MeshSizing& sizing, double gap) {
@@ -850,7 +857,7 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
   return m;
 }
 
-WallGapResolution measure_wall_gap(const mesh::Mesh& m, const ObjectSpec& object) {
+WallGapResolution measure_wall_gap(const mesh::Mesh& m, const Ellipsoid& object) {
   WallGapResolution r;
   r.side = wall_gap(object, m.box, 1) <= wall_gap(object, m.box, -1) ? 1 : -1;
   Vector3d p;
@@ -861,6 +868,10 @@ WallGapResolution measure_wall_gap(const mesh::Mesh& m, const ObjectSpec& object
   r.tets_crossed = crossed.tets_crossed;
   r.mean_edge = crossed.mean_edge;
   return r;
+}
+
+WallGapResolution measure_wall_gap(const mesh::Mesh& m, const ObjectSpec& object) {
+  return measure_wall_gap(m, ellipsoid_of(object));
 }
 
 WallGapResolution measure_segment(const mesh::Mesh& m, const Vector3d& p, const Vector3d& q) {

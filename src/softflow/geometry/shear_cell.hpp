@@ -146,11 +146,22 @@ double interface_element_size(const ObjectSpec& object, const MeshSizing& sizing
 double largest_ellipsoid_ratio(int equator_nodes);
 inline constexpr double kMaxLongestCircumferenceNodes = 150.0;
 
+/// The surface an object is, as a map of the unit sphere: x = centre + map u,
+/// |u| = 1 (map = R diag(semi-axes) for an ObjectSpec; a linear deformation
+/// F of the object about its centre makes it F map).
+struct Ellipsoid {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d map = Eigen::Matrix3d::Identity();
+};
+Ellipsoid ellipsoid_of(const ObjectSpec& object);
+
 /// The gap between an object and the wall y = side * H/2 (side = +1 the
 /// upper wall, -1 the lower): H/2 - side * y_c - (the object's half extent in
 /// y); negative when the object crosses the wall. `closest` receives the
 /// object's point nearest that wall.
 double wall_gap(const ObjectSpec& object, const mesh::Box& box, int side,
+                Eigen::Vector3d* closest = nullptr);
+double wall_gap(const Ellipsoid& object, const mesh::Box& box, int side,
                 Eigen::Vector3d* closest = nullptr);
 
 /// The element size across the gap g between an object and a wall when that
@@ -198,6 +209,7 @@ double smallest_wall_gap(const ObjectSpec& object, const MeshSizing& sizing);
 /// The resolution of the gap between `object` and its nearer wall in `mesh`
 /// (`object` = 0 in the result: the caller knows which it is).
 WallGapResolution measure_wall_gap(const mesh::Mesh& mesh, const ObjectSpec& object);
+WallGapResolution measure_wall_gap(const mesh::Mesh& mesh, const Ellipsoid& object);
 
 /// The matrix tetrahedra the straight segment p -> q passes through and their
 /// mean (straight) edge: the resolution of a gap spanned by the segment

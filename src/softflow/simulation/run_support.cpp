@@ -73,6 +73,29 @@ nlohmann::json wall_gap_report(const geometry::WallGapResolution& g, const io::C
           {"gap_elements_requested", config.sizing.elements_across_gaps()}};
 }
 
+/// After the mesh was moved (carried to the start, objects deformed): the
+/// report describes the mesh the run starts from: its quality, fingerprint
+/// and, when gmsh refined a wall gap, that gap as it now is (`objects`: each
+/// object's surface, as moved). Root only.
+void describe_moved_mesh(const io::CaseConfig& config, const std::vector<geometry::Ellipsoid>& objects,
+                         MeshedCase& meshed) {
+  auto& r = meshed.report;
+  r["min_quality"] = mesh::min_quality(meshed.mesh);
+  r["fingerprint"] = fmt::format("{:016x}", mesh::fingerprint(meshed.mesh));
+  if (!r.contains("wall_gap")) return;
+  const int object = r["wall_gap"]["object"];
+  geometry::WallGapResolution g = geometry::measure_wall_gap(meshed.mesh, objects.at(object - 1));
+  g.object = object;
+  r["wall_gap"] = wall_gap_report(g, config);
+}
+
+/// The objects' surfaces as the case places them.
+std::vector<geometry::Ellipsoid> case_objects(const io::CaseConfig& config) {
+  std::vector<geometry::Ellipsoid> out;
+  for (const auto& o : config.shear_cell_spec().objects) out.push_back(geometry::ellipsoid_of(o));
+  return out;
+}
+
 /// Meshes `config` in this process (gmsh), with the report.
 MeshedCase mesh_here(const io::CaseConfig& config) {
   MeshedCase out;
@@ -137,13 +160,7 @@ void carry_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
                                 {"relocated_nodes", relocated.nodes_moved},
                                 {"min_quality_before", relocated.smallest_quality},
                                 {"fingerprint_gmsh", r["fingerprint"]}};
-  r["min_quality"] = mesh::min_quality(meshed.mesh);
-  r["fingerprint"] = fmt::format("{:016x}", mesh::fingerprint(meshed.mesh));
-  if (r.contains("wall_gap")) {
-    geometry::WallGapResolution g = geometry::measure_wall_gap(meshed.mesh, spec.objects[0]);
-    g.object = r["wall_gap"]["object"];
-    r["wall_gap"] = wall_gap_report(g, config);
-  }
+  describe_moved_mesh(config, case_objects(config), meshed);
 }
 
 /// [[objects]] initial_deformation = "taylor": the map that turns the drop's
@@ -182,8 +199,9 @@ void deform_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
   physics::deform_objects(meshed.mesh, deformations);
   if (!is_root()) return;
   meshed.report["initial_deformation"] = report;
-  meshed.report["min_quality"] = mesh::min_quality(meshed.mesh);
-  meshed.report["fingerprint"] = fmt::format("{:016x}", mesh::fingerprint(meshed.mesh));
+  std::vector<geometry::Ellipsoid> objects = case_objects(config);
+  for (const auto& f : deformations) objects[f.object - 1].map = f.map * objects[f.object - 1].map;
+  describe_moved_mesh(config, objects, meshed);
 }
 
 }  // namespace
