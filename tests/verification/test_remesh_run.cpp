@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <vector>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -148,4 +150,30 @@ TEST(RemeshRun, AnInitialMeshBelowMinQualityIsRefusedUnlessTheRunRemeshesItFirst
   // Above remesh.quality (no remesh due) but below min_quality: refused again.
   config.remesh.quality = quality / 2;
   EXPECT_THROW(simulation::check_initial_mesh_quality(config, meshed), softflow::MeshError);
+}
+
+TEST(RemeshRun, ARunRemeshesOnItsScheduleAndSaysWhyInRemeshCsv) {
+  // remesh.interval = 0.1 with steps of 0.05 to t = 0.25: remeshes before the
+  // steps at t = 0.1 and 0.2, each a row of remesh.csv naming the key.
+  const fs::path directory = fs::temp_directory_path() / "softflow_remesh_schedule";
+  const auto config = io::parse_case(
+      "[cell]\nlength = 8.0\nheight = 8.0\nwidth = 8.0\n[[objects]]\ncapillary_number = 0.2\n"
+      "[mesh]\nequator_nodes = 16\nfar_size = 2.5\n[time]\nstep = 0.05\nend = 0.25\n"
+      "[remesh]\ninterval = 0.1\n[output]\nfields = false\ndirectory = \"" +
+          directory.string() + "\"\n",
+      "schedule.toml");
+  simulation::RunOptions options;
+  options.quiet = true;
+  options.overwrite = true;
+  const auto summary = simulation::run_drop_case(config, options, simulation::build_mesh(config));
+  std::ifstream csv(directory / "remesh.csv");
+  std::string line;
+  std::vector<std::string> rows;
+  std::getline(csv, line);  // header
+  while (std::getline(csv, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("2,0.1", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[1].rfind("4,0.2", 0), 0u) << rows[1];
+  for (const auto& r : rows) EXPECT_NE(r.find("remesh.interval 0.1"), std::string::npos) << r;
+  fs::remove_all(directory);
 }

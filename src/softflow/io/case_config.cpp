@@ -608,6 +608,15 @@ void expand_emulsion(const TableRead& emulsion, CaseConfig& c, Diagnostics& diag
 }
 
 void check_remesh(const TableRead& remesh, const TableRead& time, const CaseConfig& c, Diagnostics& diag) {
+  // A remesh makes gap_elements elements across a narrow gap (the mesher's
+  // count): a trigger at or above that would remesh before every step.
+  if (remesh.status("gap_elements") == Read::ok && c.remesh.gap_elements > 0.0 &&
+      c.remesh.gap_elements >= c.sizing.elements_across_gaps())
+    diag.error(remesh.path("gap_elements"), *remesh.value("gap_elements"),
+               fmt::format("must be below mesh.gap_elements = {}, the elements a remesh puts "
+                           "across a narrow gap (allowed: 0 <= remesh.gap_elements < "
+                           "mesh.gap_elements; raise mesh.gap_elements to remesh at more)",
+                           c.sizing.elements_across_gaps()));
   if (remesh.status("quality") != Read::ok || c.remesh.quality == 0.0) return;
   if (time.status("min_quality") == Read::bad) return;
   if (c.remesh.quality <= c.time.min_quality)
@@ -734,7 +743,7 @@ void resolve_default_steps(const TableRead& time, const TableRead& matrix,
   }
   c.time.steps_chosen_by = "default";
   if (!(c.time.end > 0.0) || c.objects.empty() || c.flow.type == FlowType::oscillatory ||
-      c.remesh.quality > 0.0 || time.status("max_step") != Read::absent ||
+      c.remesh.enabled() || time.status("max_step") != Read::absent ||
       time.status("max_growth") != Read::absent)
     return;
   c.time.adaptive_tolerance = kDefaultAdaptiveTolerance;
@@ -1043,7 +1052,7 @@ std::string to_toml(const CaseConfig& c) {
     if (table.name != keys.objects.name) {
       // A run that never remeshes prints as before the key: the case.toml
       // of its checkpoints and stored runs compares with the printout.
-      if (table.name == "remesh" && c.remesh.quality == 0.0) continue;
+      if (table.name == "remesh" && !c.remesh.enabled()) continue;
       if (table.name == "emulsion" && c.emulsion.volume_fraction == 0.0) continue;
       s += '\n';
       s += schema::write_table(*keys.table(table.name), c);

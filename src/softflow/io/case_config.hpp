@@ -164,6 +164,17 @@ struct RemeshConfig {
   /// Remesh before a step once the worst element quality is below this
   /// (0: never). Must exceed time.min_quality, which stops the run.
   double quality = 0.0;
+  /// Remesh before a step once this much time has passed since the last
+  /// remesh (or the start; 0: never): a schedule, for runs whose elements
+  /// stretch without a poor one (long migrations).
+  double interval = 0.0;
+  /// Remesh before a step once an object's gap to a wall or to another
+  /// object is crossed by fewer elements than this (0: never); below
+  /// mesh.gap_elements, the count a remesh restores.
+  double gap_elements = 0.0;
+
+  /// Any trigger set: the run may remesh.
+  [[nodiscard]] bool enabled() const { return quality > 0.0 || interval > 0.0 || gap_elements > 0.0; }
 };
 
 /// [interface]: interface tracking (thesis §2.2.3, §2.3.2).

@@ -492,7 +492,14 @@ Table<CaseConfig> remesh_table() {
           false,
           {number("quality", remesh(&RemeshConfig::quality), 0.0, Range::right_open(0, 1),
                   "remesh before a step once the worst element quality is below this (0: "
-                  "never); above time.min_quality, which stops the run")}};
+                  "never); above time.min_quality, which stops the run"),
+           number("interval", remesh(&RemeshConfig::interval), 0.0, Range::at_least(0),
+                  "remesh before a step once this much time has passed since the last remesh "
+                  "or the start (0: never)"),
+           number("gap_elements", remesh(&RemeshConfig::gap_elements), 0.0, Range::at_least(0),
+                  "remesh before a step once an object's gap to a wall or to another object "
+                  "is crossed by fewer elements than this (0: never); below "
+                  "mesh.gap_elements, the count a remesh restores")}};
 }
 
 Table<CaseConfig> interface_table() {

@@ -28,6 +28,7 @@
 #include "softflow/analysis/steady_state.hpp"
 #include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/mesh/quality.hpp"
+#include "softflow/simulation/remesh_triggers.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/io/checkpoint.hpp"
 #include "softflow/io/output_directory.hpp"
@@ -136,45 +137,39 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
 
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
-  // The mesh quality a remesh last could not get above remesh.quality from (it
-  // failed, or its best mesh was below the threshold): the next waits for a 5 % drop.
-  double remesh_fell_short_at = std::numeric_limits<double>::infinity();
+  RemeshTriggers triggers(config);
   try {
     while (!at_end(config, sim.steps(), sim.time())) {
-      if (config.remesh.quality > 0.0 && sim.mesh_quality() < config.remesh.quality &&
-          sim.mesh_quality() < 0.95 * remesh_fell_short_at) {
-        // Before the step, outside the step taker (whose retries restore a
-        // state of the mesh they started on). A checkpoint follows at once:
-        // a restart continues on the new mesh without meshing again.
-        RemeshEvent e;
-        try {
-          e = sim.remesh(fmt::format("quality {:.3g} < remesh.quality {:g}", sim.mesh_quality(),
-                                     config.remesh.quality));
-        } catch (const MeshError& failed) {
-          // The run goes on with its mesh (time.min_quality still stops it
-          // with its diagnosis); tried again after a further 5 % drop.
-          remesh_fell_short_at = sim.mesh_quality();
-          if (root)
-            fmt::print(stderr, "softflow: note: remeshing at step {} (t = {:.4f}) failed, the run goes on "
-                       "with its mesh: {}\n", sim.steps(), sim.time(), failed.what());
-          continue;
+      if (config.remesh.enabled()) {
+        const MeshCondition now = triggers.measure(sim.mesh(), sim.time(), sim.mesh_quality());
+        if (const std::string why = triggers.due(now, ledger.last_remesh_time); !why.empty()) {
+          // Before the step, outside the step taker (whose retries restore a
+          // state of the mesh they started on). A checkpoint follows at once:
+          // a restart continues on the new mesh without meshing again.
+          ledger.last_remesh_time = sim.time();
+          RemeshEvent e;
+          try {
+            e = sim.remesh(why);
+          } catch (const MeshError& failure) {
+            // The run goes on with its mesh (time.min_quality still stops it
+            // with its diagnosis).
+            triggers.failed(now);
+            if (root)
+              fmt::print(stderr, "softflow: note: remeshing at step {} (t = {:.4f}) failed, the run goes on "
+                         "with its mesh: {}\n", sim.steps(), sim.time(), failure.what());
+            continue;
+          }
+          triggers.remeshed(triggers.measure(sim.mesh(), sim.time(), e.quality_after));
+          // The modules are new objects: their report files' rows with them.
+          files.reports = sim.report_files();
+          write_checkpoint();
+          on_root_sharing_failure([&] { append_remesh_row(directory, e); });
+          if (console)
+            fmt::print("remesh at step {} (t = {:.4f}): {}; nodes {} -> {}, worst quality {:.3f} -> {:.3f} "
+                       "({}; worst interface triangle {:.3f}), volume change {:.1e}, {:.2f} s\n",
+                       e.step, e.time, e.reason, e.nodes_before, e.nodes_after, e.quality_before,
+                       e.quality_after, e.algorithm, e.interface_shape, e.volume_change, e.seconds);
         }
-        // A remesh that cannot reach remesh.quality here (the remesher's best
-        // mesh of this shape is below it) is not repeated before every step
-        // (measured: a migrating particle remeshed at 60 steps in a row, 0.08-0.17
-        // each time); again after a further 5 % drop, as after a failure.
-        remesh_fell_short_at = e.quality_after < config.remesh.quality
-                                   ? e.quality_after
-                                   : std::numeric_limits<double>::infinity();
-        // The modules are new objects: their report files' rows with them.
-        files.reports = sim.report_files();
-        write_checkpoint();
-        on_root_sharing_failure([&] { append_remesh_row(directory, e); });
-        if (console)
-          fmt::print("remesh at step {} (t = {:.4f}): {}; nodes {} -> {}, worst quality {:.3f} -> {:.3f} "
-                     "({}; worst interface triangle {:.3f}), volume change {:.1e}, {:.2f} s\n",
-                     e.step, e.time, e.reason, e.nodes_before, e.nodes_after, e.quality_before,
-                     e.quality_after, e.algorithm, e.interface_shape, e.volume_change, e.seconds);
       }
       last = stepper.take(sim);
       add(ledger.total, last.stages);

@@ -169,7 +169,8 @@ nlohmann::json to_json(const RunLedger& l) {
           {"steady", l.steady ? steady_samples_json(*l.steady) : nlohmann::json()},
           {"adaptive", l.adaptive ? adaptive_json(*l.adaptive) : nlohmann::json()},
           {"warnings", l.warnings},
-          {"finished", l.finished}};
+          {"finished", l.finished},
+          {"last_remesh_time", l.last_remesh_time}};
 }
 
 RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config) {
@@ -195,6 +196,7 @@ RunLedger ledger_from_json(const std::string& text, const io::CaseConfig& config
     if (l.adaptive) l.adaptive = adaptive_from_json(j.at("adaptive"));
     l.warnings = j.value("warnings", std::vector<std::string>{});  // absent before 2026-12-03
     l.finished = j.value("finished", std::string());                 // absent before 2026-12-04
+    l.last_remesh_time = j.value("last_remesh_time", 0.0);            // absent before 2026-12-05
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("the checkpoint's run record is damaged: {}", e.what()));
   }

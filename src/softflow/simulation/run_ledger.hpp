@@ -73,6 +73,10 @@ struct RunLedger {
   /// Why a module ended the run before time.end (StepModule::finished), or
   /// "": a restart of such a run has nothing to do.
   std::string finished;
+  /// The time of the last remesh (0 before the first): remesh.interval
+  /// counts from it, and a restart from the checkpoint a remesh writes does
+  /// not remesh again.
+  double last_remesh_time = 0.0;
 };
 
 /// The monitor of time.steady_tolerance, or none. Centre velocities are
