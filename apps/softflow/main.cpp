@@ -411,6 +411,7 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> migration_runs;
   double migration_transient = 5.0;
+  double migration_segment = 2.0;
   std::string migration_out = "migration";
   auto* migration = app.add_subcommand(
       "migration",
@@ -423,6 +424,10 @@ int main(int argc, char** argv) {
   migration->add_option("--transient", migration_transient,
                         "drop each run's rows before this time: the start, where the particle "
                         "deforms from a sphere")
+      ->capture_default_str();
+  migration->add_option("--segment", migration_segment,
+                        "the time over which each run's mean v_p (the slope of y_p) is taken for the "
+                        "neutral heights")
       ->capture_default_str();
   migration->add_option("-o,--output", migration_out, "where the curves go")->capture_default_str();
 
@@ -569,7 +574,7 @@ int main(int argc, char** argv) {
   if (*migration) {  // no PETSc: post-processing of finished runs
     try {
       std::vector<std::filesystem::path> dirs(migration_runs.begin(), migration_runs.end());
-      const auto curves = softflow::simulation::assemble_migration(dirs, migration_transient);
+      const auto curves = softflow::simulation::assemble_migration(dirs, migration_transient, migration_segment);
       softflow::simulation::write_migration(curves, migration_out);
       if (!quiet) std::cout << fmt::format("wrote {}/migration.md\n", migration_out);
       return kOk;

@@ -66,9 +66,13 @@ TEST(Migration, MirrorImagesMigrateEquallyTowardsTheCentre) {
   EXPECT_LT(up["wall_gap"].get<double>(), 1.05);
 
   // The two runs' rows after the first 0.2 time units, as a master curve.
-  const auto curves = simulation::assemble_migration({above, below}, 0.21);
+  const auto curves = simulation::assemble_migration({above, below}, 0.21, 0.1);
   EXPECT_NEAR(curves.blockage_ratio, 0.4, 1e-12);
   EXPECT_EQ(curves.points.size(), 16u);  // 8 rows each, t = 0.25 ... 0.6
+  // Stretches of 0.1 from t = 0.25: 0.25-0.35, 0.35-0.45, 0.45-0.6 (the 0.05
+  // left joins the last), three per run, each the slope of y_p over it.
+  ASSERT_EQ(curves.segments.size(), 6u);
+  for (const auto& s : curves.segments) EXPECT_EQ(s.v_p > 0.0, s.y_rel < 0.0);
   ASSERT_EQ(curves.neutral.size(), 1u);
   EXPECT_TRUE(curves.neutral[0].stable);
   EXPECT_LT(std::abs(curves.neutral[0].y_rel), curves.neutral[0].error);

@@ -54,12 +54,16 @@ double field(const std::map<std::string, double>& row, const std::string& name, 
 
 }  // namespace
 
-MigrationCurves assemble_migration(const std::vector<fs::path>& directories, double transient) {
+MigrationCurves assemble_migration(const std::vector<fs::path>& directories, double transient,
+                                   double segment) {
   if (directories.empty()) throw InputError("softflow migration: give the run directories to combine");
   if (!(transient >= 0.0))
     throw InputError(fmt::format("--transient = {:g}: must be a time >= 0", transient));
+  if (!(segment > 0.0) || !std::isfinite(segment))
+    throw InputError(fmt::format("--segment = {:g}: must be a time > 0", segment));
   MigrationCurves curves;
   curves.transient = transient;
+  curves.segment = segment;
   for (std::size_t r = 0; r < directories.size(); ++r) {
     const fs::path& dir = directories[r];
     const auto config = io::read_case_file(dir / "case.toml");
@@ -95,12 +99,34 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
       if (std::isfinite(p.v_p) && std::isfinite(p.y_rel)) curves.points.push_back(p);
     }
   }
+  // Each run's stretches, from its rows in time order (as in migration.csv).
+  for (std::size_t r = 0; r < curves.runs.size(); ++r) {
+    std::vector<MigrationPoint> rows;
+    for (const auto& p : curves.points)
+      if (p.run == static_cast<int>(r)) rows.push_back(p);
+    std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+    std::size_t begin = 0;
+    while (begin + 1 < rows.size()) {
+      std::size_t end = begin + 1;
+      while (end + 1 < rows.size() && rows[end].t - rows[begin].t < segment * (1.0 - 1e-9)) ++end;
+      // A short remainder joins this stretch rather than standing alone.
+      if (rows.back().t - rows[end].t < 0.5 * segment * (1.0 + 1e-9)) end = rows.size() - 1;
+      const auto& a = rows[begin];
+      const auto& b = rows[end];
+      curves.segments.push_back({static_cast<int>(r), a.t, b.t, 0.5 * (a.y_rel + b.y_rel),
+                                 (b.y_p - a.y_p) / (b.t - a.t)});
+      begin = end;
+    }
+  }
+  std::sort(curves.segments.begin(), curves.segments.end(),
+            [](const MigrationSegment& a, const MigrationSegment& b) { return a.y_rel < b.y_rel; });
   std::sort(curves.points.begin(), curves.points.end(),
             [](const MigrationPoint& a, const MigrationPoint& b) { return a.y_rel < b.y_rel; });
   const auto& pts = curves.points;
-  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
-    const auto& a = pts[i];
-    const auto& b = pts[i + 1];
+  const auto& segs = curves.segments;
+  for (std::size_t i = 0; i + 1 < segs.size(); ++i) {
+    const auto& a = segs[i];
+    const auto& b = segs[i + 1];
     if (a.v_p == 0.0 || (a.v_p > 0.0) == (b.v_p > 0.0)) continue;
     NeutralHeight n;
     n.y_rel = a.y_rel + (b.y_rel - a.y_rel) * a.v_p / (a.v_p - b.v_p);
@@ -145,8 +171,15 @@ void write_migration(const MigrationCurves& c, const fs::path& out) {
     md += fmt::format("| {} | {} | {} |\n", r, c.runs[r].string(),
                       std::count_if(c.points.begin(), c.points.end(),
                                     [r](const MigrationPoint& p) { return p.run == static_cast<int>(r); }));
+  md += fmt::format("\n## Mean migration over stretches of {:g} time units\n\n"
+                    "The slope of y_p(t) over each stretch (the per-step v_p swings with the "
+                    "particle's tank-treading); the neutral heights below are where it changes "
+                    "sign.\n\n| run | t | y_p / y_p,max | v_p |\n|---|---|---|---|\n",
+                    c.segment);
+  for (const auto& s : c.segments)
+    md += fmt::format("| {} | {:g}-{:g} | {:.4f} | {:.4g} |\n", s.run, s.t_begin, s.t_end, s.y_rel, s.v_p);
   md += "\n## Neutral heights (v_p = 0)\n\n";
-  if (c.neutral.empty()) md += "None among the kept points.\n";
+  if (c.neutral.empty()) md += "None: the stretches' v_p has one sign.\n";
   else {
     md += "| y_p / y_p,max | +- | kind |\n|---|---|---|\n";
     for (const auto& n : c.neutral)

@@ -21,8 +21,20 @@ struct MigrationPoint {
   double delta_s = 0.0;    ///< eq. 3.6
 };
 
+/// One run's mean migration over a stretch of time: the slope of y_p(t)
+/// between the stretch's first and last rows. The per-step v_p swings with
+/// the particle's tank-treading (measured, a Giesekus run at 0.10 H: per-step
+/// v_p -4.3e-4 +- 2.2e-4 with both signs, over 2 time units -3.8e-4 to
+/// -5.1e-4), so a sign change of the master curve is read from these.
+struct MigrationSegment {
+  int run = 0;
+  double t_begin = 0.0, t_end = 0.0;
+  double y_rel = 0.0;  ///< y_p / y_p,max at the stretch's middle (mean of its ends)
+  double v_p = 0.0;    ///< (y_p(t_end) - y_p(t_begin)) / (t_end - t_begin)
+};
+
 /// A height where the master curve v_p(y_rel) changes sign, between two
-/// neighbouring points (linear interpolation); `error` is half their distance.
+/// neighbouring segments (linear interpolation); `error` is half their distance.
 struct NeutralHeight {
   double y_rel = 0.0;
   double error = 0.0;
@@ -35,7 +47,9 @@ struct MigrationCurves {
   double capillary_number = 0.0;     ///< Ca_e of the first object (0 for a drop)
   double transient = 0.0;            ///< time dropped at the start of each run
   std::vector<MigrationPoint> points;  ///< every kept row, sorted by y_rel
-  std::vector<NeutralHeight> neutral;
+  double segment = 0.0;                 ///< the stretches' length in time
+  std::vector<MigrationSegment> segments;  ///< every run's stretches, sorted by y_rel
+  std::vector<NeutralHeight> neutral;   ///< where the segments' v_p changes sign
   /// Least squares v_p = slope * y_rel over |y_rel| <= 0.1 (eq. 3.7), with its
   /// point count and relative rms residual; none if fewer than 2 points.
   std::optional<double> slope;
@@ -50,8 +64,11 @@ struct MigrationCurves {
 /// sphere and v_p is not yet the master curve's: the thesis drops "the very
 /// early stages"), and assembles the curves. InputError names the directory
 /// and what is wrong (no migration.csv, runs of different beta or Ca_e).
+/// Each run's kept rows are cut into stretches of `segment` time units from
+/// its first kept row (a last stretch shorter than half of it joins the one
+/// before); the neutral heights are where their mean v_p changes sign.
 MigrationCurves assemble_migration(const std::vector<std::filesystem::path>& directories,
-                                   double transient);
+                                   double transient, double segment = 2.0);
 
 /// migration_curves.csv (the points), migration.md (runs, neutral heights,
 /// the slope beside eq. 3.8) in `out`; migration.png by scripts/plot_migration.py.
