@@ -74,6 +74,39 @@ TEST(SolverChoice, AutoFactorsOnlyForARunLongEnoughToRepayIt) {
   EXPECT_EQ(la::choose_method(SaddlePointMethod::iterative, unknowns, 10).reason, "solver.type");
 }
 
+TEST(SolverChoice, AViscoelasticLiquidIsSolvedIterativelyFromFiftyThousandUnknowns) {
+  using la::resolve_method;
+  using la::SaddlePointMethod;
+  // The Giesekus migration case (141,390 unknowns, 375 steps): the
+  // run-length rule alone factors; measured, its reused factors needed 13
+  // iterations a step and its steps were no cheaper, so iterative.
+  const long unknowns = 141390;
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 375), SaddlePointMethod::direct);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 375, true), SaddlePointMethod::iterative);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, unknowns, 0, true), SaddlePointMethod::iterative);
+  const std::string reason = la::choose_method(SaddlePointMethod::automatic, unknowns, 375, true).reason;
+  EXPECT_NE(reason.find("viscoelastic liquid"), std::string::npos) << reason;
+  // Below the measured switch the run-length rule decides, as without one.
+  const long below = la::kRelaxingPhaseIterativeFrom - 1;
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, below, 2000, true), SaddlePointMethod::direct);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, below, 2, true), SaddlePointMethod::iterative);
+  EXPECT_EQ(resolve_method(SaddlePointMethod::automatic, la::kRunLengthRuleFrom - 1, 2000, true),
+            SaddlePointMethod::direct);
+  // An explicit choice is kept.
+  EXPECT_EQ(resolve_method(SaddlePointMethod::direct, unknowns, 375, true), SaddlePointMethod::direct);
+  // A case says so when a phase is a viscoelastic liquid; an elastic
+  // particle's reused factors stay cheaper (measured at 82,851 unknowns).
+  const auto relaxing = [](const std::string& text) {
+    return simulation::solver_settings(io::parse_case(text, "c.toml")).relaxing_phase;
+  };
+  EXPECT_FALSE(relaxing("[[objects]]\n"));
+  EXPECT_FALSE(relaxing("[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 1.0\n"));
+  EXPECT_TRUE(relaxing("[matrix]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\n"
+                       "polymer_viscosity = 0.5\nrelaxation_time = 1.0\n[[objects]]\n"));
+  EXPECT_TRUE(relaxing("[[objects]]\nmodel = \"oldroyd_b\"\nsolvent_viscosity = 0.5\n"
+                       "polymer_viscosity = 0.5\nrelaxation_time = 1.0\n"));
+}
+
 TEST(SolverChoice, ACasePlansItsStepsFromEndAndStep) {
   io::CaseConfig config;
   io::TimeConfig& time = config.time;

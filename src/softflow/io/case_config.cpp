@@ -447,14 +447,21 @@ void check_steady(const TableRead& time, const CaseConfig& c, Diagnostics& diag)
                            c.time.steady_window, c.time.step, c.time.end));
 }
 
-/// Whether a phase carries a conformation (a viscoelastic matrix or object,
-/// or an elastic particle's Finger tensor), whose time error the adaptive
-/// steps' interface estimate does not see.
+}  // namespace
+
 bool carries_conformation(const CaseConfig& c) {
   return c.matrix_model != ConstitutiveModel::newtonian ||
          std::any_of(c.objects.begin(), c.objects.end(),
                      [](const ObjectConfig& o) { return o.model != ConstitutiveModel::newtonian; });
 }
+
+bool has_relaxing_phase(const CaseConfig& c) {
+  return matrix_constitutive(c).relaxes() ||
+         std::any_of(c.objects.begin(), c.objects.end(),
+                     [&](const ObjectConfig& o) { return object_constitutive(c, o).relaxes(); });
+}
+
+namespace {
 
 /// Adaptive steps estimate their error from the interfaces: they need
 /// objects, and a flow whose period the steps would otherwise skip over is

@@ -343,6 +343,15 @@ struct DimensionlessGroup {
   int object = 0;          ///< object it belongs to (1-based); 0 = the whole case
 };
 
+/// Whether a phase carries a conformation (a viscoelastic matrix or object,
+/// or an elastic particle's Finger tensor): its time error is one the
+/// adaptive steps' interface estimate does not see.
+[[nodiscard]] bool carries_conformation(const CaseConfig& c);
+
+/// Whether a phase is a viscoelastic liquid (a finite relaxation time: the
+/// matrix or a drop of Oldroyd-B, Giesekus, UCM or FENE-P).
+[[nodiscard]] bool has_relaxing_phase(const CaseConfig& c);
+
 /// The groups of a case (SPEC §1), case-wide ones first (gamma0; a
 /// viscoelastic matrix's Weissenberg number, and Deborah number in
 /// oscillatory flow), then per object: for a drop Ca, omega*, lambda, p

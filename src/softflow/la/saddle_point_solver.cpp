@@ -145,7 +145,8 @@ long direct_solver_crossover_steps(long unknowns) {
   return static_cast<long>(std::ceil(100.0 * std::pow(static_cast<double>(unknowns) / 95000.0, 1.5)));
 }
 
-MethodChoice choose_method(SaddlePointMethod method, long unknowns, long planned_steps) {
+MethodChoice choose_method(SaddlePointMethod method, long unknowns, long planned_steps,
+                           bool relaxing_phase) {
   using enum SaddlePointMethod;
   if (method != automatic) return {method, "solver.type"};
   if (unknowns > kDirectSolverLimit)
@@ -155,6 +156,11 @@ MethodChoice choose_method(SaddlePointMethod method, long unknowns, long planned
   if (crossover == 0)
     return {direct, fmt::format("auto: {} unknowns, fewer than {}: a factorisation costs seconds",
                                 unknowns, kRunLengthRuleFrom)};
+  if (relaxing_phase && unknowns >= kRelaxingPhaseIterativeFrom)
+    return {iterative, fmt::format("auto: {} unknowns with a viscoelastic liquid, at least the {} from "
+                                   "which its changing stress terms make reused factors slower than the "
+                                   "iterative path",
+                                   unknowns, kRelaxingPhaseIterativeFrom)};
   if (planned_steps > 0 && planned_steps < crossover)
     return {iterative, fmt::format("auto: {} steps planned, fewer than the {} a factorisation of {} "
                                    "unknowns needs to pay off",

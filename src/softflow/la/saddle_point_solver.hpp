@@ -47,16 +47,27 @@ struct MethodChoice {
   std::string reason;
 };
 
+/// From this many unknowns SaddlePointMethod::automatic solves a system with
+/// a viscoelastic liquid's terms (SaddlePointSettings::relaxing_phase)
+/// iteratively whatever the run's length: measured
+/// (docs/benchmarks/solver_crossover_stress.md), the reused factors' steps
+/// are 14-19 % cheaper than the iterative path's at 29,558 unknowns and
+/// 14-21 % dearer at 82,851 (a Giesekus matrix, an Oldroyd-B drop), where
+/// a factorisation therefore never pays off.
+inline constexpr long kRelaxingPhaseIterativeFrom = 50000;
+
 /// `method` with automatic replaced by the choice for `unknowns` and a run
 /// of `planned_steps` time steps (0: not known, taken as a long run):
-/// iterative above kDirectSolverLimit (memory) or for a run shorter than
-/// direct_solver_crossover_steps, direct otherwise.
-MethodChoice choose_method(SaddlePointMethod method, long unknowns, long planned_steps);
+/// iterative above kDirectSolverLimit (memory), for a run shorter than
+/// direct_solver_crossover_steps, or from kRelaxingPhaseIterativeFrom
+/// unknowns with `relaxing_phase`; direct otherwise.
+MethodChoice choose_method(SaddlePointMethod method, long unknowns, long planned_steps,
+                           bool relaxing_phase = false);
 
 /// choose_method's method alone.
 inline SaddlePointMethod resolve_method(SaddlePointMethod method, long unknowns,
-                                        long planned_steps = 0) {
-  return choose_method(method, unknowns, planned_steps).method;
+                                        long planned_steps = 0, bool relaxing_phase = false) {
+  return choose_method(method, unknowns, planned_steps, relaxing_phase).method;
 }
 
 struct SaddlePointSettings {
@@ -64,6 +75,13 @@ struct SaddlePointSettings {
   /// For SaddlePointMethod::automatic: the run's planned number of time
   /// steps (0: not known), which decides whether a factorisation pays off.
   long planned_steps = 0;
+  /// For SaddlePointMethod::automatic: a phase is a viscoelastic liquid, whose
+  /// stress terms (D'Avino-Hulsen, DEVSS-G) change the matrix with the
+  /// conformation at every step: reused factors then need 14 GMRES
+  /// iterations a step (a Giesekus matrix; 2-3 for a Newtonian drop, 9-10 for
+  /// an elastic particle or an Oldroyd-B drop) and from kRelaxingPhaseIterativeFrom
+  /// unknowns their steps cost more than the iterative path's.
+  bool relaxing_phase = false;
   double rtol = 1e-8;
   int max_iterations = 500;
   /// Direct method in a time loop: keep the LU factors of an earlier matrix

@@ -245,6 +245,7 @@ la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
   s.planned_steps = planned_step_count(config);
+  s.relaxing_phase = io::has_relaxing_phase(config);
   return s;
 }
 

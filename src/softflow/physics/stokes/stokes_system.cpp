@@ -76,7 +76,8 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
     throw SolverError(fmt::format("StokesSystem: {} element dofs, the kernels take {}",
                                   dofs_.element_size(), TetMatrix::RowsAtCompileTime));
   // Before create_matrices, which lays the matrices out for the method.
-  la::MethodChoice choice = la::choose_method(settings_.method, dofs_.n_dofs(), settings_.planned_steps);
+  la::MethodChoice choice = la::choose_method(settings_.method, dofs_.n_dofs(), settings_.planned_steps,
+                                           settings_.relaxing_phase);
   settings_.method = choice.method;
   method_reason_ = std::move(choice.reason);
   partition();
