@@ -150,13 +150,13 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
           RemeshEvent e;
           try {
             e = sim.remesh(why);
-          } catch (const MeshError& failure) {
+          } catch (const MeshError& remesh_failure) {
             // The run goes on with its mesh (time.min_quality still stops it
             // with its diagnosis).
             triggers.failed(now);
             if (root)
               fmt::print(stderr, "softflow: note: remeshing at step {} (t = {:.4f}) failed, the run goes on "
-                         "with its mesh: {}\n", sim.steps(), sim.time(), failure.what());
+                         "with its mesh: {}\n", sim.steps(), sim.time(), remesh_failure.what());
             continue;
           }
           triggers.remeshed(triggers.measure(sim.mesh(), sim.time(), e.quality_after));
