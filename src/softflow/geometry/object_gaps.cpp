@@ -7,11 +7,8 @@
 
 namespace softflow::geometry {
 
-namespace {
-
 using Eigen::Vector3d;
 
-/// Each object's interface nodes (P2 nodes of its interface faces, once each).
 std::vector<std::vector<Vector3d>> interface_points(const mesh::Mesh& m) {
   std::vector<std::vector<Vector3d>> out(m.n_objects);
   std::vector<bool> listed(m.nodes.size(), false);
@@ -23,8 +20,6 @@ std::vector<std::vector<Vector3d>> interface_points(const mesh::Mesh& m) {
       }
   return out;
 }
-
-}  // namespace
 
 std::optional<ObjectGap> least_resolved_gap(const mesh::Mesh& m, double narrower_than) {
   const auto points = interface_points(m);

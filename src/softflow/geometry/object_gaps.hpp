@@ -7,11 +7,16 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/mesh/mesh.hpp"
 
 namespace softflow::geometry {
+
+/// Each object's interface nodes (the P2 nodes of its interface faces, once
+/// each), by object (index k - 1 for object k): its current surface as points.
+std::vector<std::vector<Eigen::Vector3d>> interface_points(const mesh::Mesh& mesh);
 
 /// One gap of an object: to a wall (other = 0) or to another object.
 struct ObjectGap {

@@ -18,6 +18,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/gmsh_mesh.hpp"
+#include "softflow/geometry/object_gaps.hpp"
 #include "softflow/mesh/node_relocation.hpp"
 #include "softflow/mesh/quality.hpp"
 #include "softflow/mesh/renumber.hpp"
@@ -175,25 +176,18 @@ class InterfaceDistance {
 
 std::vector<detail::SurfaceDistance> surface_distances(const mesh::Mesh& m) {
   std::vector<detail::SurfaceDistance> out(m.n_objects);
-  std::vector<double> y_max(m.n_objects, -std::numeric_limits<double>::infinity());
-  std::vector<double> y_min(m.n_objects, std::numeric_limits<double>::infinity());
-  for (std::size_t f = 0; f < m.interface_faces.size(); ++f)
-    for (int node : m.interface_faces[f]) {
-      const int k = m.interface_object[f] - 1;
-      y_max[k] = std::max(y_max[k], m.nodes[node].y());
-      y_min[k] = std::min(y_min[k], m.nodes[node].y());
-    }
-  std::vector<bool> listed(m.nodes.size(), false);  // an interface node belongs to one object
-  for (std::size_t f = 0; f < m.interface_faces.size(); ++f)
-    for (int node : m.interface_faces[f])
-      if (!listed[node]) {
-        listed[node] = true;
-        out[m.interface_object[f] - 1].points.push_back(m.nodes[node]);
-      }
+  auto points = interface_points(m);
   for (int k = 0; k < m.n_objects; ++k) {
+    double y_max = -std::numeric_limits<double>::infinity();
+    double y_min = std::numeric_limits<double>::infinity();
+    for (const Vector3d& x : points[k]) {
+      y_max = std::max(y_max, x.y());
+      y_min = std::min(y_min, x.y());
+    }
     out[k].distance = InterfaceDistance(m, k + 1);
-    out[k].gap_upper = m.box.height / 2 - y_max[k];
-    out[k].gap_lower = m.box.height / 2 + y_min[k];
+    out[k].gap_upper = m.box.height / 2 - y_max;
+    out[k].gap_lower = m.box.height / 2 + y_min;
+    out[k].points = std::move(points[k]);
   }
   return out;
 }
