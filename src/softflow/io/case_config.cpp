@@ -1097,6 +1097,15 @@ std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
     return 2.0 * m.polymer_viscosity() * m.relaxation_time();
   };
   const std::string rate = oscillatory ? "gamma0 omega" : "gamma_dot";
+  // Thesis ch. 3 writes a particle's p = N / Ca_e^2 with N = N_1 / (2 G) and
+  // N_1 the matrix's first normal stress difference at the flow's shear rate:
+  // the same as p for Oldroyd-B and UCM, smaller for a shear-thinning matrix
+  // (Giesekus: 0.84 of it at Wi = 0.5, alpha = 0.2). Once for all particles;
+  // only in steady shear.
+  std::optional<double> matrix_n1;
+  if (matrix.relaxes() && !oscillatory && c.shear_rate > 0.0)
+    matrix_n1 =
+        physics::viscoelastic::steady_simple_shear(matrix, c.shear_rate).first_normal_stress_difference();
   // Case-wide groups first (object = 0).
   if (oscillatory)
     groups.push_back({"gamma0", "strain amplitude", c.flow.strain_amplitude,
@@ -1126,17 +1135,10 @@ std::vector<DimensionlessGroup> dimensionless_groups(const CaseConfig& c) {
         add("p", "matrix elasticity parameter",
             psi1(matrix) * model.modulus() / (2.0 * eta_m * eta_m),
             "Psi_1m G / (2 eta_m^2), Psi_1m = 2 eta_pm lambda_m");
-      // Thesis ch. 3 writes p = N / Ca_e^2 with N = N_1 / (2 G) and N_1 the
-      // matrix's first normal stress difference at the flow's shear rate:
-      // the same as p for Oldroyd-B and UCM, smaller for a shear-thinning
-      // matrix (Giesekus: 0.84 of it at Wi = 0.5, alpha = 0.2).
-      if (matrix.relaxes() && !oscillatory) {
-        const double n1 =
-            physics::viscoelastic::steady_simple_shear(matrix, c.shear_rate).first_normal_stress_difference();
+      if (matrix_n1)
         add("p_N1", "matrix elasticity parameter from N_1 at the shear rate",
-            n1 * model.modulus() / (2.0 * eta_m * eta_m * c.shear_rate * c.shear_rate),
+            *matrix_n1 * model.modulus() / (2.0 * eta_m * eta_m * c.shear_rate * c.shear_rate),
             "N / Ca_e^2, N = N_1(gamma_dot) / (2 G), Ca_e = eta_m gamma_dot / G (thesis ch. 3)");
-      }
       if (o.model == ConstitutiveModel::kelvin_voigt)
         add("mu_d/eta_m", "particle solvent viscosity ratio", model.solvent_viscosity() / eta_m,
             "mu_d / eta_m");
