@@ -53,6 +53,7 @@
 #include "softflow/io/run_lock.hpp"
 #include "softflow/io/sweep_case.hpp"
 #include "softflow/simulation/drop_run.hpp"
+#include "softflow/simulation/frequency_response.hpp"
 #include "softflow/simulation/migration_curves.hpp"
 #include "softflow/simulation/moduli_study.hpp"
 #include "softflow/simulation/report_tables.hpp"
@@ -316,6 +317,23 @@ int main(int argc, char** argv) {
                     "continue even though progress.json says the run is running on another host "
                     "(after that host died)");
 
+  std::vector<double> response_frequencies;
+  std::vector<double> response_log_range;
+  auto* response = app.add_subcommand(
+      "response",
+      "the drops' linear response to small-amplitude oscillatory shear in the frequency domain: one "
+      "complex Stokes solve per frequency about the resting spheres, no time stepping; their complex "
+      "intrinsic viscosity and the cell's G', G'' beside Oldroyd's emulsion (response.md, .csv, .png)");
+  response->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
+  response->add_option("-f,--frequency", response_frequencies,
+                       "angular frequencies omega, comma-separated (default: flow.frequency)")
+      ->delimiter(',');
+  response->add_option("--log-range", response_log_range,
+                       "FROM TO COUNT: COUNT angular frequencies evenly spaced in log between FROM and TO")
+      ->expected(3);
+  response->add_option("-o,--output", output_dir, "output directory (overrides [output] directory)");
+  response->add_flag("-q,--quiet", quiet, "print nothing but errors");
+
   auto* mesh = app.add_subcommand("mesh", "mesh the case and report nodes, elements and quality");
   mesh->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
   mesh->add_flag("-q,--quiet", quiet, "print nothing but errors");
@@ -487,7 +505,7 @@ int main(int argc, char** argv) {
                    << "Run softflow --help (or softflow SUBCOMMAND --help) for the options.\n";
     return kInputError;
   }
-  if (run->count("--output") > 0 && output_dir.empty()) {
+  if ((run->count("--output") > 0 || response->count("--output") > 0) && output_dir.empty()) {
     error_stream() << "softflow: -o/--output is empty: give a directory, or leave the option out to "
                  "use [output] directory\n";
     return kInputError;
@@ -521,6 +539,18 @@ int main(int argc, char** argv) {
       return kInputError;
     }
     options.wall_time_limit = seconds;
+  }
+
+  if (!response_log_range.empty()) {
+    const double from = response_log_range[0], to = response_log_range[1], count = response_log_range[2];
+    if (!(from > 0.0) || !(to > from) || !(count >= 2.0) || count != std::floor(count) || count > 1000.0) {
+      error_stream() << fmt::format("softflow: --log-range {} {} {}: FROM > 0, TO > FROM and a whole COUNT "
+                                    "from 2 to 1000 are needed\n",
+                                    from, to, count);
+      return kInputError;
+    }
+    for (int k = 0; k < static_cast<int>(count); ++k)
+      response_frequencies.push_back(from * std::pow(to / from, k / (count - 1.0)));
   }
 
   if (*check && is_sweep_file(case_file)) {  // every combination validated, none run
@@ -630,24 +660,24 @@ int main(int argc, char** argv) {
   // A stop request during meshing and set-up ends the process at once, exit 5
   // (simulation/stop_requests.hpp); the run itself takes over once it has
   // output to keep.
-  if (*run || *restart) softflow::simulation::install_stop_handler();
+  if (*run || *restart || *response) softflow::simulation::install_stop_handler();
 
   // One writer per output directory, from before meshing to the process's
   // end (io::RunLock): the launcher's rank 0 holds it. A refusal is shared
   // with every rank once MPI runs, below.
   std::optional<softflow::io::RunLock> run_lock;
   std::string lock_refusal;
-  if ((*run || *restart) && launcher_rank_zero()) {
+  if ((*run || *restart || *response) && launcher_rank_zero()) {
     try {
       std::filesystem::path directory = run_dir;
-      if (*run) {
+      if (*run || *response) {
         const auto config = read_valid_case(case_file);
         directory = options.output_directory.value_or(std::filesystem::path(config.output_directory));
       }
       // A request between taking the lock and naming its file to the handler
       // would leave the file behind: held back until the handler knows it.
       const softflow::simulation::StopSignalsHeld held;
-      run_lock.emplace(directory, *run ? "run" : "restart");
+      run_lock.emplace(directory, *run ? "run" : *response ? "response" : "restart");
       softflow::simulation::install_stop_handler(run_lock->lock_file());  // removed on a stop
     } catch (const softflow::InputError&) {
       // reported below, with every rank
@@ -658,7 +688,7 @@ int main(int argc, char** argv) {
 
   // The mesh, before MPI starts: only then is it the same in every run
   // (simulation::mesh_before_mpi). Problems surface below, after MPI.
-  if ((*run || *mesh) && launcher_rank_zero() && lock_refusal.empty()) {
+  if ((*run || *mesh || *response) && launcher_rank_zero() && lock_refusal.empty()) {
     try {
       softflow::simulation::mesh_before_mpi(read_valid_case(case_file));
     } catch (const std::exception&) {
@@ -668,7 +698,7 @@ int main(int argc, char** argv) {
   try {
     PetscSession petsc_session(petsc);
     // PETSc installs its own handler for SIGTERM and SIGINT: softflow's comes back.
-    if (*run || *restart)
+    if (*run || *restart || *response)
       softflow::simulation::install_stop_handler(run_lock ? run_lock->lock_file()
                                                           : std::filesystem::path());
     try {
@@ -695,6 +725,12 @@ int main(int argc, char** argv) {
         softflow::simulation::mesh_case(config, quiet);
       } else if (*run) {
         softflow::simulation::run_case(config, options);
+      } else if (*response) {
+        softflow::simulation::ResponseOptions response_options;
+        response_options.frequencies = response_frequencies;
+        response_options.output_directory = options.output_directory;
+        response_options.quiet = quiet;
+        softflow::simulation::run_frequency_response(config, response_options);
       }
       if (*run || *restart) warn_unused_petsc_options(config, petsc);
       return kOk;

@@ -5,6 +5,8 @@ Ca_e = 0.1, p = 4.5 by either reading of p) on
   - the figures' mesh (20 equator nodes: that script's runs),
   - a finer mesh (28 equator nodes, far size, wall size and growth by 20/28:
     the whole mesh refined), to t = 10 (zero-shear p) and t = 6 (p from N_1),
+  - the finest (40 equator nodes, the same scaling by 20/40), zero-shear p, to
+    t = 6 (about 2.5 h on one core),
 and the mean v_p (the slope of y_p(t)) over t = 2 ... 6 and 5 ... 10 of each,
 written to docs/validation/giesekus_migration_resolution.{md,csv}. At this start
 the matrix's elasticity cancels 85 % of the Newtonian inward migration on the
@@ -23,7 +25,7 @@ OUT = os.path.join(ROOT, "docs", "validation")
 START = 0.20
 WINDOWS = [(2.0, 6.0), (5.0, 10.0)]
 # (name, equator nodes, reading of p, end)
-LEVELS = [("N28", 28, "zero_shear", 10.0), ("n1_N28", 28, "n1", 6.0)]
+LEVELS = [("N28", 28, "zero_shear", 10.0), ("n1_N28", 28, "n1", 6.0), ("N40", 40, "zero_shear", 6.0)]
 FIGURES = os.path.join(ROOT, "output", "validation_giesekus_migration")
 
 

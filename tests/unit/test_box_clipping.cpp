@@ -117,3 +117,35 @@ TEST(BoxClipping, RandomTetrahedraSplitBetweenABoxAndItsOutsideByEachFace) {
 }
 
 }  // namespace
+
+TEST(BoxClipping, ReferencePiecesOfAStraightP2TetMapBackOntoItsClippedPart) {
+  // A straight P2 tetrahedron (edge nodes at the midpoints) across the
+  // faces x, y, z = 0.5 of the box [-1, 0.5]^3: the pieces in reference coordinates,
+  // mapped by the element's affine map, have the clipped volume; a tet wholly
+  // inside gives the reference tetrahedron, one outside nothing.
+  const Tetrahedron v{Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 1, 0), Vector3d(0, 0, 1)};
+  auto p2_nodes = [](const Tetrahedron& t) {
+    Eigen::Matrix<double, 3, 10> x;
+    for (int k = 0; k < 4; ++k) x.col(k) = t[k];
+    const int edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}};
+    for (int e = 0; e < 6; ++e) x.col(4 + e) = (t[edges[e][0]] + t[edges[e][1]]) / 2;
+    return x;
+  };
+  const Box box{Vector3d::Constant(-1.0), Vector3d::Constant(0.5)};
+  double reference_volume = 0.0;
+  for (const auto& piece : softflow::analysis::reference_pieces_in_box(p2_nodes(v), box))
+    reference_volume += tetrahedron_volume(piece);
+  double clipped = 0.0;
+  for (const auto& piece : clip_to_box(v, box)) clipped += tetrahedron_volume(piece);
+  // The reference tetrahedron has volume 1/6, as v: the affine map keeps volumes here.
+  EXPECT_NEAR(reference_volume, clipped, 1e-15);
+  // The corners beyond x, y, z = 0.5 cut off, each (1/2)^3 / 6.
+  EXPECT_NEAR(clipped, 1.0 / 6.0 - 3.0 / 48.0, 1e-15);
+
+  const Box around{Vector3d::Constant(-1.0), Vector3d::Constant(2.0)};
+  const auto whole = softflow::analysis::reference_pieces_in_box(p2_nodes(v), around);
+  ASSERT_EQ(whole.size(), 1u);
+  EXPECT_NEAR(tetrahedron_volume(whole[0]), 1.0 / 6.0, 1e-15);
+  const Box away{Vector3d::Constant(5.0), Vector3d::Constant(6.0)};
+  EXPECT_TRUE(softflow::analysis::reference_pieces_in_box(p2_nodes(v), away).empty());
+}

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 namespace softflow::analysis {
 
@@ -81,6 +82,27 @@ std::vector<Tetrahedron> clip_to_box(const Tetrahedron& tet, const Box& box) {
       pieces = std::move(next);
       if (pieces.empty()) return pieces;
     }
+  }
+  return pieces;
+}
+
+std::vector<Tetrahedron> reference_pieces_in_box(const Eigen::Matrix<double, 3, 10>& x, const Box& box) {
+  const Tetrahedron whole{Vector3d::Zero(), Vector3d::UnitX(), Vector3d::UnitY(), Vector3d::UnitZ()};
+  bool all_in = true;
+  for (int k = 0; k < 10; ++k) all_in = all_in && box.contains(x.col(k));
+  if (all_in) return {whole};
+  const Vector3d lo = x.rowwise().minCoeff(), hi = x.rowwise().maxCoeff();
+  if (!((hi.array() >= box.lo.array()).all() && (lo.array() <= box.hi.array()).all())) return {};
+  const Tetrahedron vertices{x.col(0), x.col(1), x.col(2), x.col(3)};
+  // xi = A^{-1} (x - v_0), A's columns the edges from v_0: factored once per element.
+  Eigen::Matrix3d a;
+  a << vertices[1] - vertices[0], vertices[2] - vertices[0], vertices[3] - vertices[0];
+  const Eigen::PartialPivLU<Eigen::Matrix3d> lu = a.partialPivLu();
+  std::vector<Tetrahedron> pieces;
+  for (const auto& piece : clip_to_box(vertices, box)) {
+    Tetrahedron reference;
+    for (int k = 0; k < 4; ++k) reference[k] = lu.solve(piece[k] - vertices[0]);
+    pieces.push_back(reference);
   }
   return pieces;
 }

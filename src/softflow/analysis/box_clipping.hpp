@@ -36,6 +36,16 @@ std::vector<Tetrahedron> clip_to_half_space(const Tetrahedron& tet, const Eigen:
 /// empty when they do not meet.
 std::vector<Tetrahedron> clip_to_box(const Tetrahedron& tet, const Box& box);
 
+/// The part inside `box` of the curved P2 tetrahedron with nodes x (one per
+/// column, its 4 vertices first), as tetrahedra in the element's reference
+/// coordinates, ready for a quadrature of any field on the element:
+/// {the reference tetrahedron} when all 10 nodes lie in the box, none when
+/// the nodes' bounding box misses it, else the straight-sided vertex
+/// tetrahedron clipped (clip_to_box) and mapped back by its affine map
+/// (exact for straight elements; the curved ones are met only where an
+/// interface crosses a face of the box).
+std::vector<Tetrahedron> reference_pieces_in_box(const Eigen::Matrix<double, 3, 10>& x, const Box& box);
+
 /// |det| / 6 of a tetrahedron.
 double tetrahedron_volume(const Tetrahedron& tet);
 

@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/LU>
 #include <mpi.h>
 
 #include "softflow/analysis/harmonic_fit.hpp"
@@ -93,20 +92,6 @@ bool BulkStressModule::wanted(const ModuleSetup& setup) {
 
 namespace {
 
-/// The map from physical to reference coordinates of the straight
-/// tetrahedron with vertices v: xi = A^{-1} (x - v_0), A's columns its edges
-/// from v_0 (factored once per element, used for every clipped vertex).
-struct ReferenceCoordinates {
-  explicit ReferenceCoordinates(const analysis::Tetrahedron& v) : origin(v[0]) {
-    Matrix3d a;
-    a << v[1] - v[0], v[2] - v[0], v[3] - v[0];
-    lu = a.partialPivLu();
-  }
-  [[nodiscard]] Vector3d operator()(const Vector3d& x) const { return lu.solve(x - origin); }
-  Vector3d origin;
-  Eigen::PartialPivLU<Matrix3d> lu;
-};
-
 /// int_S (n n - I/3) dA over a curved P2 interface at positions x.
 Matrix3d normal_moment(const physics::InterfaceMesh& s, const std::vector<Vector3d>& x) {
   static const element::QuadratureRule rule = element::triangle_rule(4);
@@ -165,25 +150,8 @@ void BulkStressModule::integrate_volume(const std::vector<bool>& counted, Matrix
     if (region > 0 && !counted[region]) continue;
     const element::TetNodes nodes = fem::tet_nodes(mesh_, t);
     // The pieces of the element to integrate over, in reference coordinates.
-    std::vector<analysis::Tetrahedron> pieces;
-    if (region > 0) {
-      pieces.push_back(whole);
-    } else {
-      bool all_in = true;
-      for (int k = 0; k < 10; ++k) all_in = all_in && box_.contains(nodes.col(k));
-      const Vector3d lo = nodes.rowwise().minCoeff(), hi = nodes.rowwise().maxCoeff();
-      if (all_in) {
-        pieces.push_back(whole);
-      } else if ((hi.array() >= box_.lo.array()).all() && (lo.array() <= box_.hi.array()).all()) {
-        const analysis::Tetrahedron vertices{nodes.col(0), nodes.col(1), nodes.col(2), nodes.col(3)};
-        const ReferenceCoordinates reference(vertices);
-        for (const auto& piece : analysis::clip_to_box(vertices, box_)) {
-          analysis::Tetrahedron ref;
-          for (int k = 0; k < 4; ++k) ref[k] = reference(piece[k]);
-          pieces.push_back(ref);
-        }
-      }
-    }
+    const std::vector<analysis::Tetrahedron> pieces =
+        region > 0 ? std::vector<analysis::Tetrahedron>{whole} : analysis::reference_pieces_in_box(nodes, box_);
     if (pieces.empty()) continue;
     const Eigen::VectorXd u = velocity_.element_coefficients(t);
     const Eigen::VectorXd p = pressure_.element_coefficients(t);

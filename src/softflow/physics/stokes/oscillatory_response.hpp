@@ -1,0 +1,138 @@
+// Small-amplitude oscillatory shear of drops solved in the frequency domain:
+// one complex Stokes solve per frequency around the resting spherical drops.
+#pragma once
+
+#include <array>
+#include <complex>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "softflow/fem/dof_map.hpp"
+#include "softflow/fem/tabulation.hpp"
+#include "softflow/la/petsc.hpp"
+#include "softflow/la/saddle_point_solver.hpp"
+#include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/interface/interface_mesh.hpp"
+
+namespace softflow::physics {
+
+using Complex = std::complex<double>;
+using Matrix3c = Eigen::Matrix3cd;
+
+/// One frequency of the linearised problem. Every field is a complex
+/// amplitude a with the physical value Re(a e^{i omega t}); the walls move
+/// with the real amplitude g(x) (in phase with the wall shear rate).
+struct OscillatoryProblem {
+  /// Viscosity of region r (0 = matrix, k = object k).
+  std::vector<double> viscosity;
+  /// Gamma of object k at index k - 1 (every object a drop).
+  std::vector<double> interfacial_tension;
+  /// The resting radius of object k at index k - 1 (the drops are spheres at rest).
+  std::vector<double> radius;
+  /// Velocity amplitude on every outer boundary face.
+  std::function<Eigen::Vector3d(const Eigen::Vector3d&)> boundary_velocity;
+  double omega = 0.0;  ///< angular frequency, > 0
+  /// The pressure is zero at this matrix vertex (real and imaginary parts).
+  int pressure_gauge_node = -1;
+};
+
+struct OscillatoryResponse {
+  /// Velocity and pressure amplitudes (real and imaginary parts) in the
+  /// layout of make_stokes_dof_map(mesh, false), every dof, on every rank.
+  std::vector<double> real, imaginary;
+  /// zeta, the interface's normal displacement amplitude at each interface
+  /// node (indexed by mesh node; 0 elsewhere).
+  std::vector<Complex> normal_displacement;
+  la::SolveReport solve;
+  double assembly_seconds = 0.0;
+};
+
+/// Drops at rest are spheres: pressure jump 2 Gamma / R, no flow. A small
+/// oscillation of the walls moves each interface by zeta n (n the sphere's
+/// outward normal) and the flow is Stokes flow in the resting domains with,
+/// on each sphere S of radius R (the linearised interface conditions):
+///
+///   [sigma] n = Gamma (lap_s zeta + 2 zeta / R^2) n     (the curvature's change),
+///   i omega zeta = u . n                                 (kinematic condition),
+///
+/// the first in weak form (by parts on the closed S)
+///   Gamma int_S [grad_s zeta . grad_s (v.n) - 2/R^2 zeta v.n] ds
+/// on the momentum equation's left side. The tension of the resting sphere
+/// and the pressure jump that balances it cancel to first order (their
+/// changes with the normal's tilt are equal and opposite), so only the
+/// curvature's change remains. zeta is the P2 interpolant of its nodal
+/// values, and the kinematic condition holds at the interface nodes with
+/// the nodal normals of interface_node_normals: zeta_a = u_a . n_a / (i
+/// omega), so zeta is eliminated and the tension becomes a term
+/// -(i / omega) T u with
+///
+///   T = Gamma N^T (S - 2/R^2 M) N,
+///
+/// S and M the surface Laplacian and mass of the P2 interface, N the nodal
+/// normal projection. The complex system (A - i T / omega) u + B^T p = 0,
+/// B u = 0 is solved in real form, unknowns interleaved (re, im) per dof:
+///
+///   [ A      T/omega ] [u_r]   [B^T p_r]
+///   [ -T/omega   A   ] [u_i] + [B^T p_i] = 0,
+///
+/// with MUMPS (one factorisation per frequency). Limits: omega -> oo is the
+/// viscous sphere without tension (Oldroyd's high-frequency limit), omega ->
+/// 0 forces u . n -> 0 on S (steady tank-treading: Taylor's viscosity).
+/// Newtonian phases, no slip (no velocity jump at the interfaces).
+class OscillatorySystem {
+ public:
+  explicit OscillatorySystem(const mesh::Mesh& mesh);
+  ~OscillatorySystem();
+  OscillatorySystem(const OscillatorySystem&) = delete;
+  OscillatorySystem& operator=(const OscillatorySystem&) = delete;
+
+  /// The Stokes dof map (velocity continuous, pressure per region) each of
+  /// the real and imaginary parts uses.
+  [[nodiscard]] const fem::DofMap& dofs() const { return dofs_; }
+  /// Real unknowns of the solve: twice the Stokes dofs.
+  [[nodiscard]] int n_unknowns() const { return 2 * dofs_.n_dofs(); }
+
+  /// Assembles and solves at problem.omega. Collective.
+  [[nodiscard]] OscillatoryResponse solve(const OscillatoryProblem& problem);
+
+  /// The stresslet of object k (1-based) in the response (Batchelor 1970;
+  /// the time-domain form is simulation::BulkStress's):
+  ///   S = (lambda - 1) eta_m int_V 2 D(u) dV - Gamma delta int_S (n n - I/3) ds,
+  /// the second term linearised about the sphere: the normal tilts by
+  /// -grad_s zeta and the area element grows by 2 zeta / R, so
+  ///   delta int_S n n ds = int_S [-(grad_s zeta) n - n grad_s zeta + (2/R) zeta n n] ds.
+  /// (The volume term's change with the drop's shape is second order: u is
+  /// first order.) Every rank computes it whole from the gathered response.
+  [[nodiscard]] Matrix3c stresslet(const OscillatoryProblem& problem, const OscillatoryResponse& response,
+                                   int object) const;
+
+  /// Volume of object k's resting mesh region.
+  [[nodiscard]] double object_volume(int object) const;
+
+ private:
+  void create_matrix();
+  /// Real index of dof d's real (part 0) or imaginary (part 1) amplitude.
+  static PetscInt index(int dof, int part) { return 2 * static_cast<PetscInt>(dof) + part; }
+
+  const mesh::Mesh& mesh_;
+  fem::DofMap dofs_;
+  fem::TetTabulation tabulation_;
+  std::vector<InterfaceMesh> surfaces_;  // outward oriented, one per object
+  std::vector<Eigen::Vector3d> node_normal_;
+  la::OwnershipRange range_;  // of the real unknowns
+  std::vector<int> assembled_tets_, assembled_faces_;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The linearised tension's block on one curved P2 interface triangle over
+/// the velocities of its 6 nodes (3 a + d): Gamma N^T (S - 2/R^2 M) N with
+/// S, M its surface Laplacian and mass and N_{a, 3a+d} = normals[a]_d.
+Eigen::Matrix<double, 18, 18> linearised_tension_block(const element::TriangleNodes& x,
+                                                       const std::array<Eigen::Vector3d, 6>& normals,
+                                                       double gamma, double radius);
+
+}  // namespace softflow::physics

@@ -1,0 +1,286 @@
+#include "softflow/simulation/frequency_response.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "softflow/analysis/box_clipping.hpp"
+#include "softflow/analysis/theory/oldroyd_emulsion.hpp"
+#include "softflow/common/error.hpp"
+#include "softflow/element/quadrature.hpp"
+#include "softflow/element/shape_functions.hpp"
+#include "softflow/fem/tabulation.hpp"
+#include "softflow/io/output_directory.hpp"
+#include "softflow/physics/interface/interface_mesh.hpp"
+#include "softflow/physics/stokes/oscillatory_response.hpp"
+#include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/simulation/run_support.hpp"
+#include "softflow/simulation/stop_requests.hpp"
+
+namespace softflow::simulation {
+
+namespace fs = std::filesystem;
+using Complex = std::complex<double>;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// int 2 D_xy of the response over the pieces (reference coordinates) of tetrahedron t.
+Complex shear_rate_integral(const mesh::Mesh& mesh, const fem::DofMap& dofs, const physics::OscillatoryResponse& r,
+                            int t, const std::vector<analysis::Tetrahedron>& pieces) {
+  static const element::QuadratureRule rule = element::tetrahedron_rule(2);  // 2 D_xy of P2: degree 1
+  const element::TetNodes x = fem::tet_nodes(mesh, t);
+  const auto element_dofs = dofs.element_dofs(t);  // velocity first, 3 k + i
+  Complex sum(0.0, 0.0);
+  for (const auto& piece : pieces) {
+    Eigen::Matrix3d sub;
+    sub << piece[1] - piece[0], piece[2] - piece[0], piece[3] - piece[0];
+    const double sub_det = std::abs(sub.determinant());
+    if (sub_det == 0.0) continue;
+    for (int q = 0; q < rule.size(); ++q) {
+      const Eigen::Vector3d xi = piece[0] + sub * rule.points[q];
+      const Eigen::Matrix<double, 10, 3> reference = element::p2_tet_gradients(xi);
+      const auto map = element::tet_map(x, reference);
+      const Eigen::Matrix<double, 10, 3> grad = reference * map.inverse_jacobian;
+      Complex d(0.0, 0.0);  // du_x/dy + du_y/dx
+      for (int k = 0; k < 10; ++k) {
+        const int ux = element_dofs[3 * k], uy = element_dofs[3 * k + 1];
+        d += Complex(r.real[ux], r.imaginary[ux]) * grad(k, 1) + Complex(r.real[uy], r.imaginary[uy]) * grad(k, 0);
+      }
+      sum += rule.weights[q] * sub_det * std::abs(map.det_jacobian) * d;
+    }
+  }
+  return sum;
+}
+
+/// G' R / Gamma and G'' / (eta_m omega) of eta* / eta_m at omega*.
+std::pair<double, double> scaled_moduli(Complex relative_viscosity, double omega_star) {
+  return {-omega_star * relative_viscosity.imag(), relative_viscosity.real()};
+}
+
+std::string number(double x, int digits = 6) {
+  return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : std::string();
+}
+
+std::string optional_number(const std::optional<double>& x, int digits = 6) {
+  return x ? number(*x, digits) : std::string();
+}
+
+}  // namespace
+
+void check_response_case(const io::CaseConfig& config, const std::vector<double>& frequencies) {
+  using physics::viscoelastic::ConstitutiveModel;
+  if (config.matrix_model != ConstitutiveModel::newtonian)
+    throw InputError("matrix.model: the frequency-domain response takes a Newtonian matrix (allowed: "
+                     "\"newtonian\"); a viscoelastic matrix runs in the time domain with softflow run");
+  if (config.objects.empty())
+    throw InputError("no [[objects]]: the frequency-domain response is that of drops; give at least one");
+  for (std::size_t k = 0; k < config.objects.size(); ++k) {
+    const auto& o = config.objects[k];
+    const std::string key = fmt::format("objects[{}]", k + 1);
+    if (o.model != ConstitutiveModel::newtonian)
+      throw InputError(fmt::format("{}.model: the response is linearised about Newtonian drops at rest (allowed: "
+                                   "\"newtonian\")", key));
+    if (o.geometry.shape != geometry::ObjectShape::sphere)
+      throw InputError(fmt::format("{}.shape: the drops rest as spheres (allowed: \"sphere\")", key));
+    if (o.initial_deformation != io::InitialDeformation::none)
+      throw InputError(fmt::format("{}.initial_deformation: the response is about the resting sphere (allowed: "
+                                   "\"none\")", key));
+    if (!(o.interfacial_tension > 0.0))
+      throw InputError(fmt::format("{}.interfacial_tension = {}: a drop needs a tension > 0 (it is the "
+                                   "emulsion's elasticity)", key, o.interfacial_tension));
+    if (o.slip != 0.0)
+      throw InputError(fmt::format("{}.slip = {}: the frequency-domain solver has no slip yet (allowed: 0); "
+                                   "slip runs in the time domain with softflow run", key, o.slip));
+  }
+  if (frequencies.empty() && !(config.flow.type == io::FlowType::oscillatory && config.flow.frequency > 0.0))
+    throw InputError("flow.frequency: no frequency given: set flow.type = \"oscillatory\" with a frequency, or "
+                     "pass --frequency");
+  for (double w : frequencies)
+    if (!(w > 0.0) || !std::isfinite(w))
+      throw InputError(fmt::format("--frequency {}: the angular frequency must be a finite number > 0", w));
+}
+
+std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, const ResponseOptions& options) {
+  const auto start = Clock::now();
+  std::vector<double> frequencies = options.frequencies;
+  check_response_case(config, frequencies);
+  if (frequencies.empty()) frequencies = {config.flow.frequency};
+  const bool root = is_root();
+  const fs::path directory = options.output_directory.value_or(fs::path(config.output_directory));
+  auto meshed = build_mesh(config);
+  std::unique_ptr<io::OutputDirectory> output;
+  on_root_sharing_failure([&] { output = std::make_unique<io::OutputDirectory>(directory, true); });
+  leave_startup();  // the staging directory exists: a stop request now removes it cleanly
+  const mesh::Mesh& mesh = meshed.mesh;
+
+  physics::OscillatorySystem system(mesh);
+  const double eta_m = config.matrix_viscosity;
+  physics::OscillatoryProblem problem;
+  problem.viscosity = {eta_m};
+  for (const auto& o : config.objects) {
+    problem.viscosity.push_back(o.viscosity_ratio * eta_m);
+    problem.interfacial_tension.push_back(o.interfacial_tension);
+    problem.radius.push_back(io::mean_radius(o.geometry));
+  }
+  // Shear-rate amplitude 1: the response is linear, and c and eta* are ratios to it.
+  problem.boundary_velocity = [](const Eigen::Vector3d& x) { return Eigen::Vector3d(x.y(), 0.0, 0.0); };
+  problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
+  if (!options.quiet && root)
+    fmt::print("mesh: {} nodes, {} tetrahedra, {} drops; {} real unknowns (velocity and pressure, real and "
+               "imaginary parts), MUMPS\n",
+               mesh.n_nodes(), mesh.n_tets(), mesh.n_objects, system.n_unknowns());
+
+  // The drops: volumes, centres, and which the cube counts.
+  const double cell_volume = mesh.box.length * mesh.box.height * mesh.box.width;
+  const bool has_box = config.bulk_stress.box_side > 0.0;
+  const analysis::Box box = analysis::centred_cube(config.bulk_stress.box_side);
+  std::vector<double> volume(mesh.n_objects + 1, 0.0);
+  std::vector<bool> counted(mesh.n_objects + 1, false);
+  double drops_volume = 0.0, counted_volume = 0.0;
+  for (int k = 1; k <= mesh.n_objects; ++k) {
+    const auto surface = physics::extract_interface(mesh, k);
+    const auto integrals = physics::surface_integrals(surface, physics::interface_positions(surface, mesh));
+    volume[k] = integrals.volume;
+    drops_volume += volume[k];
+    counted[k] = has_box && box.contains(integrals.centre_of_volume());
+    if (counted[k]) counted_volume += volume[k];
+  }
+  // The matrix's pieces inside the cube, once.
+  std::vector<std::pair<int, std::vector<analysis::Tetrahedron>>> box_pieces;
+  if (has_box)
+    for (int t = 0; t < mesh.n_tets(); ++t) {
+      const int region = mesh.tet_region[t];
+      if (region > 0 && !counted[region]) continue;
+      auto pieces = region > 0 ? std::vector<analysis::Tetrahedron>{{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
+                                                                      Eigen::Vector3d::UnitY(),
+                                                                      Eigen::Vector3d::UnitZ()}}
+                               : analysis::reference_pieces_in_box(fem::tet_nodes(mesh, t), box);
+      if (!pieces.empty()) box_pieces.emplace_back(t, std::move(pieces));
+    }
+
+  const auto& first = config.objects.front();
+  const double radius = io::mean_radius(first.geometry), gamma = first.interfacial_tension;
+  std::vector<ResponsePoint> points;
+  for (double omega : frequencies) {
+    if (const int signal = stop_requested())
+      throw RunInterrupted(fmt::format("stopped by {} before the results were written; run the command again",
+                                       signal_name(signal)));
+    problem.omega = omega;
+    const auto r = system.solve(problem);
+    ResponsePoint p;
+    p.omega = omega;
+    p.omega_star = omega * eta_m * radius / gamma;
+    p.seconds = r.assembly_seconds + r.solve.seconds;
+    Complex stresslets(0.0, 0.0), counted_stresslets(0.0, 0.0);
+    for (int k = 1; k <= mesh.n_objects; ++k) {
+      const Complex s = system.stresslet(problem, r, k)(0, 1);
+      stresslets += s;
+      if (counted[k]) counted_stresslets += s;
+    }
+    p.intrinsic_viscosity = stresslets / (eta_m * drops_volume);
+    p.cell_phi = drops_volume / cell_volume;
+    std::tie(p.cell_storage, p.cell_loss) = scaled_moduli(1.0 + stresslets / (eta_m * cell_volume), p.omega_star);
+    p.oldroyd_intrinsic_viscosity =
+        analysis::theory::oldroyd_dilute_coefficient(first.viscosity_ratio, p.omega_star);
+    const auto cell_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, p.cell_phi, p.omega_star);
+    p.oldroyd_cell_storage = cell_theory.storage;
+    p.oldroyd_cell_loss = cell_theory.loss;
+    if (has_box) {
+      // <2 D_xy> V over the cube; <sigma_xy> V = eta_m <2 D_xy> V + the counted stresslets.
+      Complex shear(0.0, 0.0);
+      for (const auto& [t, pieces] : box_pieces) shear += shear_rate_integral(mesh, system.dofs(), r, t, pieces);
+      const auto [storage, loss] =
+          scaled_moduli(1.0 + counted_stresslets / (eta_m * shear), p.omega_star);
+      p.box_storage = storage;
+      p.box_loss = loss;
+      p.box_phi = counted_volume / box.volume();
+      p.box_drops = static_cast<int>(std::count(counted.begin(), counted.end(), true));
+      const auto box_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, *p.box_phi, p.omega_star);
+      p.oldroyd_box_storage = box_theory.storage;
+      p.oldroyd_box_loss = box_theory.loss;
+    }
+    if (!options.quiet && root)
+      fmt::print("omega {:g} (omega* {:.4g}): c = {:.5f} {:+.5f} i (Oldroyd's dilute {:.5f} {:+.5f} i); cell: G' "
+                 "R/Gamma {:.5g}, G''/(eta_m omega) {:.5g}; {:.1f} s\n",
+                 omega, p.omega_star, p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
+                 p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag(), p.cell_storage,
+                 p.cell_loss, p.seconds);
+    points.push_back(p);
+  }
+
+  std::string csv =
+      "omega,omega_star,c_real,c_imag,oldroyd_c_real,oldroyd_c_imag,cell_phi,cell_G_storage_R_over_Gamma,"
+      "cell_G_loss_over_eta_m_omega,oldroyd_cell_G_storage,oldroyd_cell_G_loss,box_phi,box_drops,"
+      "box_G_storage_R_over_Gamma,box_G_loss_over_eta_m_omega,oldroyd_box_G_storage,oldroyd_box_G_loss,seconds\n";
+  std::string md = fmt::format(
+      "# Frequency response of {}\n\n"
+      "One complex Stokes solve per frequency about the resting spherical drops (softflow response; "
+      "docs/emulsions.md): {} drops, lambda = {:g} (objects[1]), {} real unknowns. c: the drops' stresslets "
+      "summed over eta_m gamma_dot V_d (the complex intrinsic viscosity), beside the dilute limit of "
+      "Oldroyd's emulsion; the cell's moduli from its walls (phi = {:.5g}) beside Oldroyd's at that phi{}.\n\n"
+      "| omega | omega* | c | Oldroyd c (dilute) | G' R/Gamma (cell) | Oldroyd | G''/(eta_m omega) (cell) | Oldroyd |{}\n"
+      "|---|---|---|---|---|---|---|---|{}\n",
+      config.name, mesh.n_objects, first.viscosity_ratio, system.n_unknowns(), points.front().cell_phi,
+      has_box ? fmt::format("; the centred cube of side {:g} as softflow moduli averages it", config.bulk_stress.box_side)
+              : std::string(),
+      has_box ? " phi (cube) | G' R/Gamma (cube) | Oldroyd | G''/(eta_m omega) (cube) | Oldroyd |" : "",
+      has_box ? "---|---|---|---|---|" : "");
+  for (const auto& p : points) {
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", number(p.omega, 10),
+                       number(p.omega_star, 10), number(p.intrinsic_viscosity.real(), 10),
+                       number(p.intrinsic_viscosity.imag(), 10), number(p.oldroyd_intrinsic_viscosity.real(), 10),
+                       number(p.oldroyd_intrinsic_viscosity.imag(), 10), number(p.cell_phi, 10),
+                       number(p.cell_storage, 10), number(p.cell_loss, 10), number(p.oldroyd_cell_storage, 10),
+                       number(p.oldroyd_cell_loss, 10), optional_number(p.box_phi, 10),
+                       has_box ? std::to_string(p.box_drops) : std::string(), optional_number(p.box_storage, 10),
+                       optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
+                       optional_number(p.oldroyd_box_loss, 10), number(p.seconds, 4));
+    md += fmt::format("| {} | {} | {:.5f} {:+.5f} i | {:.5f} {:+.5f} i | {} | {} | {} | {} |", number(p.omega, 5),
+                      number(p.omega_star, 5), p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
+                      p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag(),
+                      number(p.cell_storage, 5), number(p.oldroyd_cell_storage, 5), number(p.cell_loss, 5),
+                      number(p.oldroyd_cell_loss, 5));
+    if (has_box)
+      md += fmt::format(" {} | {} | {} | {} | {} |", optional_number(p.box_phi, 4), optional_number(p.box_storage, 5),
+                        optional_number(p.oldroyd_box_storage, 5), optional_number(p.box_loss, 5),
+                        optional_number(p.oldroyd_box_loss, 5));
+    md += "\n";
+  }
+  nlohmann::json summary = {
+      {"softflow_version", SOFTFLOW_VERSION},
+      {"case", config.name},
+      {"command", "response"},
+      {"mpi_ranks", la::mpi_size()},
+      {"mesh", meshed.report},
+      {"unknowns", system.n_unknowns()},
+      {"frequencies", frequencies},
+      {"cell_volume_fraction", points.front().cell_phi},
+  };
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& p : points)
+    rows.push_back({{"omega", p.omega},
+                    {"omega_star", p.omega_star},
+                    {"intrinsic_viscosity", {p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag()}},
+                    {"cell_storage", p.cell_storage},
+                    {"cell_loss", p.cell_loss},
+                    {"seconds", p.seconds}});
+  summary["points"] = rows;
+  summary["wall_seconds"] = std::chrono::duration<double>(Clock::now() - start).count();
+  summary["peak_memory_mb"] = peak_memory_summary();  // collective
+  on_root_sharing_failure([&] {
+    output->write_text("case.toml", io::to_toml(config));
+    output->write_text("response.csv", csv);
+    output->write_text("response.md", md);
+    output->write_text("summary.json", summary.dump(2) + "\n");
+    output->commit();
+  });
+  if (root) draw_plot("plot_response.py", directory, "response.png", options.quiet);
+  if (!options.quiet && root) fmt::print("wrote {}/response.md, response.csv, response.png\n", directory.string());
+  return points;
+}
+
+}  // namespace softflow::simulation
