@@ -33,6 +33,10 @@ Eigen::Matrix<double, 18, 18> linearised_tension_block(const element::TriangleNo
 
 struct OscillatorySystem::Impl {
   std::unique_ptr<la::CsrMatrix> matrix;
+  /// One LU solver for every frequency: the pattern does not change, so
+  /// MUMPS's analysis (ordering, symbolic factorisation) is done once and
+  /// each frequency only factors numerically.
+  la::Solver ksp;
   // Per assembled tet: its real and imaginary blocks; per face: the two couplings.
   std::vector<la::CsrMatrix::Block> real_blocks, imaginary_blocks, upper_blocks, lower_blocks;
 };
@@ -159,13 +163,30 @@ OscillatoryResponse OscillatorySystem::solve(const OscillatoryProblem& problem) 
   out.assembly_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   const auto solve_start = std::chrono::steady_clock::now();
-  la::Solver ksp = la::lu_solver(m.get(), "oscillatory_");
-  check(KSPSolve(ksp.get(), rhs.get(), x.get()), "KSPSolve(oscillatory)");
+  if (!impl_->ksp) {
+    // Saddle-point LU pivots off the diagonal: room for it, as StokesSystem's.
+    la::set_default_option("-oscillatory_mat_mumps_icntl_14", "80");
+    impl_->ksp = la::lu_solver(m.get(), "oscillatory_");
+  } else {
+    check(KSPSetOperators(impl_->ksp.get(), m.get(), m.get()), "KSPSetOperators");
+  }
+  KSP ksp = impl_->ksp.get();
+  check(KSPSolve(ksp, rhs.get(), x.get()), "KSPSolve(oscillatory)");
   KSPConvergedReason reason;
-  check(KSPGetConvergedReason(ksp.get(), &reason), "KSPGetConvergedReason");
-  if (reason < 0)
-    throw SolverError(fmt::format("oscillatory response at omega = {}: the LU solve failed ({})", problem.omega,
-                                  KSPConvergedReasons[reason]));
+  check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+  if (reason < 0) {
+    PC pc = nullptr;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    Mat factor = nullptr;
+    PetscInt info = 0;
+    if (PCFactorGetMatrix(pc, &factor) == 0 && factor) MatMumpsGetInfog(factor, 1, &info);
+    throw SolverError(fmt::format(
+        "oscillatory response at omega = {}: the LU factorisation of {} real unknowns failed ({}, MUMPS INFOG(1) "
+        "= {}{}); the direct solve is for up to a few hundred thousand unknowns: coarsen the mesh "
+        "(mesh.equator_nodes, mesh.far_size) or use fewer drops",
+        problem.omega, n_unknowns(), KSPConvergedReasons[reason], info,
+        info == -9 || info == -8 || info == -13 ? ": out of memory or workspace" : ""));
+  }
   out.solve.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_start).count();
   out.solve.iterations = 1;
   out.solve.reason = KSPConvergedReasons[reason];
