@@ -117,7 +117,8 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
   leave_startup();  // the staging directory exists: a stop request now removes it cleanly
   const mesh::Mesh& mesh = meshed.mesh;
 
-  physics::OscillatorySystem system(mesh);
+  physics::OscillatorySystem system(mesh, solver_settings(config).method);
+  const bool iterative = system.method() == la::SaddlePointMethod::iterative;
   const double eta_m = config.matrix_viscosity;
   physics::OscillatoryProblem problem;
   problem.viscosity = {eta_m};
@@ -131,8 +132,9 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
   problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
   if (!options.quiet && root)
     fmt::print("mesh: {} nodes, {} tetrahedra, {} drops; {} real unknowns (velocity and pressure, real and "
-               "imaginary parts), MUMPS\n",
-               mesh.n_nodes(), mesh.n_tets(), mesh.n_objects, system.n_unknowns());
+               "imaginary parts); solver {} ({})\n",
+               mesh.n_nodes(), mesh.n_tets(), mesh.n_objects, system.n_unknowns(),
+               iterative ? "iterative: FGMRES with PRESB" : "direct: MUMPS LU", system.method_reason());
 
   // The drops: volumes, centres, and which the cube counts.
   const double cell_volume = mesh.box.length * mesh.box.height * mesh.box.width;
@@ -175,6 +177,9 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
     p.omega = omega;
     p.omega_star = omega * eta_m * radius / gamma;
     p.seconds = r.assembly_seconds + r.solve.seconds;
+    p.iterations = r.solve.iterations;
+    p.inner_solves = r.inner_solves;
+    p.inner_iterations = r.inner_iterations;
     Complex stresslets(0.0, 0.0), counted_stresslets(0.0, 0.0);
     for (int k = 1; k <= mesh.n_objects; ++k) {
       const Complex s = system.stresslet(problem, r, k)(0, 1);
@@ -205,17 +210,21 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
     }
     if (!options.quiet && root)
       fmt::print("omega {:g} (omega* {:.4g}): c = {:.5f} {:+.5f} i (Oldroyd's dilute {:.5f} {:+.5f} i); cell: G' "
-                 "R/Gamma {:.5g}, G''/(eta_m omega) {:.5g}; {:.1f} s\n",
+                 "R/Gamma {:.5g}, G''/(eta_m omega) {:.5g}; {:.1f} s{}\n",
                  omega, p.omega_star, p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
                  p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag(), p.cell_storage,
-                 p.cell_loss, p.seconds);
+                 p.cell_loss, p.seconds,
+                 iterative ? fmt::format(" ({} FGMRES iterations, {} inner Stokes solves of {:.1f} iterations each)",
+                                         p.iterations, p.inner_solves,
+                                         p.inner_iterations / std::max(1.0, double(p.inner_solves)))
+                           : std::string());
     points.push_back(p);
   }
 
   std::string csv =
       "omega,omega_star,c_real,c_imag,oldroyd_c_real,oldroyd_c_imag,cell_phi,cell_G_storage_R_over_Gamma,"
       "cell_G_loss_over_eta_m_omega,oldroyd_cell_G_storage,oldroyd_cell_G_loss,box_phi,box_drops,"
-      "box_G_storage_R_over_Gamma,box_G_loss_over_eta_m_omega,oldroyd_box_G_storage,oldroyd_box_G_loss,seconds\n";
+      "box_G_storage_R_over_Gamma,box_G_loss_over_eta_m_omega,oldroyd_box_G_storage,oldroyd_box_G_loss,seconds,iterations,inner_solves,inner_iterations\n";
   std::string md = fmt::format(
       "# Frequency response of {}\n\n"
       "One complex Stokes solve per frequency about the resting spherical drops (softflow response; "
@@ -230,7 +239,7 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
       has_box ? " phi (cube) | G' R/Gamma (cube) | Oldroyd | G''/(eta_m omega) (cube) | Oldroyd |" : "",
       has_box ? "---|---|---|---|---|" : "");
   for (const auto& p : points) {
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", number(p.omega, 10),
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", number(p.omega, 10),
                        number(p.omega_star, 10), number(p.intrinsic_viscosity.real(), 10),
                        number(p.intrinsic_viscosity.imag(), 10), number(p.oldroyd_intrinsic_viscosity.real(), 10),
                        number(p.oldroyd_intrinsic_viscosity.imag(), 10), number(p.cell_phi, 10),
@@ -238,7 +247,8 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
                        number(p.oldroyd_cell_loss, 10), optional_number(p.box_phi, 10),
                        has_box ? std::to_string(p.box_drops) : std::string(), optional_number(p.box_storage, 10),
                        optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
-                       optional_number(p.oldroyd_box_loss, 10), number(p.seconds, 4));
+                       optional_number(p.oldroyd_box_loss, 10), number(p.seconds, 4), p.iterations,
+                       p.inner_solves, p.inner_iterations);
     md += fmt::format("| {} | {} | {:.5f} {:+.5f} i | {:.5f} {:+.5f} i | {} | {} | {} | {} |", number(p.omega, 5),
                       number(p.omega_star, 5), p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
                       p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag(),
@@ -257,6 +267,7 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
       {"mpi_ranks", la::mpi_size()},
       {"mesh", meshed.report},
       {"unknowns", system.n_unknowns()},
+      {"solver", {{"method", iterative ? "iterative" : "direct"}, {"reason", system.method_reason()}}},
       {"frequencies", frequencies},
       {"cell_volume_fraction", points.front().cell_phi},
   };
@@ -267,7 +278,10 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
                     {"intrinsic_viscosity", {p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag()}},
                     {"cell_storage", p.cell_storage},
                     {"cell_loss", p.cell_loss},
-                    {"seconds", p.seconds}});
+                    {"seconds", p.seconds},
+                    {"iterations", p.iterations},
+                    {"inner_solves", p.inner_solves},
+                    {"inner_iterations", p.inner_iterations}});
   summary["points"] = rows;
   summary["wall_seconds"] = std::chrono::duration<double>(Clock::now() - start).count();
   summary["peak_memory_mb"] = peak_memory_summary();  // collective

@@ -40,6 +40,8 @@ struct ResponsePoint {
   double oldroyd_cell_storage = 0.0, oldroyd_cell_loss = 0.0;
   std::optional<double> oldroyd_box_storage, oldroyd_box_loss;
   double seconds = 0.0;  ///< assembly and solve
+  /// The solve: 1 for LU; FGMRES iterations and the inner Stokes solves of the iterative path.
+  int iterations = 0, inner_solves = 0, inner_iterations = 0;
 };
 
 struct ResponseOptions {

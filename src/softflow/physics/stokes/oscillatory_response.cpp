@@ -7,6 +7,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/fem/field.hpp"
 #include "softflow/la/csr_matrix.hpp"
+#include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/la/vector_values.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
@@ -32,22 +33,101 @@ Eigen::Matrix<double, 18, 18> linearised_tension_block(const element::TriangleNo
 }
 
 struct OscillatorySystem::Impl {
-  std::unique_ptr<la::CsrMatrix> matrix;
-  /// One LU solver for every frequency: the pattern does not change, so
-  /// MUMPS's analysis (ordering, symbolic factorisation) is done once and
-  /// each frequency only factors numerically.
-  la::Solver ksp;
+  std::unique_ptr<la::CsrMatrix> matrix;  // the real form, 2N
   // Per assembled tet: its real and imaginary blocks; per face: the two couplings.
   std::vector<la::CsrMatrix::Block> real_blocks, imaginary_blocks, upper_blocks, lower_blocks;
+  /// The direct path: one LU solver for every frequency. The pattern does
+  /// not change, so MUMPS's analysis (ordering, symbolic factorisation) is
+  /// done once and each frequency only factors numerically.
+  la::Solver lu;
+
+  // The iterative path (N-size): K + B, its preconditioning matrix, B.
+  std::unique_ptr<la::CsrMatrix> inner, inner_pmat, coupling;
+  std::vector<la::CsrMatrix::Block> inner_tet_blocks, inner_face_blocks, pmat_tet_blocks, pmat_face_blocks,
+      coupling_blocks;
+  std::vector<la::IndexSet> field_sets;
+  la::NullSpace near_nullspace;
+  std::unique_ptr<la::SaddlePointSolver> inner_solver;
+  la::Solver outer;
+  la::Vector a, b, z, y, bz;  // PRESB's work vectors (N-size)
+  int inner_solves = 0, inner_iterations = 0;
+
+  /// x = (K + B)^{-1} r by the inner solver.
+  void inner_solve(Vec r, Vec x) {
+    check(VecSet(x, 0.0), "VecSet");
+    const la::SolveReport report = inner_solver->solve(r, x);
+    ++inner_solves;
+    inner_iterations += report.iterations;
+  }
 };
 
-OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh)
+namespace {
+
+/// PRESB's application to the residual (r_r, r_i), interleaved as the real
+/// form's unknowns (OscillatorySystem's header derives it):
+///   z = S (r_r - r_i),  y = S (-r_i - B z),  out = (z - y, -y),  S = (K + B)^{-1}.
+PetscErrorCode apply_presb(PC pc, Vec residual, Vec out) {
+  void* context = nullptr;
+  PetscCall(PCShellGetContext(pc, &context));
+  auto& impl = *static_cast<OscillatorySystem::Impl*>(context);
+  PetscInt n = 0;
+  PetscCall(VecGetLocalSize(impl.a.get(), &n));
+  {
+    const PetscScalar* r = nullptr;
+    PetscScalar *a = nullptr, *b = nullptr;
+    PetscCall(VecGetArrayRead(residual, &r));
+    PetscCall(VecGetArray(impl.a.get(), &a));
+    PetscCall(VecGetArray(impl.b.get(), &b));
+    for (PetscInt i = 0; i < n; ++i) {
+      a[i] = r[2 * i] - r[2 * i + 1];
+      b[i] = -r[2 * i + 1];
+    }
+    PetscCall(VecRestoreArray(impl.b.get(), &b));
+    PetscCall(VecRestoreArray(impl.a.get(), &a));
+    PetscCall(VecRestoreArrayRead(residual, &r));
+  }
+  try {
+    impl.inner_solve(impl.a.get(), impl.z.get());
+    PetscCall(MatMult(impl.coupling->get(), impl.z.get(), impl.bz.get()));
+    PetscCall(VecAXPY(impl.b.get(), -1.0, impl.bz.get()));
+    impl.inner_solve(impl.b.get(), impl.y.get());
+  } catch (const std::exception&) {
+    return PETSC_ERR_NOT_CONVERGED;  // KSPSolve reports the failure; the message is in the exception's text
+  }
+  const PetscScalar *z = nullptr, *y = nullptr;
+  PetscScalar* o = nullptr;
+  PetscCall(VecGetArrayRead(impl.z.get(), &z));
+  PetscCall(VecGetArrayRead(impl.y.get(), &y));
+  PetscCall(VecGetArray(out, &o));
+  for (PetscInt i = 0; i < n; ++i) {
+    o[2 * i] = z[i] - y[i];
+    o[2 * i + 1] = -y[i];
+  }
+  PetscCall(VecRestoreArray(out, &o));
+  PetscCall(VecRestoreArrayRead(impl.y.get(), &y));
+  PetscCall(VecRestoreArrayRead(impl.z.get(), &z));
+  return 0;
+}
+
+}  // namespace
+
+OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh, la::SaddlePointMethod method)
     : mesh_(mesh),
       dofs_(make_stokes_dof_map(mesh, false)),
       tabulation_(kQuadratureDegree),
       impl_(std::make_unique<Impl>()) {
   for (int k = 1; k <= mesh_.n_objects; ++k) surfaces_.push_back(extract_interface(mesh_, k));
   node_normal_ = interface_node_normals(surfaces_, mesh_);
+  method_ = method;
+  if (method_ == la::SaddlePointMethod::automatic) {
+    method_ = n_unknowns() <= la::kDirectSolverLimit ? la::SaddlePointMethod::direct
+                                                       : la::SaddlePointMethod::iterative;
+    method_reason_ = fmt::format("auto: {} real unknowns, {} the {} an LU factorisation fits in memory for",
+                                 n_unknowns(), n_unknowns() <= la::kDirectSolverLimit ? "within" : "above",
+                                 la::kDirectSolverLimit);
+  } else {
+    method_reason_ = "as the case asks (solver.type)";
+  }
   const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
   range_ = {index(owned.begin, 0), index(owned.end, 0)};
   // As StokesSystem: every element with a row here is assembled here.
@@ -60,6 +140,7 @@ OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh)
         break;
       }
   create_matrix();
+  if (method_ == la::SaddlePointMethod::iterative) create_inner_matrices();
 }
 
 OscillatorySystem::~OscillatorySystem() = default;
@@ -98,6 +179,160 @@ void OscillatorySystem::create_matrix() {
   m.create();
 }
 
+void OscillatorySystem::create_inner_matrices() {
+  const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
+  const la::OwnershipRange rows{owned.begin, owned.end};
+  const PetscInt n = dofs_.n_dofs();
+  auto& impl = *impl_;
+  impl.inner = std::make_unique<la::CsrMatrix>(rows, n, rows, n);
+  impl.inner_pmat = std::make_unique<la::CsrMatrix>(rows, n, rows, n);
+  impl.coupling = std::make_unique<la::CsrMatrix>(rows, n, rows, n);
+  auto own = [&](auto dofs) {
+    std::vector<PetscInt> out(dofs.begin(), dofs.end());
+    for (auto& d : out)
+      if (!rows.owns(d)) d = -1;
+    return out;
+  };
+  for (int t : assembled_tets_) {
+    const auto dofs = dofs_.element_dofs(t);
+    const auto r = own(dofs);
+    const std::vector<PetscInt> c(dofs.begin(), dofs.end());
+    impl.inner_tet_blocks.push_back(impl.inner->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(c)));
+    impl.pmat_tet_blocks.push_back(
+        impl.inner_pmat->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(c)));
+  }
+  for (int f : assembled_faces_) {
+    std::array<PetscInt, 18> d;
+    for (int k = 0; k < 6; ++k)
+      for (int c = 0; c < 3; ++c) d[3 * k + c] = dofs_.dof(kVelocityField, mesh_.interface_faces[f][k], 0, c);
+    const auto r = own(d);
+    impl.inner_face_blocks.push_back(impl.inner->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
+    impl.pmat_face_blocks.push_back(
+        impl.inner_pmat->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
+    impl.coupling_blocks.push_back(impl.coupling->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
+  }
+  impl.inner->create();
+  impl.inner_pmat->create();
+  impl.coupling->create();
+
+  // The inner solver: the Stokes system's iterative method (fieldsplit with
+  // BoomerAMG on the velocity, the pressure mass for the Schur complement).
+  std::vector<std::vector<PetscInt>> by_field(dofs_.n_fields());
+  std::vector<PetscScalar> xyz;
+  for (PetscInt i = rows.begin; i < rows.end; ++i) {
+    const int dof = static_cast<int>(i);
+    by_field[dofs_.field_of(dof)].push_back(i);
+    if (dofs_.field_of(dof) == kVelocityField) xyz.push_back(mesh_.nodes[dofs_.node_of(dof)](dofs_.component_of(dof)));
+  }
+  std::vector<la::NamedIndexSet> fields;
+  for (int f = 0; f < dofs_.n_fields(); ++f) {
+    impl.field_sets.push_back(la::make_index_set(by_field[f], dofs_.field(f).components));
+    fields.push_back({dofs_.field(f).name, impl.field_sets.back().get()});
+  }
+  impl.near_nullspace = la::rigid_body_modes(xyz);
+  la::SaddlePointSettings settings;
+  settings.method = la::SaddlePointMethod::iterative;
+  // Inexact inner solves are enough under the flexible outer method.
+  settings.rtol = 1e-4;
+  settings.max_iterations = 300;
+  settings.prefix = "oscillatory_inner_";
+  impl.inner_solver = std::make_unique<la::SaddlePointSolver>(settings, fields, impl.near_nullspace.get());
+  impl.a = la::make_vector(rows.size(), n);
+  for (la::Vector* v : {&impl.b, &impl.z, &impl.y, &impl.bz}) check(VecDuplicate(impl.a.get(), v->out()), "VecDuplicate");
+
+  check(KSPCreate(PETSC_COMM_WORLD, impl.outer.out()), "KSPCreate");
+  check(KSPSetOptionsPrefix(impl.outer.get(), "oscillatory_"), "KSPSetOptionsPrefix");
+  check(KSPSetType(impl.outer.get(), KSPFGMRES), "KSPSetType");
+  check(KSPGMRESSetRestart(impl.outer.get(), 100), "KSPGMRESSetRestart");
+  check(KSPSetTolerances(impl.outer.get(), 1e-8, PETSC_DEFAULT, PETSC_DEFAULT, 300), "KSPSetTolerances");
+  PC pc = nullptr;
+  check(KSPGetPC(impl.outer.get(), &pc), "KSPGetPC");
+  la::make_shell_preconditioner(pc, &impl, nullptr, apply_presb, nullptr, "PRESB");
+}
+
+std::pair<la::Vector, la::Vector> OscillatorySystem::assemble(const OscillatoryProblem& problem) {
+  auto& impl = *impl_;
+  auto& m = *impl.matrix;
+  const bool iterative = method_ == la::SaddlePointMethod::iterative;
+  TetMatrix ke;
+  PressureMass mass;
+  for (std::size_t e = 0; e < assembled_tets_.size(); ++e) {
+    const int t = assembled_tets_[e];
+    ke.setZero();
+    mass.setZero();
+    add_stokes_tet_matrix(fem::tet_nodes(mesh_, t), tabulation_, problem.viscosity.at(mesh_.tet_region[t]), ke,
+                          iterative ? &mass : nullptr);
+    m.set_block(impl.real_blocks[e], ke);
+    m.set_block(impl.imaginary_blocks[e], ke);
+    if (iterative) {
+      impl.inner->set_block(impl.inner_tet_blocks[e], ke);
+      ke.bottomRightCorner<kTetPressureDofs, kTetPressureDofs>() = mass;
+      impl.inner_pmat->set_block(impl.pmat_tet_blocks[e], ke);
+    }
+  }
+  for (std::size_t i = 0; i < assembled_faces_.size(); ++i) {
+    const auto& tri = mesh_.interface_faces[assembled_faces_[i]];
+    const int object = mesh_.interface_object[assembled_faces_[i]];
+    std::array<Eigen::Vector3d, 6> normals;
+    for (int a = 0; a < 6; ++a) normals[a] = node_normal_[tri[a]];
+    const Eigen::Matrix<double, 18, 18> b =
+        linearised_tension_block(fem::triangle_nodes(mesh_, tri), normals, problem.interfacial_tension[object - 1],
+                                 problem.radius[object - 1]) /
+        problem.omega;
+    m.set_block(impl.upper_blocks[i], b);
+    m.set_block(impl.lower_blocks[i], -b);
+    if (iterative) {
+      impl.inner->set_block(impl.inner_face_blocks[i], b);
+      impl.inner_pmat->set_block(impl.pmat_face_blocks[i], b);
+      impl.coupling->set_block(impl.coupling_blocks[i], b);
+    }
+  }
+  m.assemble();
+  if (iterative) {
+    impl.inner->assemble();
+    impl.inner_pmat->assemble();
+    impl.coupling->assemble();
+  }
+
+  // Walls: the real amplitude g, the imaginary 0; the gauge's two pressures 0.
+  la::Vector rhs = la::make_vector(range_.size(), n_unknowns());
+  la::Vector x = la::make_vector(range_.size(), n_unknowns());
+  check(VecSet(rhs.get(), 0.0), "VecSet");
+  check(VecSet(x.get(), 0.0), "VecSet");
+  std::vector<PetscInt> rows, inner_rows;
+  std::vector<PetscScalar> values;
+  std::vector<char> seen(range_.size(), 0);
+  auto constrain = [&](int dof, double real_value) {
+    const PetscInt row = index(dof, 0);
+    if (!range_.owns(row) || seen[row - range_.begin]) return;
+    seen[row - range_.begin] = 1;
+    rows.insert(rows.end(), {row, row + 1});
+    values.insert(values.end(), {real_value, 0.0});
+    inner_rows.push_back(dof);
+  };
+  for (const auto& face : mesh_.boundary_faces)
+    for (int node : face) {
+      const Eigen::Vector3d g =
+          problem.boundary_velocity ? problem.boundary_velocity(mesh_.nodes[node]) : Eigen::Vector3d::Zero();
+      for (int c = 0; c < 3; ++c) constrain(dofs_.dof(kVelocityField, node, 0, c), g(c));
+    }
+  constrain(dofs_.dof(kPressureField, problem.pressure_gauge_node, 0), 0.0);
+  check(VecSetValues(x.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES),
+        "VecSetValues(x)");
+  check(VecAssemblyBegin(x.get()), "VecAssemblyBegin");
+  check(VecAssemblyEnd(x.get()), "VecAssemblyEnd");
+  check(MatZeroRowsColumns(m.get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0, x.get(), rhs.get()),
+        "MatZeroRowsColumns");
+  if (iterative) {
+    const auto n = static_cast<PetscInt>(inner_rows.size());
+    check(MatZeroRowsColumns(impl.inner->get(), n, inner_rows.data(), 1.0, nullptr, nullptr), "MatZeroRowsColumns");
+    check(MatZeroRowsColumns(impl.inner_pmat->get(), n, inner_rows.data(), 1.0, nullptr, nullptr),
+          "MatZeroRowsColumns");
+    // B has no wall or pressure rows: nothing to eliminate.
+  }
+  return {std::move(rhs), std::move(x)};
+}
+
 OscillatoryResponse OscillatorySystem::solve(const OscillatoryProblem& problem) {
   if (!(problem.omega > 0.0)) throw SolverError(fmt::format("OscillatoryProblem: omega = {} (must be > 0)", problem.omega));
   if (static_cast<int>(problem.viscosity.size()) < mesh_.n_objects + 1 ||
@@ -108,88 +343,15 @@ OscillatoryResponse OscillatorySystem::solve(const OscillatoryProblem& problem) 
   if (problem.pressure_gauge_node < 0 || dofs_.dof(kPressureField, problem.pressure_gauge_node, 0) < 0)
     throw SolverError("OscillatoryProblem: the pressure gauge is not a matrix vertex");
   const auto start = std::chrono::steady_clock::now();
-  auto& m = *impl_->matrix;
-  TetMatrix ke;
-  for (std::size_t e = 0; e < assembled_tets_.size(); ++e) {
-    const int t = assembled_tets_[e];
-    ke.setZero();
-    add_stokes_tet_matrix(fem::tet_nodes(mesh_, t), tabulation_, problem.viscosity.at(mesh_.tet_region[t]), ke);
-    m.set_block(impl_->real_blocks[e], ke);
-    m.set_block(impl_->imaginary_blocks[e], ke);
-  }
-  for (std::size_t i = 0; i < assembled_faces_.size(); ++i) {
-    const auto& tri = mesh_.interface_faces[assembled_faces_[i]];
-    const int object = mesh_.interface_object[assembled_faces_[i]];
-    std::array<Eigen::Vector3d, 6> normals;
-    for (int a = 0; a < 6; ++a) normals[a] = node_normal_[tri[a]];
-    const auto t = linearised_tension_block(fem::triangle_nodes(mesh_, tri), normals,
-                                            problem.interfacial_tension[object - 1], problem.radius[object - 1]);
-    m.set_block(impl_->upper_blocks[i], t / problem.omega);
-    m.set_block(impl_->lower_blocks[i], -t / problem.omega);
-  }
-  m.assemble();
-
-  // Walls: the real amplitude g, the imaginary 0; the gauge's two pressures 0.
-  la::Vector rhs = la::make_vector(range_.size(), n_unknowns());
-  la::Vector x = la::make_vector(range_.size(), n_unknowns());
-  check(VecSet(rhs.get(), 0.0), "VecSet");
-  check(VecSet(x.get(), 0.0), "VecSet");
-  std::vector<PetscInt> rows;
-  std::vector<PetscScalar> values;
-  std::vector<char> seen(range_.size(), 0);
-  auto constrain = [&](PetscInt row, double value) {
-    if (!range_.owns(row) || seen[row - range_.begin]) return;
-    seen[row - range_.begin] = 1;
-    rows.push_back(row);
-    values.push_back(value);
-  };
-  for (const auto& face : mesh_.boundary_faces)
-    for (int node : face) {
-      const Eigen::Vector3d g =
-          problem.boundary_velocity ? problem.boundary_velocity(mesh_.nodes[node]) : Eigen::Vector3d::Zero();
-      for (int c = 0; c < 3; ++c) {
-        constrain(index(dofs_.dof(kVelocityField, node, 0, c), 0), g(c));
-        constrain(index(dofs_.dof(kVelocityField, node, 0, c), 1), 0.0);
-      }
-    }
-  for (int part : {0, 1}) constrain(index(dofs_.dof(kPressureField, problem.pressure_gauge_node, 0), part), 0.0);
-  check(VecSetValues(x.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES),
-        "VecSetValues(x)");
-  check(VecAssemblyBegin(x.get()), "VecAssemblyBegin");
-  check(VecAssemblyEnd(x.get()), "VecAssemblyEnd");
-  check(MatZeroRowsColumns(m.get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0, x.get(), rhs.get()),
-        "MatZeroRowsColumns");
+  auto [rhs, x] = assemble(problem);
   OscillatoryResponse out;
   out.assembly_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
   const auto solve_start = std::chrono::steady_clock::now();
-  if (!impl_->ksp) {
-    // Saddle-point LU pivots off the diagonal: room for it, as StokesSystem's.
-    la::set_default_option("-oscillatory_mat_mumps_icntl_14", "80");
-    impl_->ksp = la::lu_solver(m.get(), "oscillatory_");
-  } else {
-    check(KSPSetOperators(impl_->ksp.get(), m.get(), m.get()), "KSPSetOperators");
-  }
-  KSP ksp = impl_->ksp.get();
-  check(KSPSolve(ksp, rhs.get(), x.get()), "KSPSolve(oscillatory)");
-  KSPConvergedReason reason;
-  check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
-  if (reason < 0) {
-    PC pc = nullptr;
-    check(KSPGetPC(ksp, &pc), "KSPGetPC");
-    Mat factor = nullptr;
-    PetscInt info = 0;
-    if (PCFactorGetMatrix(pc, &factor) == 0 && factor) MatMumpsGetInfog(factor, 1, &info);
-    throw SolverError(fmt::format(
-        "oscillatory response at omega = {}: the LU factorisation of {} real unknowns failed ({}, MUMPS INFOG(1) "
-        "= {}{}); the direct solve is for up to a few hundred thousand unknowns: coarsen the mesh "
-        "(mesh.equator_nodes, mesh.far_size) or use fewer drops",
-        problem.omega, n_unknowns(), KSPConvergedReasons[reason], info,
-        info == -9 || info == -8 || info == -13 ? ": out of memory or workspace" : ""));
-  }
+  if (method_ == la::SaddlePointMethod::direct)
+    solve_direct(problem, rhs.get(), x.get(), out);
+  else
+    solve_iterative(rhs.get(), x.get(), out);
   out.solve.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_start).count();
-  out.solve.iterations = 1;
-  out.solve.reason = KSPConvergedReasons[reason];
 
   const auto all = la::gather_to_all(x.get());
   const int n = dofs_.n_dofs();
@@ -211,6 +373,61 @@ OscillatoryResponse OscillatorySystem::solve(const OscillatoryProblem& problem) 
       out.normal_displacement[node] = un / Complex(0.0, problem.omega);
     }
   return out;
+}
+
+void OscillatorySystem::solve_direct(const OscillatoryProblem& problem, Vec rhs, Vec x, OscillatoryResponse& out) {
+  auto& impl = *impl_;
+  if (!impl.lu) {
+    // Saddle-point LU pivots off the diagonal: room for it, as StokesSystem's.
+    la::set_default_option("-oscillatory_mat_mumps_icntl_14", "80");
+    impl.lu = la::lu_solver(impl.matrix->get(), "oscillatory_");
+  } else {
+    check(KSPSetOperators(impl.lu.get(), impl.matrix->get(), impl.matrix->get()), "KSPSetOperators");
+  }
+  KSP ksp = impl.lu.get();
+  check(KSPSolve(ksp, rhs, x), "KSPSolve(oscillatory)");
+  KSPConvergedReason reason;
+  check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+  if (reason < 0) {
+    PC pc = nullptr;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    Mat factor = nullptr;
+    PetscInt info = 0;
+    if (PCFactorGetMatrix(pc, &factor) == 0 && factor) MatMumpsGetInfog(factor, 1, &info);
+    throw SolverError(fmt::format(
+        "oscillatory response at omega = {}: the LU factorisation of {} real unknowns failed ({}, MUMPS INFOG(1) "
+        "= {}{}); solver.type = \"iterative\" solves without factoring the whole system",
+        problem.omega, n_unknowns(), KSPConvergedReasons[reason], info,
+        info == -9 || info == -8 || info == -13 ? ": out of memory or workspace" : ""));
+  }
+  out.solve.iterations = 1;
+  out.solve.reason = KSPConvergedReasons[reason];
+}
+
+void OscillatorySystem::solve_iterative(Vec rhs, Vec x, OscillatoryResponse& out) {
+  auto& impl = *impl_;
+  impl.inner_solver->set_operators(impl.inner->get(), impl.inner_pmat->get());
+  impl.inner_solver->refactor_at_next_solve();  // a new frequency: a new matrix
+  impl.inner_solves = impl.inner_iterations = 0;
+  check(KSPSetOperators(impl.outer.get(), impl.matrix->get(), impl.matrix->get()), "KSPSetOperators");
+  check(KSPSetFromOptions(impl.outer.get()), "KSPSetFromOptions");
+  check(KSPSetInitialGuessNonzero(impl.outer.get(), PETSC_TRUE), "KSPSetInitialGuessNonzero");
+  check(KSPSolve(impl.outer.get(), rhs, x), "KSPSolve(oscillatory, PRESB)");
+  KSPConvergedReason reason;
+  check(KSPGetConvergedReason(impl.outer.get(), &reason), "KSPGetConvergedReason");
+  PetscInt iterations = 0;
+  check(KSPGetIterationNumber(impl.outer.get(), &iterations), "KSPGetIterationNumber");
+  PetscReal residual = 0.0;
+  check(KSPGetResidualNorm(impl.outer.get(), &residual), "KSPGetResidualNorm");
+  if (reason < 0)
+    throw SolverError(fmt::format("oscillatory response: FGMRES with PRESB did not converge ({} after {} iterations, "
+                                  "{} inner Stokes solves)",
+                                  KSPConvergedReasons[reason], iterations, impl.inner_solves));
+  out.solve.iterations = static_cast<int>(iterations);
+  out.solve.residual_norm = residual;
+  out.solve.reason = KSPConvergedReasons[reason];
+  out.inner_solves = impl.inner_solves;
+  out.inner_iterations = impl.inner_iterations;
 }
 
 double OscillatorySystem::object_volume(int object) const {

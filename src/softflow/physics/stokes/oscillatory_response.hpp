@@ -6,6 +6,8 @@
 #include <complex>
 #include <functional>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,7 +48,11 @@ struct OscillatoryResponse {
   /// zeta, the interface's normal displacement amplitude at each interface
   /// node (indexed by mesh node; 0 elsewhere).
   std::vector<Complex> normal_displacement;
+  /// The direct path: one LU solve (iterations 1). The iterative path: the
+  /// outer FGMRES iterations; inner_solves and inner_iterations count the
+  /// real Stokes solves of its preconditioner.
   la::SolveReport solve;
+  int inner_solves = 0, inner_iterations = 0;
   double assembly_seconds = 0.0;
 };
 
@@ -78,13 +84,24 @@ struct OscillatoryResponse {
 ///   [ A      T/omega ] [u_r]   [B^T p_r]
 ///   [ -T/omega   A   ] [u_i] + [B^T p_i] = 0,
 ///
-/// with MUMPS (one factorisation per frequency). Limits: omega -> oo is the
+/// with MUMPS (one factorisation per frequency) or, for systems too large to
+/// factor, by FGMRES preconditioned with PRESB (Axelsson and Kucherov 2000;
+/// Axelsson, Neytcheva and Ahmad 2014): with v = -u_i the system is
+/// [K, -B; B, K] [u_r; v] = [f_r; -f_i], K the Stokes matrix and B = T/omega,
+/// and PRESB's P = [K, -B; B, K + 2B] costs two solves with the real Stokes
+/// matrix K + B (the tension's stiffness added, as a semi-implicit step
+/// adds its own), each by the iterative saddle-point solver; for symmetric
+/// positive K and B the preconditioned eigenvalues lie in [1/2, 1],
+/// whatever omega. Limits: omega -> oo is the
 /// viscous sphere without tension (Oldroyd's high-frequency limit), omega ->
 /// 0 forces u . n -> 0 on S (steady tank-treading: Taylor's viscosity).
 /// Newtonian phases, no slip (no velocity jump at the interfaces).
 class OscillatorySystem {
  public:
-  explicit OscillatorySystem(const mesh::Mesh& mesh);
+  /// `method`: direct (MUMPS LU of the real form), iterative (PRESB) or
+  /// automatic: direct up to la::kDirectSolverLimit real unknowns.
+  explicit OscillatorySystem(const mesh::Mesh& mesh,
+                             la::SaddlePointMethod method = la::SaddlePointMethod::automatic);
   ~OscillatorySystem();
   OscillatorySystem(const OscillatorySystem&) = delete;
   OscillatorySystem& operator=(const OscillatorySystem&) = delete;
@@ -94,6 +111,9 @@ class OscillatorySystem {
   [[nodiscard]] const fem::DofMap& dofs() const { return dofs_; }
   /// Real unknowns of the solve: twice the Stokes dofs.
   [[nodiscard]] int n_unknowns() const { return 2 * dofs_.n_dofs(); }
+  /// The method in use (automatic resolved) and why.
+  [[nodiscard]] la::SaddlePointMethod method() const { return method_; }
+  [[nodiscard]] const std::string& method_reason() const { return method_reason_; }
 
   /// Assembles and solves at problem.omega. Collective.
   [[nodiscard]] OscillatoryResponse solve(const OscillatoryProblem& problem);
@@ -112,8 +132,20 @@ class OscillatorySystem {
   /// Volume of object k's resting mesh region.
   [[nodiscard]] double object_volume(int object) const;
 
+  /// The matrices and solvers (named here for the preconditioner's PETSc callback).
+  struct Impl;
+
  private:
   void create_matrix();
+  /// The iterative path's real N-size matrices: K + B, its preconditioning
+  /// matrix (pressure block -M/eta) and B alone; the inner solver.
+  void create_inner_matrices();
+  /// Assembles every matrix of the method at problem.omega and eliminates
+  /// the Dirichlet rows (walls, the gauge's pressures); returns the real
+  /// system's right-hand side and initial guess.
+  std::pair<la::Vector, la::Vector> assemble(const OscillatoryProblem& problem);
+  void solve_direct(const OscillatoryProblem& problem, Vec rhs, Vec x, OscillatoryResponse& out);
+  void solve_iterative(Vec rhs, Vec x, OscillatoryResponse& out);
   /// Real index of dof d's real (part 0) or imaginary (part 1) amplitude.
   static PetscInt index(int dof, int part) { return 2 * static_cast<PetscInt>(dof) + part; }
 
@@ -122,9 +154,10 @@ class OscillatorySystem {
   fem::TetTabulation tabulation_;
   std::vector<InterfaceMesh> surfaces_;  // outward oriented, one per object
   std::vector<Eigen::Vector3d> node_normal_;
+  la::SaddlePointMethod method_;
+  std::string method_reason_;
   la::OwnershipRange range_;  // of the real unknowns
   std::vector<int> assembled_tets_, assembled_faces_;
-  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
