@@ -10,7 +10,9 @@ A drop (R = 1, lambda = 1, Gamma = 1) in a 24 x 16 x 24 cell on 20 equator nodes
    towards the tension-free sphere's as omega grows; the cell's moduli are the
    dilute law 1 + phi c written as G', G'' (recomputed here from c and phi);
    response.md and summary.json are there, and no staging directory is left.
-2. The same on two ranks (with a launcher): c equal to 1e-8.
+2. The same on two ranks (with a launcher): c equal to 1e-8; the iterative path
+   (solver.type = "iterative": FGMRES with PRESB) on two ranks: c equal to 1e-6,
+   in at most 12 FGMRES iterations.
 3. Bad input: exit 1, one message naming the key or option, no output:
    an elastic particle, slip, steady flow without --frequency, --frequency 0,
    a bad --log-range.
@@ -107,6 +109,20 @@ def main(softflow, work, *launcher):
                 if abs(float(a[key]) - float(b[key])) > 1e-8 * max(1.0, abs(float(a[key]))):
                     fail(f"two ranks: {key} {b[key]} against {a[key]} serial")
         print("two ranks: the same c")
+        # The iterative path (FGMRES with PRESB) on two ranks: the same c to its tolerance.
+        iterative_case = os.path.join(work, "iterative.toml")
+        with open(iterative_case, "w") as f:
+            f.write(CASE + '[solver]\ntype = "iterative"\n')
+        iterative = os.path.join(work, "iterative")
+        run([softflow, "response", iterative_case, "-o", iterative, "-q", "--log-range", "0.4", "10", "3"],
+            launcher=launcher)
+        for a, b in zip(table, rows(iterative, "response.csv")):
+            if abs(complex(float(a["c_real"]), float(a["c_imag"])) - complex(float(b["c_real"]), float(b["c_imag"]))) > \
+                    1e-6 * abs(complex(float(a["c_real"]), float(a["c_imag"]))):
+                fail(f"iterative, two ranks: c = {b['c_real']} {b['c_imag']} against {a['c_real']} {a['c_imag']}")
+            if not 1 <= int(b["iterations"]) <= 12:
+                fail(f"iterative: {b['iterations']} FGMRES iterations at omega {b['omega']}")
+        print("iterative path on two ranks: the same c")
 
     particle = CASE.replace("viscosity_ratio = 1.0\ninterfacial_tension = 1.0\n",
                             "model = \"neo_hookean\"\nmodulus = 1.0\n")
