@@ -104,6 +104,157 @@ void check_response_case(const io::CaseConfig& config, const std::vector<double>
       throw InputError(fmt::format("--frequency {}: the angular frequency must be a finite number > 0", w));
 }
 
+namespace {
+
+/// The case's drops as the linearised problem sees them, the walls moving
+/// with shear-rate amplitude 1 (the response is linear: c and eta* are ratios to it).
+physics::OscillatoryProblem oscillatory_problem(const io::CaseConfig& config, const mesh::Mesh& mesh) {
+  physics::OscillatoryProblem problem;
+  problem.viscosity = {config.matrix_viscosity};
+  for (const auto& o : config.objects) {
+    problem.viscosity.push_back(o.viscosity_ratio * config.matrix_viscosity);
+    problem.interfacial_tension.push_back(o.interfacial_tension);
+    problem.radius.push_back(io::mean_radius(o.geometry));
+  }
+  problem.boundary_velocity = [](const Eigen::Vector3d& x) { return Eigen::Vector3d(x.y(), 0.0, 0.0); };
+  problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
+  return problem;
+}
+
+/// Where the moduli are averaged: the whole cell (every drop) and, with
+/// bulk_stress.box_side, the centred cube (the drops whose centre lies in it,
+/// and the matrix clipped to it, as the time domain's bulk-stress module).
+struct Averaging {
+  double cell_volume = 0.0;
+  double drops_volume = 0.0;
+  std::optional<analysis::Box> box;
+  std::vector<bool> counted;  // per region: a drop the cube counts
+  double counted_volume = 0.0;
+  int counted_drops = 0;
+  /// Each element of the cube's volume term with its pieces in reference coordinates.
+  std::vector<std::pair<int, std::vector<analysis::Tetrahedron>>> box_pieces;
+
+  Averaging(const io::CaseConfig& config, const mesh::Mesh& mesh) : counted(mesh.n_objects + 1, false) {
+    cell_volume = mesh.box.length * mesh.box.height * mesh.box.width;
+    if (config.bulk_stress.box_side > 0.0) box = analysis::centred_cube(config.bulk_stress.box_side);
+    for (int k = 1; k <= mesh.n_objects; ++k) {
+      const auto surface = physics::extract_interface(mesh, k);
+      const auto integrals = physics::surface_integrals(surface, physics::interface_positions(surface, mesh));
+      drops_volume += integrals.volume;
+      counted[k] = box && box->contains(integrals.centre_of_volume());
+      if (counted[k]) {
+        counted_volume += integrals.volume;
+        ++counted_drops;
+      }
+    }
+    if (!box) return;
+    const analysis::Tetrahedron whole{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+                                      Eigen::Vector3d::UnitZ()};
+    for (int t = 0; t < mesh.n_tets(); ++t) {
+      const int region = mesh.tet_region[t];
+      if (region > 0 && !counted[region]) continue;
+      auto pieces = region > 0 ? std::vector<analysis::Tetrahedron>{whole}
+                               : analysis::reference_pieces_in_box(fem::tet_nodes(mesh, t), *box);
+      if (!pieces.empty()) box_pieces.emplace_back(t, std::move(pieces));
+    }
+  }
+};
+
+/// One frequency's moduli from its solution.
+ResponsePoint measure(const io::CaseConfig& config, const mesh::Mesh& mesh, const physics::OscillatorySystem& system,
+                      const physics::OscillatoryProblem& problem, const physics::OscillatoryResponse& r,
+                      const Averaging& where) {
+  const io::ObjectConfig& first = config.objects.front();
+  const double eta_m = config.matrix_viscosity;
+  ResponsePoint p;
+  p.omega = problem.omega;
+  p.omega_star = problem.omega * eta_m * io::mean_radius(first.geometry) / first.interfacial_tension;
+  p.seconds = r.assembly_seconds + r.solve.seconds;
+  p.iterations = r.solve.iterations;
+  p.inner_solves = r.inner_solves;
+  p.inner_iterations = r.inner_iterations;
+  Complex stresslets(0.0, 0.0), counted_stresslets(0.0, 0.0);
+  for (int k = 1; k <= mesh.n_objects; ++k) {
+    const Complex s = system.stresslet(problem, r, k)(0, 1);
+    stresslets += s;
+    if (where.counted[k]) counted_stresslets += s;
+  }
+  p.intrinsic_viscosity = stresslets / (eta_m * where.drops_volume);
+  p.cell_phi = where.drops_volume / where.cell_volume;
+  std::tie(p.cell_storage, p.cell_loss) = scaled_moduli(1.0 + stresslets / (eta_m * where.cell_volume), p.omega_star);
+  p.oldroyd_intrinsic_viscosity = analysis::theory::oldroyd_dilute_coefficient(first.viscosity_ratio, p.omega_star);
+  const auto cell_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, p.cell_phi, p.omega_star);
+  p.oldroyd_cell_storage = cell_theory.storage;
+  p.oldroyd_cell_loss = cell_theory.loss;
+  if (where.box) {
+    // <2 D_xy> V over the cube; <sigma_xy> V = eta_m <2 D_xy> V + the counted stresslets.
+    Complex shear(0.0, 0.0);
+    for (const auto& [t, pieces] : where.box_pieces) shear += shear_rate_integral(mesh, system.dofs(), r, t, pieces);
+    const auto [storage, loss] = scaled_moduli(1.0 + counted_stresslets / (eta_m * shear), p.omega_star);
+    p.box_storage = storage;
+    p.box_loss = loss;
+    p.box_phi = where.counted_volume / where.box->volume();
+    p.box_drops = where.counted_drops;
+    const auto box_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, *p.box_phi, p.omega_star);
+    p.oldroyd_box_storage = box_theory.storage;
+    p.oldroyd_box_loss = box_theory.loss;
+  }
+  return p;
+}
+
+std::string response_csv(const std::vector<ResponsePoint>& points) {
+  std::string csv =
+      "omega,omega_star,c_real,c_imag,oldroyd_c_real,oldroyd_c_imag,cell_phi,cell_G_storage_R_over_Gamma,"
+      "cell_G_loss_over_eta_m_omega,oldroyd_cell_G_storage,oldroyd_cell_G_loss,box_phi,box_drops,"
+      "box_G_storage_R_over_Gamma,box_G_loss_over_eta_m_omega,oldroyd_box_G_storage,oldroyd_box_G_loss,seconds,"
+      "iterations,inner_solves,inner_iterations\n";
+  for (const auto& p : points)
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", number(p.omega, 10),
+                       number(p.omega_star, 10), number(p.intrinsic_viscosity.real(), 10),
+                       number(p.intrinsic_viscosity.imag(), 10), number(p.oldroyd_intrinsic_viscosity.real(), 10),
+                       number(p.oldroyd_intrinsic_viscosity.imag(), 10), number(p.cell_phi, 10),
+                       number(p.cell_storage, 10), number(p.cell_loss, 10), number(p.oldroyd_cell_storage, 10),
+                       number(p.oldroyd_cell_loss, 10), optional_number(p.box_phi, 10),
+                       p.box_phi ? std::to_string(p.box_drops) : std::string(), optional_number(p.box_storage, 10),
+                       optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
+                       optional_number(p.oldroyd_box_loss, 10), number(p.seconds, 4), p.iterations,
+                       p.inner_solves, p.inner_iterations);
+  return csv;
+}
+
+std::string response_markdown(const io::CaseConfig& config, int drops, int unknowns,
+                              const std::vector<ResponsePoint>& points) {
+  const bool has_box = points.front().box_phi.has_value();
+  std::string md = fmt::format(
+      "# Frequency response of {}\n\n"
+      "One complex Stokes solve per frequency about the resting spherical drops (softflow response; "
+      "docs/emulsions.md): {} drops, lambda = {:g} (objects[1]), {} real unknowns. c: the drops' stresslets "
+      "summed over eta_m gamma_dot V_d (the complex intrinsic viscosity), beside the dilute limit of "
+      "Oldroyd's emulsion; the cell's moduli from its walls (phi = {:.5g}) beside Oldroyd's at that phi{}.\n\n"
+      "| omega | omega* | c | Oldroyd c (dilute) | G' R/Gamma (cell) | Oldroyd | G''/(eta_m omega) (cell) | Oldroyd |{}\n"
+      "|---|---|---|---|---|---|---|---|{}\n",
+      config.name, drops, config.objects.front().viscosity_ratio, unknowns, points.front().cell_phi,
+      has_box ? fmt::format("; the centred cube of side {:g} as softflow moduli averages it", config.bulk_stress.box_side)
+              : std::string(),
+      has_box ? " phi (cube) | G' R/Gamma (cube) | Oldroyd | G''/(eta_m omega) (cube) | Oldroyd |" : "",
+      has_box ? "---|---|---|---|---|" : "");
+  for (const auto& p : points) {
+    md += fmt::format("| {} | {} | {:.5f} {:+.5f} i | {:.5f} {:+.5f} i | {} | {} | {} | {} |", number(p.omega, 5),
+                      number(p.omega_star, 5), p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
+                      p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag(),
+                      number(p.cell_storage, 5), number(p.oldroyd_cell_storage, 5), number(p.cell_loss, 5),
+                      number(p.oldroyd_cell_loss, 5));
+    if (has_box)
+      md += fmt::format(" {} | {} | {} | {} | {} |", optional_number(p.box_phi, 4), optional_number(p.box_storage, 5),
+                        optional_number(p.oldroyd_box_storage, 5), optional_number(p.box_loss, 5),
+                        optional_number(p.oldroyd_box_loss, 5));
+    md += "\n";
+  }
+  return md;
+}
+
+}  // namespace
+
 std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, const ResponseOptions& options) {
   const auto start = Clock::now();
   std::vector<double> frequencies = options.frequencies;
@@ -119,95 +270,21 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
 
   physics::OscillatorySystem system(mesh, solver_settings(config).method);
   const bool iterative = system.method() == la::SaddlePointMethod::iterative;
-  const double eta_m = config.matrix_viscosity;
-  physics::OscillatoryProblem problem;
-  problem.viscosity = {eta_m};
-  for (const auto& o : config.objects) {
-    problem.viscosity.push_back(o.viscosity_ratio * eta_m);
-    problem.interfacial_tension.push_back(o.interfacial_tension);
-    problem.radius.push_back(io::mean_radius(o.geometry));
-  }
-  // Shear-rate amplitude 1: the response is linear, and c and eta* are ratios to it.
-  problem.boundary_velocity = [](const Eigen::Vector3d& x) { return Eigen::Vector3d(x.y(), 0.0, 0.0); };
-  problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
+  physics::OscillatoryProblem problem = oscillatory_problem(config, mesh);
   if (!options.quiet && root)
     fmt::print("mesh: {} nodes, {} tetrahedra, {} drops; {} real unknowns (velocity and pressure, real and "
                "imaginary parts); solver {} ({})\n",
                mesh.n_nodes(), mesh.n_tets(), mesh.n_objects, system.n_unknowns(),
                iterative ? "iterative: FGMRES with PRESB" : "direct: MUMPS LU", system.method_reason());
+  const Averaging where(config, mesh);
 
-  // The drops: volumes, centres, and which the cube counts.
-  const double cell_volume = mesh.box.length * mesh.box.height * mesh.box.width;
-  const bool has_box = config.bulk_stress.box_side > 0.0;
-  const analysis::Box box = analysis::centred_cube(config.bulk_stress.box_side);
-  std::vector<double> volume(mesh.n_objects + 1, 0.0);
-  std::vector<bool> counted(mesh.n_objects + 1, false);
-  double drops_volume = 0.0, counted_volume = 0.0;
-  for (int k = 1; k <= mesh.n_objects; ++k) {
-    const auto surface = physics::extract_interface(mesh, k);
-    const auto integrals = physics::surface_integrals(surface, physics::interface_positions(surface, mesh));
-    volume[k] = integrals.volume;
-    drops_volume += volume[k];
-    counted[k] = has_box && box.contains(integrals.centre_of_volume());
-    if (counted[k]) counted_volume += volume[k];
-  }
-  // The matrix's pieces inside the cube, once.
-  std::vector<std::pair<int, std::vector<analysis::Tetrahedron>>> box_pieces;
-  if (has_box)
-    for (int t = 0; t < mesh.n_tets(); ++t) {
-      const int region = mesh.tet_region[t];
-      if (region > 0 && !counted[region]) continue;
-      auto pieces = region > 0 ? std::vector<analysis::Tetrahedron>{{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
-                                                                      Eigen::Vector3d::UnitY(),
-                                                                      Eigen::Vector3d::UnitZ()}}
-                               : analysis::reference_pieces_in_box(fem::tet_nodes(mesh, t), box);
-      if (!pieces.empty()) box_pieces.emplace_back(t, std::move(pieces));
-    }
-
-  const auto& first = config.objects.front();
-  const double radius = io::mean_radius(first.geometry), gamma = first.interfacial_tension;
   std::vector<ResponsePoint> points;
   for (double omega : frequencies) {
     if (const int signal = stop_requested())
       throw RunInterrupted(fmt::format("stopped by {} before the results were written; run the command again",
                                        signal_name(signal)));
     problem.omega = omega;
-    const auto r = system.solve(problem);
-    ResponsePoint p;
-    p.omega = omega;
-    p.omega_star = omega * eta_m * radius / gamma;
-    p.seconds = r.assembly_seconds + r.solve.seconds;
-    p.iterations = r.solve.iterations;
-    p.inner_solves = r.inner_solves;
-    p.inner_iterations = r.inner_iterations;
-    Complex stresslets(0.0, 0.0), counted_stresslets(0.0, 0.0);
-    for (int k = 1; k <= mesh.n_objects; ++k) {
-      const Complex s = system.stresslet(problem, r, k)(0, 1);
-      stresslets += s;
-      if (counted[k]) counted_stresslets += s;
-    }
-    p.intrinsic_viscosity = stresslets / (eta_m * drops_volume);
-    p.cell_phi = drops_volume / cell_volume;
-    std::tie(p.cell_storage, p.cell_loss) = scaled_moduli(1.0 + stresslets / (eta_m * cell_volume), p.omega_star);
-    p.oldroyd_intrinsic_viscosity =
-        analysis::theory::oldroyd_dilute_coefficient(first.viscosity_ratio, p.omega_star);
-    const auto cell_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, p.cell_phi, p.omega_star);
-    p.oldroyd_cell_storage = cell_theory.storage;
-    p.oldroyd_cell_loss = cell_theory.loss;
-    if (has_box) {
-      // <2 D_xy> V over the cube; <sigma_xy> V = eta_m <2 D_xy> V + the counted stresslets.
-      Complex shear(0.0, 0.0);
-      for (const auto& [t, pieces] : box_pieces) shear += shear_rate_integral(mesh, system.dofs(), r, t, pieces);
-      const auto [storage, loss] =
-          scaled_moduli(1.0 + counted_stresslets / (eta_m * shear), p.omega_star);
-      p.box_storage = storage;
-      p.box_loss = loss;
-      p.box_phi = counted_volume / box.volume();
-      p.box_drops = static_cast<int>(std::count(counted.begin(), counted.end(), true));
-      const auto box_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, *p.box_phi, p.omega_star);
-      p.oldroyd_box_storage = box_theory.storage;
-      p.oldroyd_box_loss = box_theory.loss;
-    }
+    const ResponsePoint p = measure(config, mesh, system, problem, system.solve(problem), where);
     if (!options.quiet && root)
       fmt::print("omega {:g} (omega* {:.4g}): c = {:.5f} {:+.5f} i (Oldroyd's dilute {:.5f} {:+.5f} i); cell: G' "
                  "R/Gamma {:.5g}, G''/(eta_m omega) {:.5g}; {:.1f} s{}\n",
@@ -221,51 +298,13 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
     points.push_back(p);
   }
 
-  std::string csv =
-      "omega,omega_star,c_real,c_imag,oldroyd_c_real,oldroyd_c_imag,cell_phi,cell_G_storage_R_over_Gamma,"
-      "cell_G_loss_over_eta_m_omega,oldroyd_cell_G_storage,oldroyd_cell_G_loss,box_phi,box_drops,"
-      "box_G_storage_R_over_Gamma,box_G_loss_over_eta_m_omega,oldroyd_box_G_storage,oldroyd_box_G_loss,seconds,iterations,inner_solves,inner_iterations\n";
-  std::string md = fmt::format(
-      "# Frequency response of {}\n\n"
-      "One complex Stokes solve per frequency about the resting spherical drops (softflow response; "
-      "docs/emulsions.md): {} drops, lambda = {:g} (objects[1]), {} real unknowns. c: the drops' stresslets "
-      "summed over eta_m gamma_dot V_d (the complex intrinsic viscosity), beside the dilute limit of "
-      "Oldroyd's emulsion; the cell's moduli from its walls (phi = {:.5g}) beside Oldroyd's at that phi{}.\n\n"
-      "| omega | omega* | c | Oldroyd c (dilute) | G' R/Gamma (cell) | Oldroyd | G''/(eta_m omega) (cell) | Oldroyd |{}\n"
-      "|---|---|---|---|---|---|---|---|{}\n",
-      config.name, mesh.n_objects, first.viscosity_ratio, system.n_unknowns(), points.front().cell_phi,
-      has_box ? fmt::format("; the centred cube of side {:g} as softflow moduli averages it", config.bulk_stress.box_side)
-              : std::string(),
-      has_box ? " phi (cube) | G' R/Gamma (cube) | Oldroyd | G''/(eta_m omega) (cube) | Oldroyd |" : "",
-      has_box ? "---|---|---|---|---|" : "");
-  for (const auto& p : points) {
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", number(p.omega, 10),
-                       number(p.omega_star, 10), number(p.intrinsic_viscosity.real(), 10),
-                       number(p.intrinsic_viscosity.imag(), 10), number(p.oldroyd_intrinsic_viscosity.real(), 10),
-                       number(p.oldroyd_intrinsic_viscosity.imag(), 10), number(p.cell_phi, 10),
-                       number(p.cell_storage, 10), number(p.cell_loss, 10), number(p.oldroyd_cell_storage, 10),
-                       number(p.oldroyd_cell_loss, 10), optional_number(p.box_phi, 10),
-                       has_box ? std::to_string(p.box_drops) : std::string(), optional_number(p.box_storage, 10),
-                       optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
-                       optional_number(p.oldroyd_box_loss, 10), number(p.seconds, 4), p.iterations,
-                       p.inner_solves, p.inner_iterations);
-    md += fmt::format("| {} | {} | {:.5f} {:+.5f} i | {:.5f} {:+.5f} i | {} | {} | {} | {} |", number(p.omega, 5),
-                      number(p.omega_star, 5), p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
-                      p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag(),
-                      number(p.cell_storage, 5), number(p.oldroyd_cell_storage, 5), number(p.cell_loss, 5),
-                      number(p.oldroyd_cell_loss, 5));
-    if (has_box)
-      md += fmt::format(" {} | {} | {} | {} | {} |", optional_number(p.box_phi, 4), optional_number(p.box_storage, 5),
-                        optional_number(p.oldroyd_box_storage, 5), optional_number(p.box_loss, 5),
-                        optional_number(p.oldroyd_box_loss, 5));
-    md += "\n";
-  }
   nlohmann::json summary = {
       {"softflow_version", SOFTFLOW_VERSION},
       {"case", config.name},
       {"command", "response"},
       {"mpi_ranks", la::mpi_size()},
       {"mesh", meshed.report},
+      {"drops", mesh.n_objects},
       {"unknowns", system.n_unknowns()},
       {"solver", {{"method", iterative ? "iterative" : "direct"}, {"reason", system.method_reason()}}},
       {"frequencies", frequencies},
@@ -287,8 +326,8 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
   summary["peak_memory_mb"] = peak_memory_summary();  // collective
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));
-    output->write_text("response.csv", csv);
-    output->write_text("response.md", md);
+    output->write_text("response.csv", response_csv(points));
+    output->write_text("response.md", response_markdown(config, mesh.n_objects, system.n_unknowns(), points));
     output->write_text("summary.json", summary.dump(2) + "\n");
     output->commit();
   });
