@@ -13,19 +13,13 @@
 #include "softflow/common/error.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
+#include "support/input_errors.hpp"
 
 namespace softflow::io {
 namespace {
 
 /// The InputError message of parsing `text` as "case.toml" ("" if it parsed).
-std::string error_of(const std::string& text) {
-  try {
-    parse_case(text, "case.toml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string error_of(const std::string& text) { return test_support::case_error_of(text, "case.toml"); }
 
 #define EXPECT_ERROR(text, expected_substring) \
   EXPECT_NE(error_of(text).find(expected_substring), std::string::npos) << error_of(text)

@@ -13,6 +13,7 @@
 #include "softflow/io/case_config.hpp"
 #include "softflow/mesh/quality.hpp"
 #include "softflow/simulation/run_support.hpp"
+#include "support/input_errors.hpp"
 #include "support/region_volumes.hpp"
 
 namespace softflow {
@@ -25,14 +26,7 @@ const std::string kDrop =
     "far_size = 3.0\n[[objects]]\ncentre = [0.5, 0.25, 0.0]\nviscosity_ratio = 2.0\n"
     "capillary_number = 0.15\n";
 
-std::string error_of(const std::string& text) {
-  try {
-    io::parse_case(text, "c.toml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string error_of(const std::string& text) { return test_support::case_error_of(text); }
 
 TEST(InitialDeformation, TheSpheresMeshBecomesTheTheorysEllipsoidWithItsVolume) {
   const io::CaseConfig sphere_case = io::parse_case(kDrop, "c.toml");

@@ -18,6 +18,7 @@
 #include "softflow/simulation/remesh_triggers.hpp"
 #include "softflow/simulation/run_ledger.hpp"
 #include "softflow/simulation/run_support.hpp"
+#include "support/input_errors.hpp"
 
 namespace softflow {
 namespace {
@@ -29,14 +30,7 @@ const std::string kNearWall =
     "far_size = 2.0\n[[objects]]\ncentre = [0.0, 0.2, 0.0]\nviscosity_ratio = 1.0\n"
     "capillary_number = 0.2\n";
 
-std::string error_of(const std::string& text) {
-  try {
-    (void)io::parse_case(text, "c.toml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string error_of(const std::string& text) { return test_support::case_error_of(text); }
 
 TEST(ObjectGaps, ASqueezedWallGapHasFewerElementsAndARemeshRestoresThem) {
   const io::CaseConfig config = io::parse_case(kNearWall, "c.toml");

@@ -6,6 +6,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/io/sweep_case.hpp"
+#include "support/input_errors.hpp"
 
 namespace softflow::io {
 namespace {
@@ -55,12 +56,7 @@ TEST(SweepCase, VectorsAreVariedByListsOfVectorsAndObjectsAreNamed) {
 }
 
 std::string error_of(const std::string& text) {
-  try {
-    expand_sweep(text, "s.toml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test_support::input_error_of([&] { (void)expand_sweep(text, "s.toml"); });
 }
 
 TEST(SweepCase, ProblemsNameTheParameterAndTheCombination) {
