@@ -49,6 +49,35 @@ Eigen::Vector3d slip_traction(const std::array<double, 6>& shape, const Eigen::V
   return t;
 }
 
+Eigen::Matrix<double, 18, 54> slip_constraint_block(const Eigen::Matrix<double, 18, 18>& coupling,
+                                                   const Eigen::Matrix<double, 6, 6>& mass,
+                                                   const TriangleNormals& nodal, double alpha) {
+  // Row weights per node: D_a = n_a n_a + w T_a with w = 1 / (1 + alpha), a
+  // change of each node's three rows that leaves the solution as it is but
+  // keeps them of one size as alpha grows; alpha = inf gives free slip
+  // (T lambda = 0) exactly.
+  const bool free_slip = std::isinf(alpha);
+  const double w = free_slip ? 0.0 : 1.0 / (1.0 + alpha);
+  const double alpha_w = free_slip ? 1.0 : alpha * w;
+  auto tangential = [&](int a) -> Eigen::Matrix3d {
+    return Eigen::Matrix3d::Identity() - nodal[a] * nodal[a].transpose();
+  };
+  Eigen::Matrix<double, 18, 54> block;
+  for (int a = 0; a < 6; ++a) {
+    const Eigen::Matrix3d ta = tangential(a);
+    const Eigen::Matrix3d row_weight = nodal[a] * nodal[a].transpose() + w * ta;
+    for (int b = 0; b < 6; ++b) {
+      // The coupling's transpose: lambda_a's rows against v_b.
+      const Eigen::Matrix3d jump = row_weight * coupling.block<3, 3>(3 * b, 3 * a).transpose();
+      block.block<3, 3>(3 * a, 3 * b) = jump;          // u_m
+      block.block<3, 3>(3 * a, 18 + 3 * b) = -jump;    // u_d
+      block.block<3, 3>(3 * a, 36 + 3 * b) =           // lambda
+          (-alpha_w * mass(a, b)) * ta * tangential(b);
+    }
+  }
+  return block;
+}
+
 Eigen::Matrix<double, 18, 18> slip_coupling_matrix(const element::TriangleNodes& x,
                                                    const TriangleNormals& nodal) {
   // Degree 5 as surface_mass: exact on flat triangles for the mass part.

@@ -84,6 +84,15 @@ Eigen::Vector3d slip_traction(const std::array<double, 6>& shape, const Eigen::V
 Eigen::Matrix<double, 18, 18> slip_coupling_matrix(const element::TriangleNodes& x,
                                                    const TriangleNormals& nodal);
 
+/// The constraint rows of one interface triangle (surface mass `mass`,
+/// coupling `coupling` = slip_coupling_matrix) over (u_m, u_d, lambda) of
+/// its 6 nodes: D_a C_ba^T [I, -I] and -alpha D_a M_ab T_a T_b, with T the
+/// nodal tangential projection of `nodal` and D_a = n_a n_a + T_a / (1 +
+/// alpha) the row weights (the comment above). alpha = inf: free slip.
+Eigen::Matrix<double, 18, 54> slip_constraint_block(const Eigen::Matrix<double, 18, 18>& coupling,
+                                                   const Eigen::Matrix<double, 6, 6>& mass,
+                                                   const TriangleNormals& nodal, double alpha);
+
 /// Per object, from a slip system's solution on `geometry` with the nodal
 /// normals (interface_node_normals) it was assembled with.
 struct SlipMeasures {

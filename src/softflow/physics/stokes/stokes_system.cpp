@@ -697,33 +697,6 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   factors_ = std::move(r);
 }
 
-Eigen::Matrix<double, 18, 54> StokesSystem::slip_constraint_block(
-    const std::array<int, 6>& tri, const Eigen::Matrix<double, 18, 18>& coupling,
-    const Eigen::Matrix<double, 6, 6>& mass, const SlipNodes& nodes, double alpha) {
-  // Row weights per node: D_a = n_a n_a + w T_a with w = 1 / (1 + alpha), a
-  // change of each node's three rows that leaves the solution as it is but
-  // keeps them of one size as alpha grows; alpha = inf gives free slip
-  // (T lambda = 0) exactly.
-  const bool free_slip = std::isinf(alpha);
-  const double w = free_slip ? 0.0 : 1.0 / (1.0 + alpha);
-  const double alpha_w = free_slip ? 1.0 : alpha * w;
-  Eigen::Matrix<double, 18, 54> block;
-  for (int a = 0; a < 6; ++a) {
-    const Eigen::Vector3d& na = nodes.normal[tri[a]];
-    const Eigen::Matrix3d ta = nodes.tangential(tri[a]);
-    const Eigen::Matrix3d row_weight = na * na.transpose() + w * ta;
-    for (int b = 0; b < 6; ++b) {
-      // The coupling's transpose: lambda_a's rows against v_b.
-      const Eigen::Matrix3d jump = row_weight * coupling.block<3, 3>(3 * b, 3 * a).transpose();
-      block.block<3, 3>(3 * a, 3 * b) = jump;          // u_m
-      block.block<3, 3>(3 * a, 18 + 3 * b) = -jump;    // u_d
-      block.block<3, 3>(3 * a, 36 + 3 * b) =           // lambda
-          (-alpha_w * mass(a, b)) * ta * nodes.tangential(tri[b]);
-    }
-  }
-  return block;
-}
-
 TriangleNormals StokesSystem::SlipNodes::of(const std::array<int, 6>& tri) const {
   TriangleNormals out;
   for (int a = 0; a < 6; ++a) out[a] = normal[tri[a]];
@@ -754,7 +727,7 @@ void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem
                                     ">= 0, inf for free slip)", alpha, mesh_.interface_object[f]));
     const auto x = fem::triangle_nodes(geometry, tri);
     const auto block =
-        slip_constraint_block(tri, slip_coupling_matrix(x, nodes.of(tri)), surface_mass(x), nodes, alpha);
+        slip_constraint_block(slip_coupling_matrix(x, nodes.of(tri)), surface_mass(x), nodes.of(tri), alpha);
     a_->set_block(slip_constraint_blocks_[i], block);
     if (iterative) pmat_->set_block(slip_constraint_blocks_[i], block);
   }

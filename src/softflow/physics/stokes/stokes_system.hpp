@@ -234,14 +234,6 @@ class StokesSystem {
   }
   /// The object (1-based) of an interface node: its multipliers' region.
   [[nodiscard]] int interface_object_of(int node) const;
-  /// The constraint rows of interface triangle `tri` (surface mass `mass`)
-  /// over (u_m, u_d, lambda) of its 6 nodes: D_a C_ba^T [I, -I] and
-  /// -alpha D_a M_ab T_a T_b (C the coupling, slip_coupling_matrix; T the
-  /// nodal tangential projection; D_a the row weights; interface_slip.hpp).
-  /// alpha = inf: free slip.
-  static Eigen::Matrix<double, 18, 54> slip_constraint_block(
-      const std::array<int, 6>& tri, const Eigen::Matrix<double, 18, 18>& coupling,
-      const Eigen::Matrix<double, 6, 6>& mass, const SlipNodes& nodes, double alpha);
   /// Slip coupling (interface_slip.hpp): multiplier columns of the velocity
   /// rows of each owned interface face, constraint rows of each face with an
   /// owned multiplier.
