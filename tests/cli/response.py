@@ -14,8 +14,8 @@ A drop (R = 1, lambda = 1, Gamma = 1) in a 24 x 16 x 24 cell on 20 equator nodes
    (solver.type = "iterative": FGMRES with PRESB) on two ranks: c equal to 1e-6,
    in at most 12 FGMRES iterations.
 3. Bad input: exit 1, one message naming the key or option, no output:
-   an elastic particle, slip, steady flow without --frequency, --frequency 0,
-   a bad --log-range.
+   an elastic particle, slip with the iterative solver (it has none yet), steady
+   flow without --frequency, --frequency 0, a bad --log-range.
 """
 import math
 import os
@@ -127,8 +127,9 @@ def main(softflow, work, *launcher):
     particle = CASE.replace("viscosity_ratio = 1.0\ninterfacial_tension = 1.0\n",
                             "model = \"neo_hookean\"\nmodulus = 1.0\n")
     refused(softflow, work, "particle", particle, [], "objects[1].model")
-    refused(softflow, work, "slip", CASE.replace("interfacial_tension = 1.0\n", "interfacial_tension = 1.0\nslip = 1.0\n"),
-            [], "objects[1].slip = 1")
+    refused(softflow, work, "slip_iterative",
+            CASE.replace("interfacial_tension = 1.0\n", "interfacial_tension = 1.0\nslip = 1.0\n") +
+            '[solver]\ntype = "iterative"\n', [], 'solver.type = "iterative"')
     steady = CASE.replace('type = "oscillatory"\nstrain_amplitude = 0.05\nfrequency = 1.0\n', "shear_rate = 1.0\n")
     refused(softflow, work, "steady", steady, [], "flow.frequency")
     refused(softflow, work, "zero_frequency", CASE, ["--frequency", "0"], "--frequency 0")

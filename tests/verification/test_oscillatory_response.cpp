@@ -143,3 +143,33 @@ TEST(OscillatoryResponse, PresbIterationsStayFewAtEveryFrequencyAndAgreeWithLu) 
     EXPECT_LE(b.solve.iterations, 10) << "omega = " << omega;
   }
 }
+
+TEST(OscillatoryResponse, ASlipDropApproachesOldroydWithSlipAndNoSlipAtAlphaZero) {
+  // Navier slip in both parts (the multipliers of docs/slip.md): at alpha = 0
+  // the slip system is the no-slip one; at alpha = 1 (lambda = 1, omega* =
+  // 1, R = eta_m = 1) c converges to Oldroyd's dilute limit with slip
+  // (appendix B as SPEC §9 corrects it). Cell 24 x 16 x 24.
+  const double omega = 1.0;
+  const auto oldroyd = analysis::theory::oldroyd_dilute_coefficient(1.0, omega, 1.0);
+  double previous_error = 1.0;
+  for (const int n : {20, 28}) {
+    const auto mesh = mesh_of(drop_cell(n, 24.0, 16.0));
+    physics::OscillatorySystem slip(mesh, la::SaddlePointMethod::direct, true);
+    auto problem = problem_on(mesh, 1.0, omega);
+    if (n == 20) {
+      problem.slip = {0.0};
+      physics::OscillatorySystem plain(mesh, la::SaddlePointMethod::direct);
+      const std::complex<double> with = slip.stresslet(problem, slip.solve(problem), 1)(0, 1);
+      const std::complex<double> without = plain.stresslet(problem, plain.solve(problem), 1)(0, 1);
+      EXPECT_LT(std::abs(with - without), 1e-8 * std::abs(without));
+    }
+    problem.slip = {1.0};
+    const std::complex<double> c = slip.stresslet(problem, slip.solve(problem), 1)(0, 1) / slip.object_volume(1);
+    const double error = std::abs(c - oldroyd) / std::abs(oldroyd);
+    std::printf("N = %d, alpha = 1: c = %.5f %+.5f i, Oldroyd %.5f %+.5f i, error %.2f %%\n", n, c.real(), c.imag(),
+                oldroyd.real(), oldroyd.imag(), 100 * error);
+    EXPECT_LT(error, previous_error) << "N = " << n;
+    EXPECT_LT(error, 0.05) << "N = " << n;
+    previous_error = error;
+  }
+}

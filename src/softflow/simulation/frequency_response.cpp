@@ -16,6 +16,7 @@
 #include "softflow/physics/interface/interface_mesh.hpp"
 #include "softflow/physics/stokes/oscillatory_response.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
+#include "softflow/simulation/case_flow.hpp"
 #include "softflow/simulation/run_support.hpp"
 #include "softflow/simulation/stop_requests.hpp"
 
@@ -92,9 +93,10 @@ void check_response_case(const io::CaseConfig& config, const std::vector<double>
     if (!(o.interfacial_tension > 0.0))
       throw InputError(fmt::format("{}.interfacial_tension = {}: a drop needs a tension > 0 (it is the "
                                    "emulsion's elasticity)", key, o.interfacial_tension));
-    if (o.slip != 0.0)
-      throw InputError(fmt::format("{}.slip = {}: the frequency-domain solver has no slip yet (allowed: 0); "
-                                   "slip runs in the time domain with softflow run", key, o.slip));
+    if (o.slip != 0.0 && config.solver == io::SolverType::iterative)
+      throw InputError(fmt::format("solver.type = \"iterative\": the frequency-domain solver's iterative path has "
+                                   "no slip yet ({}.slip = {}); allowed with slip: \"direct\" or \"auto\"",
+                                   key, o.slip));
   }
   if (frequencies.empty() && !(config.flow.type == io::FlowType::oscillatory && config.flow.frequency > 0.0))
     throw InputError("flow.frequency: no frequency given: set flow.type = \"oscillatory\" with a frequency, or "
@@ -115,6 +117,7 @@ physics::OscillatoryProblem oscillatory_problem(const io::CaseConfig& config, co
     problem.viscosity.push_back(o.viscosity_ratio * config.matrix_viscosity);
     problem.interfacial_tension.push_back(o.interfacial_tension);
     problem.radius.push_back(io::mean_radius(o.geometry));
+    problem.slip.push_back(io::navier_slip_coefficient(config, o));
   }
   problem.boundary_velocity = [](const Eigen::Vector3d& x) { return Eigen::Vector3d(x.y(), 0.0, 0.0); };
   problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
@@ -182,8 +185,10 @@ ResponsePoint measure(const io::CaseConfig& config, const mesh::Mesh& mesh, cons
   p.intrinsic_viscosity = stresslets / (eta_m * where.drops_volume);
   p.cell_phi = where.drops_volume / where.cell_volume;
   std::tie(p.cell_storage, p.cell_loss) = scaled_moduli(1.0 + stresslets / (eta_m * where.cell_volume), p.omega_star);
-  p.oldroyd_intrinsic_viscosity = analysis::theory::oldroyd_dilute_coefficient(first.viscosity_ratio, p.omega_star);
-  const auto cell_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, p.cell_phi, p.omega_star);
+  p.oldroyd_intrinsic_viscosity =
+      analysis::theory::oldroyd_dilute_coefficient(first.viscosity_ratio, p.omega_star, first.slip);
+  const auto cell_theory =
+      analysis::theory::oldroyd_moduli(first.viscosity_ratio, p.cell_phi, p.omega_star, first.slip);
   p.oldroyd_cell_storage = cell_theory.storage;
   p.oldroyd_cell_loss = cell_theory.loss;
   if (where.box) {
@@ -195,7 +200,8 @@ ResponsePoint measure(const io::CaseConfig& config, const mesh::Mesh& mesh, cons
     p.box_loss = loss;
     p.box_phi = where.counted_volume / where.box->volume();
     p.box_drops = where.counted_drops;
-    const auto box_theory = analysis::theory::oldroyd_moduli(first.viscosity_ratio, *p.box_phi, p.omega_star);
+    const auto box_theory =
+        analysis::theory::oldroyd_moduli(first.viscosity_ratio, *p.box_phi, p.omega_star, first.slip);
     p.oldroyd_box_storage = box_theory.storage;
     p.oldroyd_box_loss = box_theory.loss;
   }
@@ -268,7 +274,7 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
   leave_startup();  // the staging directory exists: a stop request now removes it cleanly
   const mesh::Mesh& mesh = meshed.mesh;
 
-  physics::OscillatorySystem system(mesh, solver_settings(config).method);
+  physics::OscillatorySystem system(mesh, solver_settings(config).method, has_interface_slip(config));
   const bool iterative = system.method() == la::SaddlePointMethod::iterative;
   physics::OscillatoryProblem problem = oscillatory_problem(config, mesh);
   if (!options.quiet && root)

@@ -36,6 +36,8 @@ struct OscillatorySystem::Impl {
   std::unique_ptr<la::CsrMatrix> matrix;  // the real form, 2N
   // Per assembled tet: its real and imaginary blocks; per face: the two couplings.
   std::vector<la::CsrMatrix::Block> real_blocks, imaginary_blocks, upper_blocks, lower_blocks;
+  // With slip, per face and part: the multipliers' coupling and the constraint rows.
+  std::vector<std::array<la::CsrMatrix::Block, 2>> slip_coupling_blocks, slip_constraint_blocks;
   /// The direct path: one LU solver for every frequency. The pattern does
   /// not change, so MUMPS's analysis (ordering, symbolic factorisation) is
   /// done once and each frequency only factors numerically.
@@ -111,15 +113,21 @@ PetscErrorCode apply_presb(PC pc, Vec residual, Vec out) {
 
 }  // namespace
 
-OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh, la::SaddlePointMethod method)
+OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh, la::SaddlePointMethod method, bool interface_slip)
     : mesh_(mesh),
-      dofs_(make_stokes_dof_map(mesh, false)),
+      dofs_(make_stokes_dof_map(mesh, interface_slip)),
       tabulation_(kQuadratureDegree),
       impl_(std::make_unique<Impl>()) {
   for (int k = 1; k <= mesh_.n_objects; ++k) surfaces_.push_back(extract_interface(mesh_, k));
   node_normal_ = interface_node_normals(surfaces_, mesh_);
+  slip_ = interface_slip;
   method_ = method;
-  if (method_ == la::SaddlePointMethod::automatic) {
+  if (slip_ && method_ == la::SaddlePointMethod::iterative)
+    throw SolverError("the frequency-domain solver's iterative path has no slip yet: solver.type = \"direct\"");
+  if (slip_ && method_ == la::SaddlePointMethod::automatic) {
+    method_ = la::SaddlePointMethod::direct;
+    method_reason_ = "auto: slip (the iterative path has none yet)";
+  } else if (method_ == la::SaddlePointMethod::automatic) {
     method_ = n_unknowns() <= la::kDirectSolverLimit ? la::SaddlePointMethod::direct
                                                        : la::SaddlePointMethod::iterative;
     method_reason_ = fmt::format("auto: {} real unknowns, {} the {} an LU factorisation fits in memory for",
@@ -133,17 +141,29 @@ OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh, la::SaddlePointMeth
   // As StokesSystem: every element with a row here is assembled here.
   const auto [first_node, last_node] = fem::rank_node_range(mesh_.n_nodes(), la::mpi_rank(), la::mpi_size());
   assembled_tets_ = fem::elements_touching(mesh_, first_node, last_node);
-  for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f)
-    for (int node : mesh_.interface_faces[f])
-      if (range_.owns(index(dofs_.dof(kVelocityField, node, 0, 0), 0))) {
-        assembled_faces_.push_back(f);
-        break;
-      }
+  // Every interface face: its rows of other ranks are dropped (few faces;
+  // with slip they carry rows of three fields).
+  for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) assembled_faces_.push_back(f);
   create_matrix();
   if (method_ == la::SaddlePointMethod::iterative) create_inner_matrices();
 }
 
 OscillatorySystem::~OscillatorySystem() = default;
+
+std::array<int, 18> OscillatorySystem::face_velocity_dofs(int face, int region) const {
+  std::array<int, 18> d;
+  for (int k = 0; k < 6; ++k)
+    for (int c = 0; c < 3; ++c) d[3 * k + c] = dofs_.dof(kVelocityField, mesh_.interface_faces[face][k], region, c);
+  return d;
+}
+
+std::array<int, 18> OscillatorySystem::face_multiplier_dofs(int face) const {
+  std::array<int, 18> d;
+  const int object = mesh_.interface_object[face];
+  for (int k = 0; k < 6; ++k)
+    for (int c = 0; c < 3; ++c) d[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[face][k], object, c);
+  return d;
+}
 
 void OscillatorySystem::create_matrix() {
   const PetscInt n = n_unknowns();
@@ -166,15 +186,34 @@ void OscillatorySystem::create_matrix() {
     }
   }
   for (int f : assembled_faces_) {
-    std::array<int, 18> d;
-    for (int k = 0; k < 6; ++k)
-      for (int c = 0; c < 3; ++c) d[3 * k + c] = dofs_.dof(kVelocityField, mesh_.interface_faces[f][k], 0, c);
+    const auto d = face_velocity_dofs(f, tension_region(f));
     const auto real_rows = part_of(d, 0, true), imaginary_rows = part_of(d, 1, true);
     const auto real_columns = part_of(d, 0, false), imaginary_columns = part_of(d, 1, false);
     impl_->upper_blocks.push_back(
         m.add_block(std::span<const PetscInt>(real_rows), std::span<const PetscInt>(imaginary_columns)));
     impl_->lower_blocks.push_back(
         m.add_block(std::span<const PetscInt>(imaginary_rows), std::span<const PetscInt>(real_columns)));
+    if (!slip_) continue;
+    // As StokesSystem's: velocity rows of both copies x the face's
+    // multipliers, and the multipliers' rows x (u_m, u_d, lambda).
+    const int object = mesh_.interface_object[f];
+    const auto outside = face_velocity_dofs(f, 0), inside = face_velocity_dofs(f, object);
+    const auto multipliers = face_multiplier_dofs(f);
+    std::vector<int> velocity(outside.begin(), outside.end());
+    velocity.insert(velocity.end(), inside.begin(), inside.end());
+    std::vector<int> constrained = velocity;
+    constrained.insert(constrained.end(), multipliers.begin(), multipliers.end());
+    std::array<la::CsrMatrix::Block, 2> coupling{}, constraint{};
+    for (int part : {0, 1}) {
+      const auto rows = part_of(velocity, part, true), columns = part_of(multipliers, part, false);
+      coupling[part] = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns));
+      const auto constraint_rows = part_of(multipliers, part, true);
+      const auto constraint_columns = part_of(constrained, part, false);
+      constraint[part] =
+          m.add_block(std::span<const PetscInt>(constraint_rows), std::span<const PetscInt>(constraint_columns));
+    }
+    impl_->slip_coupling_blocks.push_back(coupling);
+    impl_->slip_constraint_blocks.push_back(constraint);
   }
   m.create();
 }
@@ -202,9 +241,12 @@ void OscillatorySystem::create_inner_matrices() {
         impl.inner_pmat->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(c)));
   }
   for (int f : assembled_faces_) {
-    std::array<PetscInt, 18> d;
-    for (int k = 0; k < 6; ++k)
-      for (int c = 0; c < 3; ++c) d[3 * k + c] = dofs_.dof(kVelocityField, mesh_.interface_faces[f][k], 0, c);
+    const auto velocity = face_velocity_dofs(f, 0);
+    const std::array<PetscInt, 18> d = [&] {
+      std::array<PetscInt, 18> out;
+      std::copy(velocity.begin(), velocity.end(), out.begin());
+      return out;
+    }();
     const auto r = own(d);
     impl.inner_face_blocks.push_back(impl.inner->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
     impl.pmat_face_blocks.push_back(
@@ -281,6 +323,18 @@ std::pair<la::Vector, la::Vector> OscillatorySystem::assemble(const OscillatoryP
         problem.omega;
     m.set_block(impl.upper_blocks[i], b);
     m.set_block(impl.lower_blocks[i], -b);
+    if (slip_) {
+      const element::TriangleNodes x = fem::triangle_nodes(mesh_, tri);
+      const auto c = slip_coupling_matrix(x, normals);
+      Eigen::Matrix<double, 36, 18> coupling;
+      coupling << c, -c;  // + integral lambda_h . v_m, - integral lambda_h . v_d
+      const double alpha = object - 1 < static_cast<int>(problem.slip.size()) ? problem.slip[object - 1] : 0.0;
+      const auto constraint = slip_constraint_block(c, surface_mass(x), normals, alpha);
+      for (int part : {0, 1}) {
+        m.set_block(impl.slip_coupling_blocks[i][part], coupling);
+        m.set_block(impl.slip_constraint_blocks[i][part], constraint);
+      }
+    }
     if (iterative) {
       impl.inner->set_block(impl.inner_face_blocks[i], b);
       impl.inner_pmat->set_block(impl.pmat_face_blocks[i], b);
@@ -367,7 +421,7 @@ OscillatoryResponse OscillatorySystem::solve(const OscillatoryProblem& problem) 
     for (int node : s.volume_node) {
       Complex un(0.0, 0.0);
       for (int c = 0; c < 3; ++c) {
-        const int d = dofs_.dof(kVelocityField, node, 0, c);
+        const int d = dofs_.dof(kVelocityField, node, s.object, c);  // the drop's copy
         un += Complex(out.real[d], out.imaginary[d]) * node_normal_[node](c);
       }
       out.normal_displacement[node] = un / Complex(0.0, problem.omega);
@@ -457,35 +511,46 @@ Matrix3c OscillatorySystem::stresslet(const OscillatoryProblem& problem, const O
       volume_term += w * (velocity_gradient + velocity_gradient.transpose());
     }
   }
-  // delta int_S n n ds, on the outward-oriented interface.
+  // delta int_S n n ds and, with slip, int_S [(u_d - u_m) n + n (u_d - u_m)] ds,
+  // on the outward-oriented interface.
   static const element::QuadratureRule rule = element::triangle_rule(5);
   const auto& surface = surfaces_.at(object - 1);
   const double radius = problem.radius.at(object - 1);
-  Matrix3c tension_change = Matrix3c::Zero();
+  Matrix3c tension_change = Matrix3c::Zero(), slip_term = Matrix3c::Zero();
+  auto amplitude = [&](int dof) { return Complex(response.real[dof], response.imaginary[dof]); };
   for (const auto& tri : surface.triangles) {
     element::TriangleNodes x;
     std::array<Complex, 6> zeta;
+    std::array<Eigen::Vector3cd, 6> jump;  // u_d - u_m at the nodes
     for (int a = 0; a < 6; ++a) {
-      x.col(a) = mesh_.nodes[surface.volume_node[tri[a]]];
-      zeta[a] = response.normal_displacement[surface.volume_node[tri[a]]];
+      const int node = surface.volume_node[tri[a]];
+      x.col(a) = mesh_.nodes[node];
+      zeta[a] = response.normal_displacement[node];
+      for (int c = 0; c < 3; ++c)
+        jump[a](c) = slip_ ? amplitude(dofs_.dof(kVelocityField, node, object, c)) -
+                                 amplitude(dofs_.dof(kVelocityField, node, 0, c))
+                           : Complex(0.0, 0.0);
     }
     for (int q = 0; q < rule.size(); ++q) {
       const auto p = element::surface_point(x, rule.points[q]);
       const auto values = element::p2_triangle_values(rule.points[q]);
       Complex z(0.0, 0.0);
-      Eigen::Vector3cd grad_z = Eigen::Vector3cd::Zero();
+      Eigen::Vector3cd grad_z = Eigen::Vector3cd::Zero(), u_jump = Eigen::Vector3cd::Zero();
       for (int a = 0; a < 6; ++a) {
         z += values[a] * zeta[a];
         grad_z += zeta[a] * p.surface_gradients.row(a).transpose().cast<Complex>();
+        u_jump += values[a] * jump[a];
       }
       const Eigen::Vector3cd n = p.normal.cast<Complex>();
       const double w = rule.weights[q] * p.area_scale;
       tension_change += w * (-(grad_z * n.transpose()) - n * grad_z.transpose() + (2.0 / radius) * z * (n * n.transpose()));
+      if (slip_) slip_term += w * (u_jump * n.transpose() + n * u_jump.transpose());
     }
   }
   const double gamma = problem.interfacial_tension.at(object - 1);
   const Complex trace_third = tension_change.trace() / 3.0;
-  return (lambda - 1.0) * eta_m * volume_term - gamma * (tension_change - trace_third * Matrix3c::Identity());
+  return (lambda - 1.0) * eta_m * volume_term - gamma * (tension_change - trace_third * Matrix3c::Identity()) +
+         eta_m * slip_term;
 }
 
 }  // namespace softflow::physics

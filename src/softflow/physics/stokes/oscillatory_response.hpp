@@ -34,6 +34,10 @@ struct OscillatoryProblem {
   std::vector<double> interfacial_tension;
   /// The resting radius of object k at index k - 1 (the drops are spheres at rest).
   std::vector<double> radius;
+  /// Navier slip alpha_k (dimensional, as InterfaceSlip's) of object k at
+  /// index k - 1; missing entries are 0. Needs a system built with
+  /// interface_slip.
+  std::vector<double> slip;
   /// Velocity amplitude on every outer boundary face.
   std::function<Eigen::Vector3d(const Eigen::Vector3d&)> boundary_velocity;
   double omega = 0.0;  ///< angular frequency, > 0
@@ -95,13 +99,20 @@ struct OscillatoryResponse {
 /// whatever omega. Limits: omega -> oo is the
 /// viscous sphere without tension (Oldroyd's high-frequency limit), omega ->
 /// 0 forces u . n -> 0 on S (steady tank-treading: Taylor's viscosity).
-/// Newtonian phases, no slip (no velocity jump at the interfaces).
+/// Newtonian phases. With Navier slip the interface conditions are those of
+/// the time domain (n . u continuous, the tangential jump alpha times the
+/// matrix's tangential traction), linear already, in both parts; zeta
+/// follows the drop's normal velocity.
 class OscillatorySystem {
  public:
   /// `method`: direct (MUMPS LU of the real form), iterative (PRESB) or
   /// automatic: direct up to la::kDirectSolverLimit real unknowns.
+  /// `interface_slip`: a velocity copy per region coupled by the slip
+  /// multipliers (physics/stokes/interface_slip.hpp), in both parts; the
+  /// direct method only (SolverError otherwise).
   explicit OscillatorySystem(const mesh::Mesh& mesh,
-                             la::SaddlePointMethod method = la::SaddlePointMethod::automatic);
+                             la::SaddlePointMethod method = la::SaddlePointMethod::automatic,
+                             bool interface_slip = false);
   ~OscillatorySystem();
   OscillatorySystem(const OscillatorySystem&) = delete;
   OscillatorySystem& operator=(const OscillatorySystem&) = delete;
@@ -146,6 +157,13 @@ class OscillatorySystem {
   std::pair<la::Vector, la::Vector> assemble(const OscillatoryProblem& problem);
   void solve_direct(const OscillatoryProblem& problem, Vec rhs, Vec x, OscillatoryResponse& out);
   void solve_iterative(Vec rhs, Vec x, OscillatoryResponse& out);
+  /// The 18 velocity dofs of interface face f on the side of `region`
+  /// (the same for both without slip), and its 18 multipliers (slip).
+  [[nodiscard]] std::array<int, 18> face_velocity_dofs(int face, int region) const;
+  [[nodiscard]] std::array<int, 18> face_multiplier_dofs(int face) const;
+  /// The side the tension acts on: the drop's copy with slip (so that the
+  /// multipliers are the matrix's traction, as in StokesSystem), else the shared one.
+  [[nodiscard]] int tension_region(int face) const { return slip_ ? mesh_.interface_object[face] : 0; }
   /// Real index of dof d's real (part 0) or imaginary (part 1) amplitude.
   static PetscInt index(int dof, int part) { return 2 * static_cast<PetscInt>(dof) + part; }
 
@@ -154,6 +172,7 @@ class OscillatorySystem {
   fem::TetTabulation tabulation_;
   std::vector<InterfaceMesh> surfaces_;  // outward oriented, one per object
   std::vector<Eigen::Vector3d> node_normal_;
+  bool slip_ = false;
   la::SaddlePointMethod method_;
   std::string method_reason_;
   la::OwnershipRange range_;  // of the real unknowns
