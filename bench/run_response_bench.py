@@ -12,9 +12,12 @@ solver it names:
                       12^3 cell, gaps >= 0.1 R, 14 equator nodes: iterative
                       (auto: too large to factor); with --quick only its
                       first FEW frequencies, the sweep's time estimated from them
+  phi0.2_point_seedS  issue 32's benchmark point (phi = 0.2, lambda = 1,
+                      omega = 0.4; target: all its configurations in at most
+                      1 hour): the emulsion above for seeds 1 ... 5 at omega = 0.4
 Wall time includes meshing. Writes docs/benchmarks/response.{md,json}.
 
-Usage: bench/run_response_bench.py [build_dir] [--work DIR] [--quick]"""
+Usage: bench/run_response_bench.py [build_dir] [--work DIR] [--quick] [--only NAME...]"""
 import argparse
 import json
 import os
@@ -81,8 +84,9 @@ def emulsion_7():
 def cases(quick):
     return [("drop_N40_direct", DROP + '[solver]\ntype = "direct"\n', FREQUENCIES),
             ("drop_N40_iterative", DROP + '[solver]\ntype = "iterative"\n', FREQUENCIES),
-            ("emulsion_7", emulsion_7(), FREQUENCIES),
-            ("emulsion_phi0.2", DENSE, FREQUENCIES[:FEW] if quick else FREQUENCIES)]
+            ("emulsion_7", emulsion_7(), FREQUENCIES)] + \
+           [(f"phi0.2_point_seed{k}", DENSE.replace("seed = 1", f"seed = {k}"), [0.4]) for k in range(1, 6)] + \
+           [("emulsion_phi0.2", DENSE, FREQUENCIES[:FEW] if quick else FREQUENCIES)]
 
 
 def main():
@@ -90,10 +94,17 @@ def main():
     parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
     parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_response"))
     parser.add_argument("--quick", action="store_true", help=f"the phi = 0.2 emulsion at its first {FEW} frequencies")
+    parser.add_argument("--only", nargs="*", help="run only these cases (the table keeps the others' last results)")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
+    json_path = os.path.join(ROOT, "docs", "benchmarks", "response.json")
+    previous = {r["case"]: r for r in json.load(open(json_path))} if os.path.exists(json_path) else {}
     results = []
     for name, text, frequencies in cases(args.quick):
+        if args.only and name not in args.only:
+            if name in previous:
+                results.append(previous[name])
+            continue
         path = os.path.join(args.work, name + ".toml")
         with open(path, "w") as f:
             f.write(text)
@@ -128,6 +139,10 @@ def main():
                      f"{r['median_seconds_per_frequency']:.1f} | {r['first_frequency_seconds']:.1f} | "
                      f"{min(its)}-{max(its)} | {r['sweep_of_20_seconds']:.0f}"
                      f"{'' if r['frequencies'] == 20 else ' (estimated: meshing + 20 x median)'} |")
+    point = [r for r in results if r["case"].startswith("phi0.2_point")]
+    if point:
+        lines += ["", f"Issue 32's point (phi = 0.2, lambda = 1, omega = 0.4): {len(point)} configurations in "
+                  f"{sum(r['wall_seconds'] for r in point) / 60:.1f} min, one after another (target: at most 60)."]
     out_dir = os.path.join(ROOT, "docs", "benchmarks")
     with open(os.path.join(out_dir, "response.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
