@@ -6,7 +6,7 @@ solver it names:
   drop_N40_direct     one drop, lambda = 1, cell 24 x 16 x 24, 40 equator
                       nodes (scripts/validation/dilute_drop_response.py's finest)
   drop_N40_iterative  the same with FGMRES + PRESB
-  emulsion_7          examples/emulsion_moduli.toml's seed 1: 7 drops,
+  emulsion_moduli_seed1  examples/emulsion_moduli.toml's seed 1: 10 drops,
                       16 equator nodes, direct (auto)
   emulsion_phi0.2     24 drops at phi = 0.2 in a core cube of side 8 of a
                       12^3 cell, gaps >= 0.1 R, 14 equator nodes: iterative
@@ -74,7 +74,7 @@ far_size = 1.5
 """
 
 
-def emulsion_7():
+def emulsion_moduli_seed1():
     text = open(os.path.join(ROOT, "examples", "emulsion_moduli.toml")).read()
     text = re.sub(r"seed = \[[^\]]*\]", "seed = 1", text)
     return re.sub(r"frequency = \[[^\]]*\]", "frequency = 1.0", text)
@@ -83,7 +83,7 @@ def emulsion_7():
 def cases(quick):
     return [("drop_N40_direct", DROP + '[solver]\ntype = "direct"\n', FREQUENCIES),
             ("drop_N40_iterative", DROP + '[solver]\ntype = "iterative"\n', FREQUENCIES),
-            ("emulsion_7", emulsion_7(), FREQUENCIES)] + \
+            ("emulsion_moduli_seed1", emulsion_moduli_seed1(), FREQUENCIES)] + \
            [(f"phi0.2_point_seed{k}", DENSE.replace("seed = 1", f"seed = {k}"), [0.4]) for k in range(1, 6)] + \
            [("emulsion_phi0.2", DENSE, FREQUENCIES[:FEW] if quick else FREQUENCIES)]
 
