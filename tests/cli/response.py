@@ -11,8 +11,8 @@ A drop (R = 1, lambda = 1, Gamma = 1) in a 24 x 16 x 24 cell on 20 equator nodes
    dilute law 1 + phi c written as G', G'' (recomputed here from c and phi);
    response.md and summary.json are there, and no staging directory is left.
 2. The same on two ranks (with a launcher): c equal to 1e-8; the iterative path
-   (solver.type = "iterative": FGMRES with PRESB) on two ranks: c equal to 1e-6,
-   in at most 12 FGMRES iterations.
+   (solver.type = "iterative": FGMRES with PRESB) on two ranks at omega = 2: c
+   equal to 1e-6, in at most 12 FGMRES iterations.
 3. Bad input: exit 1, one message naming the key or option, no output:
    an elastic particle, slip with the iterative solver (it has none yet), steady
    flow without --frequency, --frequency 0, a bad --log-range.
@@ -114,9 +114,8 @@ def main(softflow, work, *launcher):
         with open(iterative_case, "w") as f:
             f.write(CASE + '[solver]\ntype = "iterative"\n')
         iterative = os.path.join(work, "iterative")
-        run([softflow, "response", iterative_case, "-o", iterative, "-q", "--log-range", "0.4", "10", "3"],
-            launcher=launcher)
-        for a, b in zip(table, rows(iterative, "response.csv")):
+        run([softflow, "response", iterative_case, "-o", iterative, "-q", "-f", "2"], launcher=launcher)
+        for a, b in zip(table[1:2], rows(iterative, "response.csv")):  # omega = 2
             if abs(complex(float(a["c_real"]), float(a["c_imag"])) - complex(float(b["c_real"]), float(b["c_imag"]))) > \
                     1e-6 * abs(complex(float(a["c_real"]), float(a["c_imag"]))):
                 fail(f"iterative, two ranks: c = {b['c_real']} {b['c_imag']} against {a['c_real']} {a['c_imag']}")
