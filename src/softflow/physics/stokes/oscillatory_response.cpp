@@ -141,35 +141,17 @@ OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh, la::SaddlePointMeth
   // As StokesSystem: every element with a row here is assembled here.
   const auto [first_node, last_node] = fem::rank_node_range(mesh_.n_nodes(), la::mpi_rank(), la::mpi_size());
   assembled_tets_ = fem::elements_touching(mesh_, first_node, last_node);
-  // Every interface face: its rows of other ranks are dropped (few faces;
-  // with slip they carry rows of three fields).
-  for (int f = 0; f < static_cast<int>(mesh_.interface_faces.size()); ++f) assembled_faces_.push_back(f);
   create_matrix();
   if (method_ == la::SaddlePointMethod::iterative) create_inner_matrices();
 }
 
 OscillatorySystem::~OscillatorySystem() = default;
 
-std::array<int, 18> OscillatorySystem::face_velocity_dofs(int face, int region) const {
-  std::array<int, 18> d;
-  for (int k = 0; k < 6; ++k)
-    for (int c = 0; c < 3; ++c) d[3 * k + c] = dofs_.dof(kVelocityField, mesh_.interface_faces[face][k], region, c);
-  return d;
-}
-
-std::array<int, 18> OscillatorySystem::face_multiplier_dofs(int face) const {
-  std::array<int, 18> d;
-  const int object = mesh_.interface_object[face];
-  for (int k = 0; k < 6; ++k)
-    for (int c = 0; c < 3; ++c) d[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[face][k], object, c);
-  return d;
-}
-
 void OscillatorySystem::create_matrix() {
   const PetscInt n = n_unknowns();
   impl_->matrix = std::make_unique<la::CsrMatrix>(range_, n, range_, n);
   auto& m = *impl_->matrix;
-  auto part_of = [&](std::span<const int> dofs, int part, bool rows) {
+  auto part_of = [&](const auto& dofs, int part, bool rows) {
     std::vector<PetscInt> out(dofs.size());
     for (std::size_t k = 0; k < dofs.size(); ++k) {
       out[k] = index(dofs[k], part);
@@ -185,8 +167,8 @@ void OscillatorySystem::create_matrix() {
           .push_back(m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns)));
     }
   }
-  for (int f : assembled_faces_) {
-    const auto d = face_velocity_dofs(f, tension_region(f));
+  for (int f = 0; f < n_faces(); ++f) {
+    const auto d = interface_face_dofs(dofs_, mesh_, f, kVelocityField, tension_region(f));
     const auto real_rows = part_of(d, 0, true), imaginary_rows = part_of(d, 1, true);
     const auto real_columns = part_of(d, 0, false), imaginary_columns = part_of(d, 1, false);
     impl_->upper_blocks.push_back(
@@ -197,11 +179,12 @@ void OscillatorySystem::create_matrix() {
     // As StokesSystem's: velocity rows of both copies x the face's
     // multipliers, and the multipliers' rows x (u_m, u_d, lambda).
     const int object = mesh_.interface_object[f];
-    const auto outside = face_velocity_dofs(f, 0), inside = face_velocity_dofs(f, object);
-    const auto multipliers = face_multiplier_dofs(f);
-    std::vector<int> velocity(outside.begin(), outside.end());
+    const auto outside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, 0);
+    const auto inside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, object);
+    const auto multipliers = interface_face_dofs(dofs_, mesh_, f, kMultiplierField, object);
+    std::vector<PetscInt> velocity(outside.begin(), outside.end());
     velocity.insert(velocity.end(), inside.begin(), inside.end());
-    std::vector<int> constrained = velocity;
+    std::vector<PetscInt> constrained = velocity;
     constrained.insert(constrained.end(), multipliers.begin(), multipliers.end());
     std::array<la::CsrMatrix::Block, 2> coupling{}, constraint{};
     for (int part : {0, 1}) {
@@ -240,13 +223,8 @@ void OscillatorySystem::create_inner_matrices() {
     impl.pmat_tet_blocks.push_back(
         impl.inner_pmat->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(c)));
   }
-  for (int f : assembled_faces_) {
-    const auto velocity = face_velocity_dofs(f, 0);
-    const std::array<PetscInt, 18> d = [&] {
-      std::array<PetscInt, 18> out;
-      std::copy(velocity.begin(), velocity.end(), out.begin());
-      return out;
-    }();
+  for (int f = 0; f < n_faces(); ++f) {
+    const auto d = interface_face_dofs(dofs_, mesh_, f, kVelocityField, 0);
     const auto r = own(d);
     impl.inner_face_blocks.push_back(impl.inner->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
     impl.pmat_face_blocks.push_back(
@@ -312,19 +290,18 @@ std::pair<la::Vector, la::Vector> OscillatorySystem::assemble(const OscillatoryP
       impl.inner_pmat->set_block(impl.pmat_tet_blocks[e], ke);
     }
   }
-  for (std::size_t i = 0; i < assembled_faces_.size(); ++i) {
-    const auto& tri = mesh_.interface_faces[assembled_faces_[i]];
-    const int object = mesh_.interface_object[assembled_faces_[i]];
+  for (int i = 0; i < n_faces(); ++i) {
+    const auto& tri = mesh_.interface_faces[i];
+    const int object = mesh_.interface_object[i];
+    const element::TriangleNodes x = fem::triangle_nodes(mesh_, tri);
     std::array<Eigen::Vector3d, 6> normals;
     for (int a = 0; a < 6; ++a) normals[a] = node_normal_[tri[a]];
     const Eigen::Matrix<double, 18, 18> b =
-        linearised_tension_block(fem::triangle_nodes(mesh_, tri), normals, problem.interfacial_tension[object - 1],
-                                 problem.radius[object - 1]) /
+        linearised_tension_block(x, normals, problem.interfacial_tension[object - 1], problem.radius[object - 1]) /
         problem.omega;
     m.set_block(impl.upper_blocks[i], b);
     m.set_block(impl.lower_blocks[i], -b);
     if (slip_) {
-      const element::TriangleNodes x = fem::triangle_nodes(mesh_, tri);
       const auto c = slip_coupling_matrix(x, normals);
       Eigen::Matrix<double, 36, 18> coupling;
       coupling << c, -c;  // + integral lambda_h . v_m, - integral lambda_h . v_d

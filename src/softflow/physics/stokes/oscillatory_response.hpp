@@ -157,15 +157,14 @@ class OscillatorySystem {
   std::pair<la::Vector, la::Vector> assemble(const OscillatoryProblem& problem);
   void solve_direct(const OscillatoryProblem& problem, Vec rhs, Vec x, OscillatoryResponse& out);
   void solve_iterative(Vec rhs, Vec x, OscillatoryResponse& out);
-  /// The 18 velocity dofs of interface face f on the side of `region`
-  /// (the same for both without slip), and its 18 multipliers (slip).
-  [[nodiscard]] std::array<int, 18> face_velocity_dofs(int face, int region) const;
-  [[nodiscard]] std::array<int, 18> face_multiplier_dofs(int face) const;
   /// The side the tension acts on: the drop's copy with slip (so that the
   /// multipliers are the matrix's traction, as in StokesSystem), else the shared one.
   [[nodiscard]] int tension_region(int face) const { return slip_ ? mesh_.interface_object[face] : 0; }
   /// Real index of dof d's real (part 0) or imaginary (part 1) amplitude.
-  static PetscInt index(int dof, int part) { return 2 * static_cast<PetscInt>(dof) + part; }
+  static PetscInt index(PetscInt dof, int part) { return 2 * dof + part; }
+  /// Interface faces (each rank declares every face: its rows of other
+  /// ranks are dropped; few faces, and with slip they carry three fields).
+  [[nodiscard]] int n_faces() const { return static_cast<int>(mesh_.interface_faces.size()); }
 
   const mesh::Mesh& mesh_;
   fem::DofMap dofs_;
@@ -176,7 +175,7 @@ class OscillatorySystem {
   la::SaddlePointMethod method_;
   std::string method_reason_;
   la::OwnershipRange range_;  // of the real unknowns
-  std::vector<int> assembled_tets_, assembled_faces_;
+  std::vector<int> assembled_tets_;
   std::unique_ptr<Impl> impl_;
 };
 

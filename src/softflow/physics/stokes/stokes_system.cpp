@@ -335,28 +335,22 @@ void StokesSystem::create_matrices() {
       for (int f : assembled_faces_) {
         const int object = mesh_.interface_object[f];
         std::array<PetscInt, 36> rows;
-        std::array<PetscInt, 18> columns;
         const auto outside = interface_velocity_dofs(f, 0), inside = interface_velocity_dofs(f, object);
         std::copy(outside.begin(), outside.end(), rows.begin());
         std::copy(inside.begin(), inside.end(), rows.begin() + 18);
         rows = row_dofs<36>(rows);
-        for (int k = 0; k < 6; ++k)
-          for (int c = 0; c < 3; ++c)
-            columns[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[f][k], object, c);
+        const auto columns = interface_face_dofs(dofs_, mesh_, f, kMultiplierField, object);
         const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns));
         if (record) slip_coupling_blocks_.push_back(b);
       }
       // The constraint rows of each face's nodes x (u_m, u_d, lambda) of the face.
       for (int f : constraint_faces_) {
         const int object = mesh_.interface_object[f];
-        std::array<PetscInt, 18> rows;
         std::array<PetscInt, 54> columns;
         const auto outside = interface_velocity_dofs(f, 0), inside = interface_velocity_dofs(f, object);
         std::copy(outside.begin(), outside.end(), columns.begin());
         std::copy(inside.begin(), inside.end(), columns.begin() + 18);
-        for (int k = 0; k < 6; ++k)
-          for (int c = 0; c < 3; ++c)
-            rows[3 * k + c] = dofs_.dof(kMultiplierField, mesh_.interface_faces[f][k], object, c);
+        auto rows = interface_face_dofs(dofs_, mesh_, f, kMultiplierField, object);
         std::copy(rows.begin(), rows.end(), columns.begin() + 36);
         rows = row_dofs<18>(rows);
         const auto b = m.add_block(std::span<const PetscInt>(rows), std::span<const PetscInt>(columns));
@@ -993,12 +987,17 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
                                    : 0);
 }
 
-std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face, int region) const {
-  const auto& tri = mesh_.interface_faces[face];
-  std::array<PetscInt, 18> rows;
+std::array<PetscInt, 18> interface_face_dofs(const fem::DofMap& dofs, const mesh::Mesh& mesh, int face, int field,
+                                             int region) {
+  const auto& tri = mesh.interface_faces[face];
+  std::array<PetscInt, 18> out;
   for (int k = 0; k < 6; ++k)
-    for (int c = 0; c < 3; ++c) rows[3 * k + c] = dofs_.dof(kVelocityField, tri[k], region, c);
-  return rows;
+    for (int c = 0; c < 3; ++c) out[3 * k + c] = dofs.dof(field, tri[k], region, c);
+  return out;
+}
+
+std::array<PetscInt, 18> StokesSystem::interface_velocity_dofs(int face, int region) const {
+  return interface_face_dofs(dofs_, mesh_, face, kVelocityField, region);
 }
 
 int StokesSystem::interface_object_of(int node) const {

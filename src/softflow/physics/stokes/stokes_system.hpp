@@ -35,6 +35,13 @@ inline constexpr int kPressureField = 1;
 /// (kVelocityField) and "pressure" (kPressureField).
 fem::DofMap make_stokes_dof_map(const mesh::Mesh& mesh, bool interface_slip);
 
+/// The 18 unknowns (6 nodes x 3 components) of `field` (velocity or, with
+/// slip, the multipliers) on interface triangle `face`, as seen from
+/// `region`: the side's own velocity copy with slip, the shared one without;
+/// the multipliers' region is the face's object.
+[[nodiscard]] std::array<PetscInt, 18> interface_face_dofs(const fem::DofMap& dofs, const mesh::Mesh& mesh, int face,
+                                                           int field, int region);
+
 /// Where a solve leaves its solution: distributed only (a time loop, whose
 /// stages read what they need of it), or also gathered on every rank (one
 /// solve's analysis and output, tests).
