@@ -86,11 +86,14 @@ std::vector<Tetrahedron> clip_to_box(const Tetrahedron& tet, const Box& box) {
   return pieces;
 }
 
+Tetrahedron reference_tetrahedron() {
+  return {Vector3d::Zero(), Vector3d::UnitX(), Vector3d::UnitY(), Vector3d::UnitZ()};
+}
+
 std::vector<Tetrahedron> reference_pieces_in_box(const Eigen::Matrix<double, 3, 10>& x, const Box& box) {
-  const Tetrahedron whole{Vector3d::Zero(), Vector3d::UnitX(), Vector3d::UnitY(), Vector3d::UnitZ()};
   bool all_in = true;
   for (int k = 0; k < 10; ++k) all_in = all_in && box.contains(x.col(k));
-  if (all_in) return {whole};
+  if (all_in) return {reference_tetrahedron()};
   const Vector3d lo = x.rowwise().minCoeff(), hi = x.rowwise().maxCoeff();
   if (!((hi.array() >= box.lo.array()).all() && (lo.array() <= box.hi.array()).all())) return {};
   const Tetrahedron vertices{x.col(0), x.col(1), x.col(2), x.col(3)};

@@ -4,9 +4,15 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
+
+#include "softflow/element/isoparametric.hpp"
+#include "softflow/element/quadrature.hpp"
+#include "softflow/element/shape_functions.hpp"
 
 namespace softflow::analysis {
 
@@ -45,6 +51,34 @@ std::vector<Tetrahedron> clip_to_box(const Tetrahedron& tet, const Box& box);
 /// (exact for straight elements; the curved ones are met only where an
 /// interface crosses a face of the box).
 std::vector<Tetrahedron> reference_pieces_in_box(const Eigen::Matrix<double, 3, 10>& x, const Box& box);
+
+/// The reference tetrahedron (0, e_x, e_y, e_z): an element taken whole.
+Tetrahedron reference_tetrahedron();
+
+/// Calls visit(xi, weight, grad) at each point of `rule` mapped onto each
+/// piece (reference coordinates, as reference_pieces_in_box gives them) of
+/// the curved P2 tetrahedron with nodes x: xi the reference point, weight
+/// its share of the physical volume, grad the physical gradients of the 10
+/// P2 functions there (one per row). The pieces' quadrature shared by the
+/// averages over a box (the time domain's bulk stress, the frequency
+/// domain's cube).
+template <class Visit>
+void for_each_point_in_pieces(const element::TetNodes& x, const std::vector<Tetrahedron>& pieces,
+                              const element::QuadratureRule& rule, Visit&& visit) {
+  for (const auto& piece : pieces) {
+    Eigen::Matrix3d sub;
+    sub << piece[1] - piece[0], piece[2] - piece[0], piece[3] - piece[0];
+    const double sub_det = std::abs(sub.determinant());
+    if (sub_det == 0.0) continue;
+    for (int q = 0; q < rule.size(); ++q) {
+      const Eigen::Vector3d xi = piece[0] + sub * rule.points[q];
+      const Eigen::Matrix<double, 10, 3> reference_gradients = element::p2_tet_gradients(xi);
+      const auto map = element::tet_map(x, reference_gradients);
+      const Eigen::Matrix<double, 10, 3> grad = reference_gradients * map.inverse_jacobian;
+      visit(xi, rule.weights[q] * sub_det * std::abs(map.det_jacobian), grad);
+    }
+  }
+}
 
 /// |det| / 6 of a tetrahedron.
 double tetrahedron_volume(const Tetrahedron& tet);

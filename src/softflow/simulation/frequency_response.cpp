@@ -10,7 +10,6 @@
 #include "softflow/analysis/theory/oldroyd_emulsion.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/element/quadrature.hpp"
-#include "softflow/element/shape_functions.hpp"
 #include "softflow/fem/tabulation.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
@@ -33,27 +32,18 @@ using Clock = std::chrono::steady_clock;
 Complex shear_rate_integral(const mesh::Mesh& mesh, const fem::DofMap& dofs, const physics::OscillatoryResponse& r,
                             int t, const std::vector<analysis::Tetrahedron>& pieces) {
   static const element::QuadratureRule rule = element::tetrahedron_rule(2);  // 2 D_xy of P2: degree 1
-  const element::TetNodes x = fem::tet_nodes(mesh, t);
   const auto element_dofs = dofs.element_dofs(t);  // velocity first, 3 k + i
   Complex sum(0.0, 0.0);
-  for (const auto& piece : pieces) {
-    Eigen::Matrix3d sub;
-    sub << piece[1] - piece[0], piece[2] - piece[0], piece[3] - piece[0];
-    const double sub_det = std::abs(sub.determinant());
-    if (sub_det == 0.0) continue;
-    for (int q = 0; q < rule.size(); ++q) {
-      const Eigen::Vector3d xi = piece[0] + sub * rule.points[q];
-      const Eigen::Matrix<double, 10, 3> reference = element::p2_tet_gradients(xi);
-      const auto map = element::tet_map(x, reference);
-      const Eigen::Matrix<double, 10, 3> grad = reference * map.inverse_jacobian;
-      Complex d(0.0, 0.0);  // du_x/dy + du_y/dx
-      for (int k = 0; k < 10; ++k) {
-        const int ux = element_dofs[3 * k], uy = element_dofs[3 * k + 1];
-        d += Complex(r.real[ux], r.imaginary[ux]) * grad(k, 1) + Complex(r.real[uy], r.imaginary[uy]) * grad(k, 0);
-      }
-      sum += rule.weights[q] * sub_det * std::abs(map.det_jacobian) * d;
-    }
-  }
+  analysis::for_each_point_in_pieces(fem::tet_nodes(mesh, t), pieces, rule,
+                                     [&](const Eigen::Vector3d&, double w, const auto& grad) {
+                                       Complex d(0.0, 0.0);  // du_x/dy + du_y/dx
+                                       for (int k = 0; k < 10; ++k) {
+                                         const int ux = element_dofs[3 * k], uy = element_dofs[3 * k + 1];
+                                         d += Complex(r.real[ux], r.imaginary[ux]) * grad(k, 1) +
+                                              Complex(r.real[uy], r.imaginary[uy]) * grad(k, 0);
+                                       }
+                                       sum += w * d;
+                                     });
   return sum;
 }
 
@@ -151,12 +141,10 @@ struct Averaging {
       }
     }
     if (!box) return;
-    const analysis::Tetrahedron whole{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
-                                      Eigen::Vector3d::UnitZ()};
     for (int t = 0; t < mesh.n_tets(); ++t) {
       const int region = mesh.tet_region[t];
       if (region > 0 && !counted[region]) continue;
-      auto pieces = region > 0 ? std::vector<analysis::Tetrahedron>{whole}
+      auto pieces = region > 0 ? std::vector<analysis::Tetrahedron>{analysis::reference_tetrahedron()}
                                : analysis::reference_pieces_in_box(fem::tet_nodes(mesh, t), *box);
       if (!pieces.empty()) box_pieces.emplace_back(t, std::move(pieces));
     }

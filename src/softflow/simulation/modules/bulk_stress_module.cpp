@@ -140,8 +140,6 @@ Matrix3d slip_moment(const physics::InterfaceMesh& s, const std::vector<Vector3d
 void BulkStressModule::integrate_volume(const std::vector<bool>& counted, Matrix3d& stress,
                                         double& shear_rate, double& volume) const {
   static const element::QuadratureRule rule = element::tetrahedron_rule(2);
-  static const analysis::Tetrahedron whole{Vector3d::Zero(), Vector3d::UnitX(), Vector3d::UnitY(),
-                                           Vector3d::UnitZ()};
   stress.setZero();
   shear_rate = 0.0;
   volume = 0.0;
@@ -151,32 +149,22 @@ void BulkStressModule::integrate_volume(const std::vector<bool>& counted, Matrix
     const element::TetNodes nodes = fem::tet_nodes(mesh_, t);
     // The pieces of the element to integrate over, in reference coordinates.
     const std::vector<analysis::Tetrahedron> pieces =
-        region > 0 ? std::vector<analysis::Tetrahedron>{whole} : analysis::reference_pieces_in_box(nodes, box_);
+        region > 0 ? std::vector<analysis::Tetrahedron>{analysis::reference_tetrahedron()}
+                   : analysis::reference_pieces_in_box(nodes, box_);
     if (pieces.empty()) continue;
     const Eigen::VectorXd u = velocity_.element_coefficients(t);
     const Eigen::VectorXd p = pressure_.element_coefficients(t);
     const double eta = viscosities_.at(region);
-    for (const auto& piece : pieces) {
-      Matrix3d sub;
-      sub << piece[1] - piece[0], piece[2] - piece[0], piece[3] - piece[0];
-      const double sub_det = std::abs(sub.determinant());
-      if (sub_det == 0.0) continue;
-      for (int q = 0; q < rule.size(); ++q) {
-        const Vector3d xi = piece[0] + sub * rule.points[q];
-        const Eigen::Matrix<double, 10, 3> ref_grad = element::p2_tet_gradients(xi);
-        const auto map = element::tet_map(nodes, ref_grad);
-        const double w = rule.weights[q] * sub_det * std::abs(map.det_jacobian);
-        const Eigen::Matrix<double, 10, 3> grad = ref_grad * map.inverse_jacobian;
-        Matrix3d l = Matrix3d::Zero();  // l(i, j) = du_i / dx_j
-        for (int k = 0; k < 10; ++k) l += u.segment<3>(3 * k) * grad.row(k);
-        const auto psi = element::p1_tet_values(xi);
-        double pressure = 0.0;
-        for (int k = 0; k < 4; ++k) pressure += psi[k] * p(k);
-        stress += w * (-pressure * Matrix3d::Identity() + eta * (l + l.transpose()));
-        shear_rate += w * (l(0, 1) + l(1, 0));
-        volume += w;
-      }
-    }
+    analysis::for_each_point_in_pieces(nodes, pieces, rule, [&](const Vector3d& xi, double w, const auto& grad) {
+      Matrix3d l = Matrix3d::Zero();  // l(i, j) = du_i / dx_j
+      for (int k = 0; k < 10; ++k) l += u.segment<3>(3 * k) * grad.row(k);
+      const auto psi = element::p1_tet_values(xi);
+      double pressure = 0.0;
+      for (int k = 0; k < 4; ++k) pressure += psi[k] * p(k);
+      stress += w * (-pressure * Matrix3d::Identity() + eta * (l + l.transpose()));
+      shear_rate += w * (l(0, 1) + l(1, 0));
+      volume += w;
+    });
   }
 }
 
