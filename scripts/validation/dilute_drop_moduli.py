@@ -39,11 +39,14 @@ STEPS_PER_PERIOD = 64
 FIT_PERIODS = 2
 
 
-def oldroyd_dilute(lam, w):
-    """The dilute coefficient c (complex), as analysis::theory::oldroyd_dilute_coefficient (alpha = 0)."""
-    steady = 5.0 * (5.0 * lam + 2.0)
-    elastic = 5.0 * (lam - 1.0) * (19.0 * lam + 16.0)
-    d0, t0 = 10.0 * (lam + 1.0), (19.0 * lam + 16.0) * (2.0 * lam + 3.0)
+def oldroyd_dilute(lam, w, alpha=0.0):
+    """Oldroyd's dilute coefficient c (complex) with slip alpha (appendix B as SPEC §9 corrects it;
+    alpha = 0: appendix A), written out here independently of softflow
+    (analysis::theory::oldroyd_dilute_coefficient)."""
+    steady = 5.0 * (5.0 * lam + 2.0) + 50.0 * alpha * lam
+    elastic = 5.0 * (lam - 1.0) * (19.0 * lam + 16.0) + 10.0 * alpha * lam * (19.0 * lam - 40.0)
+    d0 = 10.0 * (lam + 1.0) + 50.0 * alpha * lam
+    t0 = (19.0 * lam + 16.0) * (2.0 * lam + 3.0) + 10.0 * alpha * lam * (19.0 * lam + 24.0)
     return complex(steady, w * elastic / 4.0) / complex(d0, w * t0 / 4.0)
 
 

@@ -120,16 +120,6 @@ def rel(z, exact):
     return abs(z - exact) / abs(exact)
 
 
-def oldroyd(lam, w, alpha=0.0):
-    """Oldroyd's dilute c with slip alpha (appendix B as SPEC §9 corrects it; alpha = 0: appendix A),
-    written out here independently of softflow (analysis::theory::oldroyd_dilute_coefficient)."""
-    steady = 5.0 * (5.0 * lam + 2.0) + 50.0 * alpha * lam
-    elastic = 5.0 * (lam - 1.0) * (19.0 * lam + 16.0) + 10.0 * alpha * lam * (19.0 * lam - 40.0)
-    d0 = 10.0 * (lam + 1.0) + 50.0 * alpha * lam
-    t0 = (19.0 * lam + 16.0) * (2.0 * lam + 3.0) + 10.0 * alpha * lam * (19.0 * lam + 24.0)
-    return complex(steady, w * elastic / 4.0) / complex(d0, w * t0 / 4.0)
-
-
 def series_rows(runs, lam, alpha):
     """(lambda, alpha, omega*, Oldroyd c, c per mesh, extrapolated, observed order) at every frequency all three
     meshes have."""
@@ -146,7 +136,7 @@ def series_rows(runs, lam, alpha):
         # Observed order from the successive differences of the three meshes.
         d1, d2 = abs(c[1] - c[0]), abs(c[2] - c[1])
         order = math.log(d1 / d2) / math.log(sizes[1] / sizes[2]) if d1 > 0 and d2 > 0 else float("nan")
-        rows.append((lam, alpha, w, oldroyd(lam, w, alpha), c, extrapolated, order))
+        rows.append((lam, alpha, w, time_domain.oldroyd_dilute(lam, w, alpha), c, extrapolated, order))
     return rows
 
 
@@ -228,9 +218,9 @@ def report(work):
     for ax, cases, title in panels:
         for k, (lam, a) in enumerate(cases):
             colour = f"C{k}"
-            ax[0].plot(line, [oldroyd(lam, w, a).real for w in line], colour,
+            ax[0].plot(line, [time_domain.oldroyd_dilute(lam, w, a).real for w in line], colour,
                        label=f"Oldroyd, lambda = {lam:g}" + (f", alpha = {a:g}" if a else ""))
-            ax[1].plot(line, [-w * oldroyd(lam, w, a).imag for w in line], colour)
+            ax[1].plot(line, [-w * time_domain.oldroyd_dilute(lam, w, a).imag for w in line], colour)
             mine = [r for r in rows if r[0] == lam and r[1] == a]
             ax[0].plot([r[2] for r in mine], [r[4][-1].real for r in mine], colour + "o", mfc="none", ms=4,
                        label="frequency domain, 40 nodes")
