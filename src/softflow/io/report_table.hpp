@@ -14,6 +14,13 @@
 
 namespace softflow::io {
 
+/// A cell of a summary table (sweep, converge, moduli, response): x to
+/// `digits` significant digits, empty where it is not finite (nothing
+/// measured there).
+inline std::string table_number(double x, int digits) {
+  return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : std::string();
+}
+
 /// How a column prints: an integer, or a real to `digits` significant digits.
 struct ColumnFormat {
   int digits = 10;  ///< 0: an integer

@@ -11,6 +11,7 @@
 
 #include "softflow/analysis/richardson.hpp"
 #include "softflow/common/error.hpp"
+#include "softflow/io/report_table.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/io/run_lock.hpp"
 #include "softflow/simulation/run_support.hpp"
@@ -77,12 +78,8 @@ LevelResult read_level(const io::SweepCase& c, const fs::path& directory) {
   return r;
 }
 
-std::string number(double x, int digits = 6) {
-  return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : std::string();
-}
-
 std::string optional_number(const std::optional<double>& x, int digits = 6) {
-  return x ? number(*x, digits) : std::string("—");
+  return x ? io::table_number(*x, digits) : std::string("—");
 }
 
 /// "yes" when the two finest triples both have an order and these agree
@@ -202,17 +199,19 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
     const auto& l = levels[k];
     for (std::size_t o = 0; o < std::max<std::size_t>(1, l.deformation.size()); ++o) {
       const bool has = o < l.deformation.size();
-      const std::string d = has ? number(l.deformation[o], 8) : "";
-      const std::string t = has ? number(l.theta_deg[o], 8) : "";
+      const std::string d = has ? io::table_number(l.deformation[o], 8) : "";
+      const std::string t = has ? io::table_number(l.theta_deg[o], 8) : "";
       const std::string status = l.status.empty() ? "not run" : l.status;
       csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, l.equator_nodes,
-                         l.meshed_equator_nodes, number(l.far_size), number(l.growth), status, l.unknowns, l.steps,
-                         number(l.time), l.steady, has ? std::to_string(o + 1) : "", d, t,
-                         number(l.wall_seconds, 4));
-      md += fmt::format("| {} | {} / {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-                        k + 1, l.equator_nodes, l.meshed_equator_nodes, number(l.far_size, 4), number(l.growth, 4),
-                        l.unknowns, l.steps, number(l.time, 4), l.steady,
-                        has ? std::to_string(o + 1) : "", d, t, number(l.wall_seconds, 3), status);
+                         l.meshed_equator_nodes, io::table_number(l.far_size, 6),
+                         io::table_number(l.growth, 6), status, l.unknowns, l.steps,
+                         io::table_number(l.time, 6), l.steady, has ? std::to_string(o + 1) : "", d,
+                         t, io::table_number(l.wall_seconds, 4));
+      md += fmt::format(
+          "| {} | {} / {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", k + 1,
+          l.equator_nodes, l.meshed_equator_nodes, io::table_number(l.far_size, 4),
+          io::table_number(l.growth, 4), l.unknowns, l.steps, io::table_number(l.time, 4), l.steady,
+          has ? std::to_string(o + 1) : "", d, t, io::table_number(l.wall_seconds, 3), status);
     }
   }
 
@@ -254,10 +253,10 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
         const auto& finest = triples.back();
         const char* name = is_d ? "D" : "theta_deg";
         const std::string asymptotic = asymptotic_verdict(triples);
-        md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", o + 1,
-                          is_d ? "D" : "theta [deg]", orders, asymptotic,
-                          optional_number(finest.extrapolated, 7), number(q.back(), 7),
-                          number(finest.error_of_finest, 2));
+        md +=
+            fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", o + 1, is_d ? "D" : "theta [deg]",
+                        orders, asymptotic, optional_number(finest.extrapolated, 7),
+                        io::table_number(q.back(), 7), io::table_number(finest.error_of_finest, 2));
         extrapolation.push_back(
             {{"object", o + 1},
              {"quantity", name},

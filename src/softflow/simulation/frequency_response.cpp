@@ -11,6 +11,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/element/quadrature.hpp"
 #include "softflow/fem/tabulation.hpp"
+#include "softflow/io/report_table.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
 #include "softflow/physics/stokes/oscillatory_response.hpp"
@@ -52,12 +53,8 @@ std::pair<double, double> scaled_moduli(Complex relative_viscosity, double omega
   return {-omega_star * relative_viscosity.imag(), relative_viscosity.real()};
 }
 
-std::string number(double x, int digits = 6) {
-  return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : std::string();
-}
-
 std::string optional_number(const std::optional<double>& x, int digits = 6) {
-  return x ? number(*x, digits) : std::string();
+  return x ? io::table_number(*x, digits) : std::string();
 }
 
 }  // namespace
@@ -203,16 +200,20 @@ std::string response_csv(const std::vector<ResponsePoint>& points) {
       "box_G_storage_R_over_Gamma,box_G_loss_over_eta_m_omega,oldroyd_box_G_storage,oldroyd_box_G_loss,seconds,"
       "iterations,inner_solves,inner_iterations\n";
   for (const auto& p : points)
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", number(p.omega, 10),
-                       number(p.omega_star, 10), number(p.intrinsic_viscosity.real(), 10),
-                       number(p.intrinsic_viscosity.imag(), 10), number(p.oldroyd_intrinsic_viscosity.real(), 10),
-                       number(p.oldroyd_intrinsic_viscosity.imag(), 10), number(p.cell_phi, 10),
-                       number(p.cell_storage, 10), number(p.cell_loss, 10), number(p.oldroyd_cell_storage, 10),
-                       number(p.oldroyd_cell_loss, 10), optional_number(p.box_phi, 10),
-                       p.box_phi ? std::to_string(p.box_drops) : std::string(), optional_number(p.box_storage, 10),
-                       optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
-                       optional_number(p.oldroyd_box_loss, 10), number(p.seconds, 4), p.iterations,
-                       p.inner_solves, p.inner_iterations);
+    csv += fmt::format(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+        io::table_number(p.omega, 10), io::table_number(p.omega_star, 10),
+        io::table_number(p.intrinsic_viscosity.real(), 10),
+        io::table_number(p.intrinsic_viscosity.imag(), 10),
+        io::table_number(p.oldroyd_intrinsic_viscosity.real(), 10),
+        io::table_number(p.oldroyd_intrinsic_viscosity.imag(), 10),
+        io::table_number(p.cell_phi, 10), io::table_number(p.cell_storage, 10),
+        io::table_number(p.cell_loss, 10), io::table_number(p.oldroyd_cell_storage, 10),
+        io::table_number(p.oldroyd_cell_loss, 10), optional_number(p.box_phi, 10),
+        p.box_phi ? std::to_string(p.box_drops) : std::string(), optional_number(p.box_storage, 10),
+        optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
+        optional_number(p.oldroyd_box_loss, 10), io::table_number(p.seconds, 4), p.iterations,
+        p.inner_solves, p.inner_iterations);
   return csv;
 }
 
@@ -233,11 +234,13 @@ std::string response_markdown(const io::CaseConfig& config, int drops, int unkno
       has_box ? " phi (cube) | G' R/Gamma (cube) | Oldroyd | G''/(eta_m omega) (cube) | Oldroyd |" : "",
       has_box ? "---|---|---|---|---|" : "");
   for (const auto& p : points) {
-    md += fmt::format("| {} | {} | {:.5f} {:+.5f} i | {:.5f} {:+.5f} i | {} | {} | {} | {} |", number(p.omega, 5),
-                      number(p.omega_star, 5), p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
+    md += fmt::format("| {} | {} | {:.5f} {:+.5f} i | {:.5f} {:+.5f} i | {} | {} | {} | {} |",
+                      io::table_number(p.omega, 5), io::table_number(p.omega_star, 5),
+                      p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag(),
                       p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag(),
-                      number(p.cell_storage, 5), number(p.oldroyd_cell_storage, 5), number(p.cell_loss, 5),
-                      number(p.oldroyd_cell_loss, 5));
+                      io::table_number(p.cell_storage, 5),
+                      io::table_number(p.oldroyd_cell_storage, 5), io::table_number(p.cell_loss, 5),
+                      io::table_number(p.oldroyd_cell_loss, 5));
     if (has_box)
       md += fmt::format(" {} | {} | {} | {} | {} |", optional_number(p.box_phi, 4), optional_number(p.box_storage, 5),
                         optional_number(p.oldroyd_box_storage, 5), optional_number(p.box_loss, 5),

@@ -10,6 +10,7 @@
 
 #include "softflow/analysis/theory/oldroyd_emulsion.hpp"
 #include "softflow/common/error.hpp"
+#include "softflow/io/report_table.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/io/run_lock.hpp"
 #include "softflow/simulation/run_support.hpp"
@@ -51,10 +52,6 @@ double sample_std(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += (x - m) * (x - m);
   return std::sqrt(s / static_cast<double>(v.size() - 1));
-}
-
-std::string number(double x, int digits = 5) {
-  return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : std::string("");
 }
 
 /// Eq. 4.3, the linearity check: with flow.strain_amplitude among the varied
@@ -201,19 +198,23 @@ int run_moduli_study(const fs::path& case_file, const SweepOptions& options) {
   md += "\n";
   for (const auto& p : points) {
     for (const auto& l : p.labels) csv += l + ",";
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", number(p.omega_star, 8), p.cases.size(), p.fitted,
-                       number(p.phi, 8), number(p.storage_mean, 8), number(p.storage_std, 8),
-                       number(p.loss_mean, 8), number(p.loss_std, 8), number(p.oldroyd_storage, 8),
-                       number(p.oldroyd_loss, 8), number(p.worst_residual, 3));
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", io::table_number(p.omega_star, 8),
+                       p.cases.size(), p.fitted, io::table_number(p.phi, 8),
+                       io::table_number(p.storage_mean, 8), io::table_number(p.storage_std, 8),
+                       io::table_number(p.loss_mean, 8), io::table_number(p.loss_std, 8),
+                       io::table_number(p.oldroyd_storage, 8), io::table_number(p.oldroyd_loss, 8),
+                       io::table_number(p.worst_residual, 3));
     md += "| ";
     for (const auto& l : p.labels) md += l + " | ";
     const auto with_std = [&](double m, double s) {
-      return p.fitted > 1 ? fmt::format("{} ± {}", number(m), number(s, 2)) : number(m);
+      return p.fitted > 1 ? fmt::format("{} ± {}", io::table_number(m, 5), io::table_number(s, 2))
+                          : io::table_number(m, 5);
     };
-    md += fmt::format("{} | {}/{} | {} | {} | {} | {} | {} | {} |\n", number(p.omega_star), p.fitted,
-                      p.cases.size(), number(p.phi, 4), with_std(p.storage_mean, p.storage_std),
-                      number(p.oldroyd_storage), with_std(p.loss_mean, p.loss_std), number(p.oldroyd_loss),
-                      number(p.worst_residual, 2));
+    md += fmt::format("{} | {}/{} | {} | {} | {} | {} | {} | {} |\n",
+                      io::table_number(p.omega_star, 5), p.fitted, p.cases.size(),
+                      io::table_number(p.phi, 4), with_std(p.storage_mean, p.storage_std),
+                      io::table_number(p.oldroyd_storage, 5), with_std(p.loss_mean, p.loss_std),
+                      io::table_number(p.oldroyd_loss, 5), io::table_number(p.worst_residual, 2));
   }
   md += linearity_section(sweep, points);
   if (code != 0)

@@ -22,6 +22,7 @@
 #include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/io/report_table.hpp"
 #include "softflow/io/output_directory.hpp"
 #include "softflow/io/run_lock.hpp"
 #include "softflow/simulation/drop_run.hpp"
@@ -117,10 +118,6 @@ std::string last_line(const fs::path& log) {
   return last;
 }
 
-std::string format_number(double x) {
-  return std::isfinite(x) ? fmt::format("{:.6g}", x) : std::string();
-}
-
 // ---------------------------------------------------------------------------
 // The table of results.
 
@@ -210,7 +207,7 @@ void write_tables(const io::Sweep& sweep, const std::vector<Row>& rows, const fs
     for (const auto& c : numeric_columns()) {
       const std::string v = r.numbers.contains(c)
                                 ? (c == "steps" ? std::to_string(r.numbers[c].get<int>())
-                                                : format_number(r.numbers[c].get<double>()))
+                                                : io::table_number(r.numbers[c].get<double>(), 6))
                                 : "";
       csv += "," + v;
       md += " | " + v;
