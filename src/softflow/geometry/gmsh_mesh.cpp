@@ -275,6 +275,12 @@ class SizeField {
   std::vector<std::pair<int, int>> gap_pairs_;  ///< objects whose gap needs refining
 };
 
+std::function<double(const Vector3d&)> size_field(const ShearCellSpec& spec,
+                                                  const std::vector<SurfaceDistance>& surfaces) {
+  return
+      [field = SizeField(spec, surfaces)](const Vector3d& x) { return field(x.x(), x.y(), x.z()); };
+}
+
 void set_size_and_order(const ShearCellSpec& spec, const std::vector<SurfaceDistance>& surfaces) {
   gmsh::model::mesh::setSizeCallback([field = SizeField(spec, surfaces)](int, int, double x, double y,
                                                                          double z) { return field(x, y, z); });

@@ -76,6 +76,10 @@ struct SurfaceDistance {
 /// its current surface (the same formula, the same h0 and growths).
 void set_size_and_order(const ShearCellSpec& spec, const std::vector<SurfaceDistance>& surfaces = {});
 
+/// The element size that size callback gives at a point.
+std::function<double(const Eigen::Vector3d&)> size_field(
+    const ShearCellSpec& spec, const std::vector<SurfaceDistance>& surfaces = {});
+
 /// The P2 tetrahedra of every volume (region 0 the matrix, k object k),
 /// positively oriented in our node order; boundary faces (walls, and the x/z
 /// faces that are not periodic) and interface faces oriented outwards; the

@@ -19,6 +19,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/gmsh_mesh.hpp"
 #include "softflow/geometry/object_gaps.hpp"
+#include "softflow/geometry/point_tree.hpp"
 #include "softflow/mesh/node_relocation.hpp"
 #include "softflow/mesh/quality.hpp"
 #include "softflow/mesh/renumber.hpp"
@@ -38,6 +39,8 @@ constexpr int kFirstInterfaceSurface = 1000;
 /// their free nodes relocated (the moving mesh's time.relocation_quality
 /// default).
 constexpr double kRelocationQuality = 0.2;
+/// Remeshes with points added against caps (cap_points), at most.
+constexpr int kCapAttempts = 3;
 
 // ---------------------------------------------------------------------------
 // Distance to an object's current surface, for the size field
@@ -66,57 +69,6 @@ Vector3d closest_on_triangle(const Vector3d& p, const Vector3d& a, const Vector3
   const double denominator = 1.0 / (va + vb + vc);
   return a + ab * (vb * denominator) + ac * (vc * denominator);
 }
-
-// A k-d tree of points for nearest-point queries (the size field asks for
-// the distance to the interface at every point gmsh meshes: ~10^5-10^6
-// queries, each O(log n) here instead of O(n)).
-class PointTree {
- public:
-  explicit PointTree(std::vector<Vector3d> points) : points_(std::move(points)), order_(points_.size()) {
-    std::iota(order_.begin(), order_.end(), 0);
-    build(0, static_cast<int>(order_.size()), 0);
-  }
-  /// Index of a point closest to x.
-  [[nodiscard]] int nearest(const Vector3d& x) const {
-    int best = -1;
-    double best_d2 = std::numeric_limits<double>::infinity();
-    search(0, static_cast<int>(order_.size()), 0, x, best, best_d2);
-    return best;
-  }
-
- private:
-  // Median split of order_[begin, end) along axis, recursively.
-  void build(int begin, int end, int axis) {
-    if (end - begin <= 1) return;
-    const int mid = (begin + end) / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](int a, int b) { return points_[a][axis] < points_[b][axis]; });
-    build(begin, mid, (axis + 1) % 3);
-    build(mid + 1, end, (axis + 1) % 3);
-  }
-  void search(int begin, int end, int axis, const Vector3d& x, int& best, double& best_d2) const {
-    if (begin >= end) return;
-    const int mid = (begin + end) / 2;
-    const int i = order_[mid];
-    const double d2 = (points_[i] - x).squaredNorm();
-    if (d2 < best_d2) {
-      best_d2 = d2;
-      best = i;
-    }
-    const double offset = x[axis] - points_[i][axis];
-    const int next = (axis + 1) % 3;
-    if (offset < 0.0) {
-      search(begin, mid, next, x, best, best_d2);
-      if (offset * offset < best_d2) search(mid + 1, end, next, x, best, best_d2);
-    } else {
-      search(mid + 1, end, next, x, best, best_d2);
-      if (offset * offset < best_d2) search(begin, mid, next, x, best, best_d2);
-    }
-  }
-
-  std::vector<Vector3d> points_;
-  std::vector<int> order_;
-};
 
 // One object's interface as straight triangles of its corner nodes: the
 // distance of a point to it is the distance to the triangles around the
@@ -151,7 +103,7 @@ class InterfaceDistance {
         around_[v].push_back(static_cast<int>(t));
       }
     }
-    tree_ = std::make_shared<PointTree>(vertices_);
+    tree_ = std::make_shared<detail::PointTree>(vertices_);
   }
 
   double operator()(const Vector3d& x, bool& inside) const {
@@ -171,7 +123,7 @@ class InterfaceDistance {
   std::vector<std::array<int, 3>> triangles_;
   std::vector<Vector3d> normals_;
   std::vector<std::vector<int>> around_;
-  std::shared_ptr<PointTree> tree_;  // shared: the size callback copies the functor
+  std::shared_ptr<detail::PointTree> tree_;  // shared: the size callback copies the functor
 };
 
 std::vector<detail::SurfaceDistance> surface_distances(const mesh::Mesh& m) {
@@ -206,25 +158,22 @@ Vector3d box_origin(const mesh::Mesh& m) {
   return lo;
 }
 
-// Adds object k's interface (corner nodes and triangles) as discrete surface
-// kFirstInterfaceSurface + k. gmsh's node tag of a mesh node is its index
-// + 1, so that the new mesh's interface nodes are found again by tag.
-int add_interface(const mesh::Mesh& m, int object, std::size_t& element_tag) {
+// Adds object k's interface triangulation (corners and triangles) as
+// discrete surface kFirstInterfaceSurface + k, its nodes tagged from
+// `node_tag` + 1 on.
+int add_interface(const InterfaceSurface& s, int object, std::size_t& node_tag,
+                  std::size_t& element_tag) {
   const int surface = kFirstInterfaceSurface + object;
   gmsh::model::addDiscreteEntity(2, surface);
   std::vector<std::size_t> node_tags, triangle_nodes, element_tags;
   std::vector<double> coordinates;
-  std::vector<char> added(m.n_nodes(), 0);
-  for (std::size_t f = 0; f < m.interface_faces.size(); ++f) {
-    if (m.interface_object[f] != object) continue;
-    for (int k = 0; k < 3; ++k) {
-      const int node = m.interface_faces[f][k];
-      triangle_nodes.push_back(static_cast<std::size_t>(node) + 1);
-      if (added[node]) continue;
-      added[node] = 1;
-      node_tags.push_back(static_cast<std::size_t>(node) + 1);
-      for (int d = 0; d < 3; ++d) coordinates.push_back(m.nodes[node][d]);
-    }
+  const std::size_t first = node_tag + 1;
+  for (const Vector3d& x : s.vertices) {
+    node_tags.push_back(++node_tag);
+    coordinates.insert(coordinates.end(), {x.x(), x.y(), x.z()});
+  }
+  for (const auto& tri : s.triangles) {
+    for (int v : tri) triangle_nodes.push_back(first + static_cast<std::size_t>(v));
     element_tags.push_back(++element_tag);
   }
   gmsh::model::mesh::addNodes(2, surface, node_tags, coordinates);
@@ -281,85 +230,169 @@ void add_box_and_volumes(const mesh::Box& b, const Vector3d& origin, const std::
 using Edge = std::pair<int, int>;
 Edge edge(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
-// Each old interface edge (its two corner nodes) -> its mid-node.
-std::map<Edge, int> interface_mid_nodes(const mesh::Mesh& m) {
-  std::map<Edge, int> mid;
-  for (const auto& tri : m.interface_faces)
-    for (int k = 0; k < 3; ++k) {
-      const auto& e = mesh::kTriangleEdges[k];
-      mid[edge(tri[e[0]], tri[e[1]])] = tri[3 + k];
-    }
-  return mid;
-}
-
-// The old mesh's interface nodes, found by position: the new mesh's
-// interface corner nodes are the old ones to the bit (gmsh keeps a discrete
-// surface's nodes), and each interface edge's mid-node is the old one.
-class OldInterfaces {
+// The interfaces handed to gmsh, found again by position in the new mesh:
+// gmsh keeps a discrete surface's vertices to the bit.
+class GivenInterfaces {
  public:
-  explicit OldInterfaces(const mesh::Mesh& old) : old_(old), mid_(interface_mid_nodes(old)) {
-    for (const auto& tri : old.interface_faces)
-      for (int k = 0; k < 3; ++k) vertex_.emplace(key(old.nodes[tri[k]]), tri[k]);
+  explicit GivenInterfaces(const std::vector<InterfaceSurface>& surfaces) : surfaces_(surfaces) {
+    edges_.resize(surfaces.size());
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+      const InterfaceSurface& s = surfaces[k];
+      for (std::size_t v = 0; v < s.vertices.size(); ++v)
+        vertex_.emplace(key(s.vertices[v]),
+                        std::make_pair(static_cast<int>(k), static_cast<int>(v)));
+      for (std::size_t t = 0; t < s.triangles.size(); ++t)
+        for (int e = 0; e < 3; ++e) {
+          const auto& ends = mesh::kTriangleEdges[e];
+          edges_[k][edge(s.triangles[t][ends[0]], s.triangles[t][ends[1]])] = {static_cast<int>(t),
+                                                                               e};
+        }
+    }
   }
-  /// The old interface vertex at x; MeshError if there is none.
-  [[nodiscard]] int vertex_at(const Vector3d& x) const {
+  /// (object index, vertex) of the given vertex at x; MeshError if there is none.
+  [[nodiscard]] std::pair<int, int> vertex_at(const Vector3d& x) const {
     const auto it = vertex_.find(key(x));
     if (it == vertex_.end())
       throw MeshError(fmt::format("remeshing moved an interface vertex (a new one at ({}, {}, {}))", x.x(), x.y(),
                                   x.z()));
     return it->second;
   }
-  /// The old mid-node of the interface edge between old vertices a and b.
-  [[nodiscard]] int mid_node(int a, int b) const {
-    const auto it = mid_.find(edge(a, b));
-    if (it == mid_.end()) throw MeshError("remeshing changed an interface triangulation (a new edge)");
+  /// Object k's edge between vertices a and b: (triangle, edge index) of a
+  /// triangle that has it.
+  [[nodiscard]] std::pair<int, int> edge_of(int k, int a, int b) const {
+    const auto it = edges_[k].find(edge(a, b));
+    if (it == edges_[k].end())
+      throw MeshError("remeshing changed an interface triangulation (a new edge)");
     return it->second;
   }
-  [[nodiscard]] const Vector3d& position(int node) const { return old_.nodes[node]; }
+  [[nodiscard]] const InterfaceSurface& surface(int k) const { return surfaces_[k]; }
 
  private:
   static std::array<double, 3> key(const Vector3d& x) { return {x.x(), x.y(), x.z()}; }
-  const mesh::Mesh& old_;
-  std::map<Edge, int> mid_;
-  std::map<std::array<double, 3>, int> vertex_;
+  const std::vector<InterfaceSurface>& surfaces_;
+  std::map<std::array<double, 3>, std::pair<int, int>> vertex_;
+  std::vector<std::map<Edge, std::pair<int, int>>> edges_;
 };
 
-// Puts each interface edge's mid-node of the new mesh back where the old
-// mesh had it (gmsh elevates a discrete surface on the straight chords),
-// after checking that the corners are the old ones to the bit, and returns
-// new_node_of_old for every interface node.
-std::vector<int> carry_interfaces_over(const mesh::Mesh& old, const OldInterfaces& interfaces, mesh::Mesh& m) {
-  std::vector<int> new_node_of_old(old.n_nodes(), -1);
-  for (const auto& tri : m.interface_faces) {
+// Puts each interface edge's mid-node of the new mesh where the given
+// surface has it (gmsh elevates a discrete surface on the straight chords),
+// after checking that the corners are the given ones to the bit; fills
+// new_node_of_old for every node of a kept interface and old_surface_point
+// for every node of a resampled one.
+void place_interface_nodes(const mesh::Mesh& old, const GivenInterfaces& given, Remeshed& out) {
+  mesh::Mesh& m = out.mesh;
+  std::vector<int>& new_node_of_old = out.new_node_of_old;
+  new_node_of_old.assign(old.n_nodes(), -1);
+  out.old_surface_point.assign(m.n_nodes(), {});
+  for (std::size_t f = 0; f < m.interface_faces.size(); ++f) {
+    const auto& tri = m.interface_faces[f];
     std::array<int, 3> corner{};
-    for (int k = 0; k < 3; ++k) new_node_of_old[corner[k] = interfaces.vertex_at(m.nodes[tri[k]])] = tri[k];
-    for (int k = 0; k < 3; ++k) {
-      const auto& e = mesh::kTriangleEdges[k];
-      const int mid = interfaces.mid_node(corner[e[0]], corner[e[1]]);
-      m.nodes[tri[3 + k]] = old.nodes[mid];
-      new_node_of_old[mid] = tri[3 + k];
+    int object = -1;
+    for (int c = 0; c < 3; ++c) {
+      const auto [k, v] = given.vertex_at(m.nodes[tri[c]]);
+      if (k + 1 != m.interface_object[f])
+        throw MeshError("remeshing moved an interface vertex to another object");
+      object = k;
+      corner[c] = v;
+    }
+    const InterfaceSurface& s = given.surface(object);
+    for (int c = 0; c < 3; ++c)
+      if (s.resampled())
+        out.old_surface_point[tri[c]] = s.vertex_origin[corner[c]];
+      else
+        new_node_of_old[s.mesh_vertex[corner[c]]] = tri[c];
+    for (int e = 0; e < 3; ++e) {
+      const auto& ends = mesh::kTriangleEdges[e];
+      const auto [t, k] = given.edge_of(object, corner[ends[0]], corner[ends[1]]);
+      m.nodes[tri[3 + e]] = s.edge_nodes[t][k];
+      if (s.resampled())
+        out.old_surface_point[tri[3 + e]] = s.edge_node_origin[t][k];
+      else
+        new_node_of_old[s.mesh_edge_node[t][k]] = tri[3 + e];
     }
   }
-  return new_node_of_old;
 }
 
 // One remesh with gmsh's 3D algorithm `algorithm` (Mesh.Algorithm3D).
-Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current, const OldInterfaces& old_interfaces,
-                     int algorithm) {
+/// A point gmsh must make a vertex of region `region`'s mesh.
+struct EmbeddedPoint {
+  int region = 0;
+  Vector3d x = Vector3d::Zero();
+};
+
+// Points that break up the tetrahedra with all four vertices on an
+// interface and quality below kRelocationQuality ("caps": two interface
+// triangles and the element between them). Curved, a cap degenerates where
+// its two interface faces meet: both lie in the surface's tangent plane
+// there, so det J of the P2 map goes to zero at the shared edge's ends, and
+// only interface nodes could move to save it (measured: a resampled
+// particle of 132 interface triangles, quality -0.003). A vertex half an
+// edge into the cap's region, below the middle of its interface faces, makes
+// gmsh mesh that place with elements that reach into the region instead.
+std::vector<EmbeddedPoint> cap_points(const mesh::Mesh& m) {
+  std::vector<char> on_interface(m.n_nodes(), 0);
+  std::map<std::array<int, 3>, Vector3d>
+      face_normal;  // sorted corners -> outward (from the object) normal
+  for (const auto& f : m.interface_faces) {
+    for (int k = 0; k < 3; ++k) on_interface[f[k]] = 1;
+    std::array<int, 3> key{f[0], f[1], f[2]};
+    std::sort(key.begin(), key.end());
+    face_normal[key] = (m.nodes[f[1]] - m.nodes[f[0]]).cross(m.nodes[f[2]] - m.nodes[f[0]]);
+  }
+  std::vector<EmbeddedPoint> points;
+  for (int t = 0; t < m.n_tets(); ++t) {
+    const auto& tet = m.tets[t];
+    if (!(on_interface[tet[0]] && on_interface[tet[1]] && on_interface[tet[2]] &&
+          on_interface[tet[3]]))
+      continue;
+    if (mesh::tet_quality(m, t) >= kRelocationQuality) continue;
+    Vector3d centre = Vector3d::Zero(), normal = Vector3d::Zero();
+    double edges = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      centre += m.nodes[tet[a]] / 4.0;
+      for (int b = a + 1; b < 4; ++b) edges += (m.nodes[tet[a]] - m.nodes[tet[b]]).norm() / 6.0;
+      std::array<int, 3> key{};
+      for (int c = 0, j = 0; c < 4; ++c)
+        if (c != a) key[j++] = tet[c];
+      std::sort(key.begin(), key.end());
+      if (const auto it = face_normal.find(key); it != face_normal.end())
+        normal += it->second.normalized();
+    }
+    if (normal.norm() == 0.0) continue;  // no face on an interface: not a cap
+    // Into the element's region: against the outward normal inside an
+    // object, along it in the matrix.
+    const double into = m.tet_region[t] == 0 ? 1.0 : -1.0;
+    points.push_back({m.tet_region[t], centre + into * 0.5 * edges * normal.normalized()});
+  }
+  return points;
+}
+
+Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current,
+                     const std::vector<InterfaceSurface>& surfaces,
+                     const std::vector<detail::SurfaceDistance>& distances, int algorithm,
+                     const std::vector<EmbeddedPoint>& embedded) {
   Remeshed out;
   mesh::Mesh& m = out.mesh;
   {
     detail::GmshSession session;
     detail::CellEntities entities;
     session.run("adding the interfaces and the box", [&] {
-      std::size_t element_tag = 0;
+      std::size_t node_tag = 0, element_tag = 0;
       std::vector<int> interfaces;
-      for (int k = 1; k <= current.n_objects; ++k) interfaces.push_back(add_interface(current, k, element_tag));
+      for (int k = 1; k <= current.n_objects; ++k)
+        interfaces.push_back(add_interface(surfaces[k - 1], k, node_tag, element_tag));
       add_box_and_volumes(spec.box, box_origin(current), interfaces, entities);
+      std::vector<std::pair<int, int>> points;  // (gmsh point, volume)
+      for (const EmbeddedPoint& p : embedded)
+        points.emplace_back(
+            gmsh::model::geo::addPoint(p.x.x(), p.x.y(), p.x.z()),
+            p.region == 0 ? entities.matrix : entities.object_volume.at(p.region - 1));
+      gmsh::model::geo::synchronize();
+      for (const auto& [point, volume] : points) gmsh::model::mesh::embed(0, {point}, 3, volume);
     });
     session.run("setting periodicity and mesh size", [&] {
       detail::set_periodicity(spec.box, entities);
-      detail::set_size_and_order(spec, surface_distances(current));
+      detail::set_size_and_order(spec, distances);
     });
     session.run("remeshing", [algorithm] {
       gmsh::option::setNumber("Mesh.Algorithm3D", algorithm);
@@ -371,10 +404,12 @@ Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current, const
     });
     session.run("reading the mesh", [&] { m = detail::read_mesh(spec, entities); });
   }
-  if (m.interface_faces.size() != current.interface_faces.size())
-    throw MeshError(fmt::format("remeshing changed the interfaces: {} triangles, before {}",
-                                m.interface_faces.size(), current.interface_faces.size()));
-  out.new_node_of_old = carry_interfaces_over(current, old_interfaces, m);
+  std::size_t given_triangles = 0;
+  for (const auto& s : surfaces) given_triangles += s.triangles.size();
+  if (m.interface_faces.size() != given_triangles)
+    throw MeshError(fmt::format("remeshing changed the interfaces: {} triangles, given {}",
+                                m.interface_faces.size(), given_triangles));
+  place_interface_nodes(current, GivenInterfaces(surfaces), out);
   // gmsh shaped the elements along the straight chords; with the interface
   // curved again, an element with a face or an edge on it may fold where
   // the interface bends into it. Their free nodes are relocated as the
@@ -384,6 +419,10 @@ Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current, const
   const std::vector<int> renumbered = mesh::renumber_nodes_spatially(m);
   for (int& node : out.new_node_of_old)
     if (node >= 0) node = renumbered[node];
+  std::vector<InterfaceSurface::Origin> origins(m.n_nodes());
+  for (std::size_t i = 0; i < out.old_surface_point.size(); ++i)
+    origins[renumbered[i]] = out.old_surface_point[i];
+  out.old_surface_point = std::move(origins);
   detail::verify_periodic(m);
   out.report.quality_after = mesh::min_quality(m);
   return out;
@@ -391,26 +430,65 @@ Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current, const
 
 }  // namespace
 
-Remeshed remesh(const ShearCellSpec& spec, const mesh::Mesh& current) {
+bool needs_resampling(const InterfaceFit& fit) {
+  return fit.size_mismatch > kResampleSizeMismatch || fit.curved_shape < kResampleCurvedShape;
+}
+
+Remeshed remesh(const ShearCellSpec& spec, const mesh::Mesh& current, InterfaceRemeshing mode,
+                const mesh::Mesh* tracked) {
   const auto start = std::chrono::steady_clock::now();
   if (current.n_objects != static_cast<int>(spec.objects.size()))
     throw InputError(fmt::format("remesh: the mesh has {} objects, the spec {}", current.n_objects,
                                  spec.objects.size()));
-  const OldInterfaces old_interfaces(current);
+  // The interfaces to mesh around: kept, or sampled afresh at the sizes the
+  // size field gives on them.
+  const std::vector<detail::SurfaceDistance> distances = surface_distances(current);
+  const auto size = detail::size_field(spec, distances);
+  std::vector<InterfaceSurface> surfaces;
+  std::vector<char> resampled;
+  std::vector<InterfaceFit> fits;
+  double volume_change = 0.0;
+  int triangles_before = 0, triangles_after = 0;
+  for (int k = 1; k <= current.n_objects; ++k) {
+    InterfaceSurface s = interface_surface(current, k);
+    triangles_before += static_cast<int>(s.triangles.size());
+    fits.push_back(interface_fit(s, size));
+    const bool resample = mode == InterfaceRemeshing::resample ||
+                          (mode == InterfaceRemeshing::automatic && needs_resampling(fits.back()));
+    if (resample) {
+      ResamplingReport r;
+      s = resample_interface(tracked ? interface_surface(*tracked, k) : s, size, &r);
+      volume_change = std::max(volume_change, r.volume_change);
+    }
+    triangles_after += static_cast<int>(s.triangles.size());
+    resampled.push_back(resample ? 1 : 0);
+    surfaces.push_back(std::move(s));
+  }
   // gmsh's Delaunay first, the algorithm build_shear_cell meshes with: its
   // meshes have the fresh mesh's density (HXT's had 15-20 % fewer nodes for
   // the same size field, and a remeshed drop's D moved by 1.4 % at 20
   // equator nodes where Delaunay's moved it by 0.04 %). Around a discrete
   // interface it sometimes leaves a tetrahedron with all four vertices on
   // the interface, which the curved interface then folds (quality -0.001 to
-  // -0.005 at 16-32 equator nodes, whatever the relocation does): below
-  // kRelocationQuality HXT is tried too (it left none on the same meshes),
-  // and the better mesh kept (measured in tests/unit/test_remesh.cpp).
+  // -0.005 at 16-32 equator nodes, whatever the relocation does): such caps
+  // get a vertex embedded below them and the mesh is made again
+  // (cap_points); below kRelocationQuality HXT is tried too (it left none on
+  // the same meshes), and the better mesh kept (measured in
+  // tests/unit/test_remesh.cpp).
   Remeshed best;
   std::string failure;
   for (int algorithm : {1, 10}) {
     try {
-      Remeshed candidate = remesh_with(spec, current, old_interfaces, algorithm);
+      std::vector<EmbeddedPoint> embedded;
+      Remeshed candidate = remesh_with(spec, current, surfaces, distances, algorithm, embedded);
+      std::vector<EmbeddedPoint> caps = cap_points(candidate.mesh);
+      for (int attempt = 0; attempt < kCapAttempts && !caps.empty(); ++attempt) {
+        embedded.insert(embedded.end(), caps.begin(), caps.end());
+        Remeshed again = remesh_with(spec, current, surfaces, distances, algorithm, embedded);
+        caps = cap_points(again.mesh);
+        if (again.report.quality_after > candidate.report.quality_after)
+          candidate = std::move(again);
+      }
       candidate.report.algorithm = algorithm;
       if (best.mesh.tets.empty() || candidate.report.quality_after > best.report.quality_after)
         best = std::move(candidate);
@@ -424,7 +502,12 @@ Remeshed remesh(const ShearCellSpec& spec, const mesh::Mesh& current) {
   r.nodes_before = current.n_nodes();
   r.tets_before = current.n_tets();
   r.quality_before = mesh::min_quality(current);
-  r.interface_shape = mesh::min_interface_shape(current);
+  r.interface_shape = mesh::min_interface_shape(best.mesh);
+  r.resampled = std::move(resampled);
+  r.fit_before = std::move(fits);
+  r.interface_triangles_before = triangles_before;
+  r.interface_triangles_after = triangles_after;
+  r.volume_change = volume_change;
   r.nodes_after = best.mesh.n_nodes();
   r.tets_after = best.mesh.n_tets();
   r.quality_after = detail::check_quality(best.mesh, spec.sizing.optimize_high_order);

@@ -624,6 +624,16 @@ void check_remesh(const TableRead& remesh, const TableRead& time, const CaseConf
                            "across a narrow gap (allowed: 0 <= remesh.gap_elements < "
                            "mesh.gap_elements; raise mesh.gap_elements to remesh at more)",
                            c.sizing.elements_across_gaps()));
+  // Slip lives on the interface nodes (its multipliers): a new interface
+  // has nothing to carry it over from yet.
+  const bool slip =
+      std::any_of(c.objects.begin(), c.objects.end(), [](const auto& o) { return o.slip > 0.0; });
+  if (slip && remesh.status("interfaces") == Read::ok &&
+      c.remesh.interfaces == geometry::InterfaceRemeshing::resample)
+    diag.error(remesh.path("interfaces"), *remesh.value("interfaces"),
+               "cannot resample interfaces with slip (objects.slip > 0): the slip multipliers "
+               "live on the interface nodes and are carried over only node for node (allowed "
+               "with slip: \"keep\", or \"auto\", which then keeps them)");
   if (remesh.status("quality") != Read::ok || c.remesh.quality == 0.0) return;
   if (time.status("min_quality") == Read::bad) return;
   if (c.remesh.quality <= c.time.min_quality)

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "softflow/geometry/remesh.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
 #include "softflow/mesh/mesh.hpp"
@@ -172,6 +173,9 @@ struct RemeshConfig {
   /// object is crossed by fewer elements than this (0: never); below
   /// mesh.gap_elements, the count a remesh restores.
   double gap_elements = 0.0;
+  /// Each object's interface at a remesh: kept node for node, sampled afresh
+  /// at the case's sizes, or afresh only where it no longer fits them.
+  geometry::InterfaceRemeshing interfaces = geometry::InterfaceRemeshing::automatic;
 
   /// Any trigger set: the run may remesh.
   [[nodiscard]] bool enabled() const { return quality > 0.0 || interval > 0.0 || gap_elements > 0.0; }

@@ -486,9 +486,9 @@ Table<CaseConfig> remesh_table() {
   const auto remesh = [](auto member) { return field(&CaseConfig::remesh, member); };
   return {"remesh",
           "Meshing the deformed domain again during a run (docs/remeshing.md): the interfaces "
-          "kept node for node, the box and sizes of [cell] and [mesh], every field carried "
-          "over; a line in the progress output, a row in remesh.csv and a checkpoint after "
-          "each.",
+          "kept node for node or sampled afresh, the box and sizes of [cell] and [mesh], every "
+          "field carried over; a line in the progress output, a row in remesh.csv and a "
+          "checkpoint after each.",
           false,
           {number("quality", remesh(&RemeshConfig::quality), 0.0, Range::right_open(0, 1),
                   "remesh before a step once the worst element quality is below this (0: "
@@ -499,7 +499,19 @@ Table<CaseConfig> remesh_table() {
            number("gap_elements", remesh(&RemeshConfig::gap_elements), 0.0, Range::at_least(0),
                   "remesh before a step once an object's gap to a wall or to another object "
                   "is crossed by fewer elements than this (0: never); below "
-                  "mesh.gap_elements, the count a remesh restores")}};
+                  "mesh.gap_elements, the count a remesh restores"),
+           choice("interfaces", remesh(&RemeshConfig::interfaces),
+                  geometry::InterfaceRemeshing::automatic,
+                  {{"auto", geometry::InterfaceRemeshing::automatic,
+                    "afresh where an interface no longer fits the case's sizes (a triangle more "
+                    "than 2x off its size, or curved shape below 0.25: e.g. a particle's "
+                    "interface refined towards a wall it has left), else kept"},
+                   {"keep", geometry::InterfaceRemeshing::keep,
+                    "node for node: the interface and its trackers' histories carry over exactly"},
+                   {"resample", geometry::InterfaceRemeshing::resample,
+                    "always afresh, on the curved surface at the case's sizes, the enclosed "
+                    "volume restored to round-off"}},
+                  "what a remesh does with each object's interface")}};
 }
 
 Table<CaseConfig> interface_table() {

@@ -83,17 +83,34 @@ bool on_any_rank(bool local) {
   }
 }
 
-/// One row of remesh.csv (the header first when the file is new).
+constexpr const char* kRemeshHeader =
+    "step,t,reason,nodes_before,nodes_after,quality_before,quality_after,volume_change,"
+    "transfer_extrapolation,seconds,interface_shape,algorithm,interface_triangles_before,"
+    "interface_triangles_after,interfaces_resampled";
+
+/// One row of remesh.csv (the header first when the file is new; a file a
+/// run started before a column was added gets the current header, its rows
+/// kept: the new columns are empty there).
 void append_remesh_row(const fs::path& directory, const RemeshEvent& e) {
   const fs::path path = directory / "remesh.csv";
+  if (fs::exists(path)) {
+    std::ifstream in(path);
+    std::string header, rest, line;
+    std::getline(in, header);
+    if (header != kRemeshHeader) {
+      while (std::getline(in, line)) rest += line + "\n";
+      in.close();
+      io::write_text_file_atomically(path, std::string(kRemeshHeader) + "\n" + rest);
+    }
+  }
   const bool fresh = !fs::exists(path);
   std::ofstream out(path, std::ios::app);
-  if (fresh)
-    out << "step,t,reason,nodes_before,nodes_after,quality_before,quality_after,volume_change,"
-           "transfer_extrapolation,seconds,interface_shape,algorithm\n";
-  out << fmt::format("{},{:.10g},\"{}\",{},{},{:.6g},{:.6g},{:.3e},{:.3e},{:.4g},{:.4g},{}\n", e.step, e.time,
-                     e.reason, e.nodes_before, e.nodes_after, e.quality_before, e.quality_after,
-                     e.volume_change, e.extrapolation, e.seconds, e.interface_shape, e.algorithm);
+  if (fresh) out << kRemeshHeader << "\n";
+  out << fmt::format(
+      "{},{:.10g},\"{}\",{},{},{:.6g},{:.6g},{:.3e},{:.3e},{:.4g},{:.4g},{},{},{},{}\n", e.step,
+      e.time, e.reason, e.nodes_before, e.nodes_after, e.quality_before, e.quality_after,
+      e.volume_change, e.extrapolation, e.seconds, e.interface_shape, e.algorithm,
+      e.interface_triangles_before, e.interface_triangles_after, e.resampled);
   if (!out) throw Error(fmt::format("cannot write {}", path.string()));
 }
 
@@ -165,10 +182,17 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
           write_checkpoint();
           on_root_sharing_failure([&] { append_remesh_row(directory, e); });
           if (console)
-            fmt::print("remesh at step {} (t = {:.4f}): {}; nodes {} -> {}, worst quality {:.3f} -> {:.3f} "
-                       "({}; worst interface triangle {:.3f}), volume change {:.1e}, {:.2f} s\n",
-                       e.step, e.time, e.reason, e.nodes_before, e.nodes_after, e.quality_before,
-                       e.quality_after, e.algorithm, e.interface_shape, e.volume_change, e.seconds);
+            fmt::print(
+                "remesh at step {} (t = {:.4f}): {}; nodes {} -> {}, worst quality {:.3f} -> "
+                "{:.3f} "
+                "({}; worst interface triangle {:.3f}), {}volume change {:.1e}, {:.2f} s\n",
+                e.step, e.time, e.reason, e.nodes_before, e.nodes_after, e.quality_before,
+                e.quality_after, e.algorithm, e.interface_shape,
+                e.resampled > 0
+                    ? fmt::format("{} interface(s) resampled ({} -> {} triangles), ", e.resampled,
+                                  e.interface_triangles_before, e.interface_triangles_after)
+                    : std::string(),
+                e.volume_change, e.seconds);
         }
       }
       last = stepper.take(sim);

@@ -55,8 +55,13 @@ struct RemeshEvent {
   /// interfaces are kept as they are, so it bounds the new mesh's elements there.
   double interface_shape = 1.0;
   std::string algorithm;  ///< gmsh's 3D algorithm of the mesh kept: "delaunay" or "hxt"
-  /// Largest relative change of an object's enclosed volume (0 to round-off:
-  /// the interfaces are carried over node for node).
+  /// Interface triangles of all objects before and after, and how many
+  /// objects' interfaces were sampled afresh (remesh.interfaces).
+  int interface_triangles_before = 0, interface_triangles_after = 0;
+  int resampled = 0;
+  /// Largest relative change of an object's enclosed volume (round-off: a
+  /// kept interface is carried over node for node, a resampled one has its
+  /// volume restored).
   double volume_change = 0.0;
   /// How far the transfer extrapolated (reference coordinates; ~0).
   double extrapolation = 0.0;
@@ -123,13 +128,14 @@ class DropSimulation {
   /// node for node, the box and sizes of the case) and carries the run
   /// over to the new mesh, which becomes the reference mesh of later
   /// checkpoints: the Stokes solution and every module field by
-  /// fem::MeshTransfer (region by region), the interface trackers' BDF2
-  /// histories as they are (the same interface nodes), the moving mesh
-  /// fresh on the new mesh (mesh velocity BDF1 at the next step), the
-  /// modules' multistep histories restarted at BDF1 (as after a jump of the
-  /// walls). The trackers' redistribution then keeps the interface's
-  /// element areas of the remesh time (eq. 2.32's reference), as a restart
-  /// from a checkpoint written after it does. Fields added with add_field
+  /// fem::MeshTransfer (region by region), a kept interface's tracker
+  /// history as it is (the same interface nodes, the same reference areas of
+  /// eq. 2.32), a resampled interface's tracker afresh (BDF1 at the next
+  /// step, its new triangles' areas as the reference: remesh.interfaces),
+  /// the moving mesh fresh on the new mesh (mesh velocity BDF1 at the next
+  /// step), the modules' multistep histories restarted at BDF1 (as after a
+  /// jump of the walls); a restart from a checkpoint written after it
+  /// continues alike. Fields added with add_field
   /// from outside a module are not carried (Error if there are any).
   /// Collective: rank 0 meshes, every rank receives the mesh. Throws
   /// MeshError, with the run unchanged, when gmsh cannot make a valid mesh.

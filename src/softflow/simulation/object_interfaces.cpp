@@ -10,6 +10,7 @@
 
 #include "softflow/analysis/ellipsoid_fit.hpp"
 #include "softflow/common/error.hpp"
+#include "softflow/element/shape_functions.hpp"
 #include "softflow/simulation/case_flow.hpp"
 #include "softflow/time/bdf.hpp"
 
@@ -207,13 +208,45 @@ std::vector<StatePart> ObjectInterfaces::state_parts() {
   return parts;
 }
 
-double ObjectInterfaces::carry_over(const ObjectInterfaces& old, std::span<const int> new_node_of_old) {
-  if (old.trackers_.size() != trackers_.size()) throw Error("remesh: the number of objects changed");
+double ObjectInterfaces::carry_over(
+    const ObjectInterfaces& old, std::span<const int> new_node_of_old,
+    std::span<const char> resampled,
+    std::span<const geometry::InterfaceSurface::Origin> old_surface_point) {
+  if (old.trackers_.size() != trackers_.size() || resampled.size() != trackers_.size())
+    throw Error("remesh: the number of objects changed");
   last_centre_velocity_ = old.last_centre_velocity_;
   initial_volumes_ = old.initial_volumes_;
   double volume_change = 0.0;
   for (std::size_t k = 0; k < trackers_.size(); ++k) {
     const auto& before = old.trackers_[k];
+    const double volume_before =
+        physics::surface_integrals(before.surface(), before.positions()).volume;
+    if (resampled[k]) {
+      auto h = before.history();
+      const auto& surface = trackers_[k].surface();
+      std::map<int, int> old_local;  // old mesh node -> old tracker node
+      for (int i = 0; i < before.surface().n_nodes(); ++i)
+        old_local[before.surface().volume_node[i]] = i;
+      h.x = trackers_[k].positions();
+      if (!h.x_previous.empty()) {
+        std::vector<Vec3> previous(surface.n_nodes());
+        for (int i = 0; i < surface.n_nodes(); ++i) {
+          const auto& at = old_surface_point[surface.volume_node[i]];
+          if (at.triangle < 0)
+            throw Error("remesh: a resampled interface node has no place on the old interface");
+          const auto n = element::p2_triangle_values(Vec3(at.xi.x(), at.xi.y(), 0.0));
+          previous[i] = Vec3::Zero();
+          for (int c = 0; c < 6; ++c)
+            previous[i] += n[c] * h.x_previous.at(old_local.at(at.mesh_nodes[c]));
+        }
+        h.x_previous = std::move(previous);
+      }
+      trackers_[k].restore(std::move(h));
+      const double volume_after =
+          physics::surface_integrals(trackers_[k].surface(), trackers_[k].positions()).volume;
+      volume_change = std::max(volume_change, std::abs(volume_after / volume_before - 1.0));
+      continue;
+    }
     const auto& old_nodes = before.surface().volume_node;
     const auto& surface = trackers_[k].surface();
     // The interface nodes are the old ones: the histories (x_n, x_{n-1},
@@ -255,7 +288,6 @@ double ObjectInterfaces::carry_over(const ObjectInterfaces& old, std::span<const
       areas.at(new_triangle.at(key(corners))) = old_areas[t];
     }
     trackers_[k].set_reference_areas(std::move(areas));
-    const double volume_before = physics::surface_integrals(before.surface(), before.positions()).volume;
     const double volume_after = physics::surface_integrals(surface, trackers_[k].positions()).volume;
     volume_change = std::max(volume_change, std::abs(volume_after / volume_before - 1.0));
   }
