@@ -89,6 +89,7 @@ void expect_same(const CaseConfig& a, const CaseConfig& b) {
   EXPECT_EQ(a.time.ale_rebuild_quality, b.time.ale_rebuild_quality);
   EXPECT_EQ(a.time.relocation_quality, b.time.relocation_quality);
   EXPECT_EQ(a.remesh.quality, b.remesh.quality);
+  EXPECT_EQ(a.remesh.interfaces, b.remesh.interfaces);
   EXPECT_EQ(a.time.steady_tolerance, b.time.steady_tolerance);
   EXPECT_EQ(a.time.steady_window, b.time.steady_window);
   EXPECT_EQ(a.interface.redistribution_factor, b.interface.redistribution_factor);
@@ -132,6 +133,20 @@ TEST(CaseConfig, RemeshQualityDefaultsToNeverAndMustLieAboveMinQuality) {
   EXPECT_ERROR("[remesh]\nquality = 0.02\n", "must be above time.min_quality = 0.02");
   EXPECT_ERROR("[time]\nmin_quality = 0.1\n[remesh]\nquality = 0.05\n", "remesh.quality = 0.05");
   EXPECT_EQ(error_of("[time]\nmin_quality = 0.01\n[remesh]\nquality = 0.05\n"), "");
+}
+
+TEST(CaseConfig, RemeshInterfacesAreResampledWhereNeededByDefaultAndKeptWithSlip) {
+  EXPECT_EQ(parse_case("", "case.toml").remesh.interfaces, geometry::InterfaceRemeshing::automatic);
+  EXPECT_EQ(parse_case("[remesh]\ninterfaces = \"keep\"\n", "case.toml").remesh.interfaces,
+            geometry::InterfaceRemeshing::keep);
+  EXPECT_EQ(parse_case("[remesh]\ninterfaces = \"resample\"\n", "case.toml").remesh.interfaces,
+            geometry::InterfaceRemeshing::resample);
+  EXPECT_ERROR("[remesh]\ninterfaces = \"fresh\"\n", "remesh.interfaces");
+  // Slip multipliers are carried node for node only.
+  EXPECT_ERROR("[[objects]]\nslip = 0.5\n[remesh]\ninterfaces = \"resample\"\n",
+               "cannot resample interfaces with slip");
+  EXPECT_EQ(error_of("[[objects]]\nslip = 0.5\n[remesh]\ninterfaces = \"keep\"\n"), "");
+  EXPECT_EQ(error_of("[[objects]]\nslip = 0.5\n[remesh]\ninterfaces = \"auto\"\n"), "");
 }
 
 TEST(CaseConfig, StepsAreAdaptiveByDefaultWhereAvailableAndConstantOneKeyAway) {

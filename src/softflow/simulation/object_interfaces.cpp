@@ -227,6 +227,13 @@ double ObjectInterfaces::carry_over(
       std::map<int, int> old_local;  // old mesh node -> old tracker node
       for (int i = 0; i < before.surface().n_nodes(); ++i)
         old_local[before.surface().volume_node[i]] = i;
+      // x_{n-1} = x_n less the last step's displacement x_n - x_{n-1},
+      // interpolated on the old curved triangles: the new x_n carries the
+      // offset that restored the volume, and so does x_{n-1}, so that the
+      // two levels' volumes differ as the old ones did (interpolating x_{n-1}
+      // itself gave it the resampling's own volume error, which BDF2 turned
+      // into a jump of 1e-3 in the particle's volume at the next step).
+      const std::vector<Vec3> old_x = h.x;
       h.x = trackers_[k].positions();
       if (!h.x_previous.empty()) {
         std::vector<Vec3> previous(surface.n_nodes());
@@ -235,9 +242,12 @@ double ObjectInterfaces::carry_over(
           if (at.triangle < 0)
             throw Error("remesh: a resampled interface node has no place on the old interface");
           const auto n = element::p2_triangle_values(Vec3(at.xi.x(), at.xi.y(), 0.0));
-          previous[i] = Vec3::Zero();
-          for (int c = 0; c < 6; ++c)
-            previous[i] += n[c] * h.x_previous.at(old_local.at(at.mesh_nodes[c]));
+          Vec3 displacement = Vec3::Zero();
+          for (int c = 0; c < 6; ++c) {
+            const int j = old_local.at(at.mesh_nodes[c]);
+            displacement += n[c] * (old_x[j] - h.x_previous[j]);
+          }
+          previous[i] = h.x[i] - displacement;
         }
         h.x_previous = std::move(previous);
       }
