@@ -92,6 +92,19 @@ def read_run(directory, window):
     }
 
 
+def remesh_overhead(rows, remesh_rows):
+    """(remesh seconds, first-step seconds, median step seconds) of a run from its
+    timeseries rows and remesh.csv rows: what the remeshes cost it, the remeshes
+    themselves and the first step on each new mesh above the run's median step
+    (it factors a new matrix)."""
+    step_seconds = sorted(float(row["step_seconds"]) for row in rows[1:])
+    median = step_seconds[len(step_seconds) // 2]
+    by_step = {int(row["step"]): float(row["step_seconds"]) for row in rows[1:]}
+    remeshes = sum(float(row["seconds"]) for row in remesh_rows)
+    first_steps = sum(max(0.0, by_step.get(int(row["step"]) + 1, median) - median) for row in remesh_rows)
+    return remeshes, first_steps, median
+
+
 def meshed_size(r):
     """1 / (equator nodes the mesher made) of a read_run result: the element size
     a whole-mesh study refines (the mesher rounds the asked count unevenly)."""

@@ -19,7 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_csv, validation_main  # noqa: E402
+from case_runs import read_csv, remesh_overhead, validation_main  # noqa: E402
 from confined_migration import BETA, CA_E, HEIGHT, Y_MAX, case_text  # noqa: E402
 from migration_runs import mean_velocity, read_migration  # noqa: E402
 
@@ -100,7 +100,9 @@ def report(work):
         + ("t = " + f"{below:g}" if below is not None else "(not yet)"),
         f"- remeshes: {len(remesh_rows)}; particle volume at the end against the start: "
         f"{float(series[-1]['volume']) / volume0 - 1:+.2e}",
-        f"- smallest element quality along the run: {min(float(s['min_quality']) for s in series):.3f}", "",
+        f"- smallest element quality along the run: {min(float(s['min_quality']) for s in series):.3f}",
+        "- what the remeshes cost: {:.1f} s of remeshes, {:.1f} s of first steps on the new meshes above the "
+        "median step ({:.2f} s)".format(*remesh_overhead(series, remesh_rows)), "",
     ]
     if remesh_rows:
         keys = [k for k in remesh_rows[0].keys() if k]
