@@ -100,6 +100,8 @@ TEST(InterfaceResampling, KeepsTheSurfaceAndItsVolumeAtTheSizesAskedFor) {
         "volume offset %.2e h, volume %.1e\n",
         h, r.triangles_before, r.triangles_after, fit.size_mismatch, fit.curved_shape,
         sphere_deviation(s, true), old_deviation, r.volume_offset, r.volume_change);
+    // A closed surface of genus 0 (V - E + F = 2 with E = 3F/2), every vertex used.
+    EXPECT_EQ(s.vertices.size(), s.triangles.size() / 2 + 2);
     EXPECT_NEAR(geometry::enclosed_volume(s), volume, 1e-13 * volume);
     EXPECT_LT(r.volume_change, 1e-13);
     EXPECT_LE(sphere_deviation(s, true), old_deviation + r.volume_offset * h + 1e-12);
