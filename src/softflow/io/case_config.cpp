@@ -461,6 +461,11 @@ bool has_relaxing_phase(const CaseConfig& c) {
                      [&](const ObjectConfig& o) { return object_constitutive(c, o).relaxes(); });
 }
 
+bool has_interface_slip(const CaseConfig& c) {
+  return std::any_of(c.objects.begin(), c.objects.end(),
+                     [](const ObjectConfig& o) { return o.slip > 0.0; });
+}
+
 namespace {
 
 /// Adaptive steps estimate their error from the interfaces: they need
@@ -626,9 +631,7 @@ void check_remesh(const TableRead& remesh, const TableRead& time, const CaseConf
                            c.sizing.elements_across_gaps()));
   // Slip lives on the interface nodes (its multipliers): a new interface
   // has nothing to carry it over from yet.
-  const bool slip =
-      std::any_of(c.objects.begin(), c.objects.end(), [](const auto& o) { return o.slip > 0.0; });
-  if (slip && remesh.status("interfaces") == Read::ok &&
+  if (has_interface_slip(c) && remesh.status("interfaces") == Read::ok &&
       c.remesh.interfaces == geometry::InterfaceRemeshing::resample)
     diag.error(remesh.path("interfaces"), *remesh.value("interfaces"),
                "cannot resample interfaces with slip (objects.slip > 0): the slip multipliers "

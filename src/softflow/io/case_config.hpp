@@ -356,6 +356,11 @@ struct DimensionlessGroup {
 /// matrix or a drop of Oldroyd-B, Giesekus, UCM or FENE-P).
 [[nodiscard]] bool has_relaxing_phase(const CaseConfig& c);
 
+/// Whether any object has Navier slip: the Stokes system then has a
+/// velocity copy per region coupled by multipliers (physics::StokesSystem),
+/// which live on the interface nodes.
+[[nodiscard]] bool has_interface_slip(const CaseConfig& c);
+
 /// The groups of a case (SPEC §1), case-wide ones first (gamma0; a
 /// viscoelastic matrix's Weissenberg number, and Deborah number in
 /// oscillatory flow), then per object: for a drop Ca, omega*, lambda, p

@@ -12,12 +12,6 @@ std::vector<physics::viscoelastic::Constitutive> phase_models(const io::CaseConf
   return io::constitutive_models(config);
 }
 
-bool has_interface_slip(const io::CaseConfig& config) {
-  for (const auto& o : config.objects)
-    if (o.slip > 0.0) return true;
-  return false;
-}
-
 physics::StokesProblem stokes_problem(const io::CaseConfig& config, const mesh::Mesh& mesh,
                                       double t) {
   return stokes_problem(config, phase_models(config), mesh, t);
@@ -32,7 +26,7 @@ physics::StokesProblem stokes_problem(const io::CaseConfig& config,
   for (const auto& m : models) p.viscosity.push_back(m.solvent_viscosity());
   for (const auto& o : config.objects) p.interfacial_tension.push_back(o.interfacial_tension);
   // Navier slip, dimensional (the case's alpha is made dimensionless with R / eta_m).
-  if (has_interface_slip(config))
+  if (io::has_interface_slip(config))
     for (const auto& o : config.objects)
       p.slip.coefficient.push_back(io::navier_slip_coefficient(config, o));
   const auto walls = wall_motion(config);

@@ -23,10 +23,6 @@ double redistribution_rate(const io::CaseConfig& config);
 /// The constitutive model of each region (0 = matrix, k = object k), from the case.
 std::vector<physics::viscoelastic::Constitutive> phase_models(const io::CaseConfig& config);
 
-/// Whether any object has Navier slip: the Stokes system then has a
-/// velocity copy per region coupled by multipliers (physics::StokesSystem).
-bool has_interface_slip(const io::CaseConfig& config);
-
 /// The instantaneous Stokes problem of the case at time t on `mesh`:
 /// materials, interfacial tensions, walls at t, the pressure gauge. Loads
 /// that depend on the time loop's state (the semi-implicit tension) are

@@ -41,7 +41,7 @@ DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
 
 void DropSimulation::build_parts() {
   stokes_ = std::make_unique<physics::StokesSystem>(mesh_, solver_settings(config_),
-                                                    has_interface_slip(config_));
+                                                    io::has_interface_slip(config_));
   moving_mesh_ = std::make_unique<physics::MovingMesh>(
       mesh_, physics::MovingMeshSettings{config_.time.ale_rebuild_quality,
                                          config_.time.relocation_quality});
@@ -78,8 +78,8 @@ RemeshEvent DropSimulation::remesh(const std::string& reason) {
   std::string failure;
   if (la::mpi_rank() == 0) try {
       // Slip's multipliers live on the interface nodes: carried node for node only.
-      const auto interfaces = has_interface_slip(config_) ? geometry::InterfaceRemeshing::keep
-                                                          : config_.remesh.interfaces;
+      const auto interfaces = io::has_interface_slip(config_) ? geometry::InterfaceRemeshing::keep
+                                                              : config_.remesh.interfaces;
       r = geometry::remesh(config_.shear_cell_spec(), mesh_, interfaces, &tracked);
     } catch (const MeshError& e) {
       failure = e.what();

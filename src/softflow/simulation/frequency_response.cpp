@@ -265,7 +265,8 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
   leave_startup();  // the staging directory exists: a stop request now removes it cleanly
   const mesh::Mesh& mesh = meshed.mesh;
 
-  physics::OscillatorySystem system(mesh, solver_settings(config).method, has_interface_slip(config));
+  physics::OscillatorySystem system(mesh, solver_settings(config).method,
+                                    io::has_interface_slip(config));
   const bool iterative = system.method() == la::SaddlePointMethod::iterative;
   physics::OscillatoryProblem problem = oscillatory_problem(config, mesh);
   if (!options.quiet && root)

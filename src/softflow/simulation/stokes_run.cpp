@@ -108,7 +108,8 @@ nlohmann::json run_case(const io::CaseConfig& config, const RunOptions& options)
                meshed.report["min_quality"].get<double>());
 
   const auto setup_start = Clock::now();
-  physics::StokesSystem stokes(mesh, solver_settings(config), has_interface_slip(config));  // step 2
+  physics::StokesSystem stokes(mesh, solver_settings(config),
+                               io::has_interface_slip(config));  // step 2
   const double setup_seconds = seconds_since(setup_start);  // dof map, matrix patterns
   const auto result = stokes.solve(stokes_problem(config, mesh, 0.0));  // the initial state
   if (const int signal = stop_requested())

@@ -33,7 +33,7 @@ const io::ReportTable<SlipRow>& slip_table() {
 
 SlipModule::SlipModule(const ModuleSetup& /*setup*/) {}
 
-bool SlipModule::wanted(const ModuleSetup& setup) { return has_interface_slip(setup.config); }
+bool SlipModule::wanted(const ModuleSetup& setup) { return io::has_interface_slip(setup.config); }
 
 void SlipModule::measure(const StepContext& context, StepReport& report) {
   const auto& stokes = context.stokes;
