@@ -39,6 +39,15 @@ const element::QuadratureRule& volume_rule() {
   return rule;
 }
 
+// Calls visit(point, weight) at each point of `rule` on triangle t of s.
+template <class Visit>
+void integrate_on_triangle(const InterfaceSurface& s, int t, const element::QuadratureRule& rule,
+                           Visit&& visit) {
+  const auto nodes = as_columns(s.triangle_nodes(t));
+  for (int q = 0; q < rule.size(); ++q)
+    visit(element::surface_point(nodes, rule.points[q]), rule.weights[q]);
+}
+
 // ---------------------------------------------------------------------------
 // The closest point of a curved P2 surface
 // ---------------------------------------------------------------------------
@@ -253,15 +262,12 @@ InterfaceSurface interface_surface(const mesh::Mesh& m, int object) {
 }
 
 double enclosed_volume(const InterfaceSurface& s) {
-  const auto& rule = volume_rule();
   double volume = 0.0;
-  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
-    const auto nodes = as_columns(s.triangle_nodes(static_cast<int>(t)));
-    for (int q = 0; q < rule.size(); ++q) {
-      const auto p = element::surface_point(nodes, rule.points[q]);
-      volume += rule.weights[q] * p.area_scale * p.position.dot(p.normal) / 3.0;
-    }
-  }
+  for (std::size_t t = 0; t < s.triangles.size(); ++t)
+    integrate_on_triangle(s, static_cast<int>(t), volume_rule(),
+                          [&](const element::SurfacePoint& p, double w) {
+                            volume += w * p.area_scale * p.position.dot(p.normal) / 3.0;
+                          });
   return volume;
 }
 
@@ -269,11 +275,10 @@ double surface_area(const InterfaceSurface& s) {
   // The area scale is not a polynomial: the trackers' degree-7 rule.
   static const element::QuadratureRule rule = element::triangle_rule(7);
   double area = 0.0;
-  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
-    const auto nodes = as_columns(s.triangle_nodes(static_cast<int>(t)));
-    for (int q = 0; q < rule.size(); ++q)
-      area += rule.weights[q] * element::surface_point(nodes, rule.points[q]).area_scale;
-  }
+  for (std::size_t t = 0; t < s.triangles.size(); ++t)
+    integrate_on_triangle(
+        s, static_cast<int>(t), rule,
+        [&](const element::SurfacePoint& p, double w) { area += w * p.area_scale; });
   return area;
 }
 
@@ -281,6 +286,9 @@ InterfaceFit interface_fit(const InterfaceSurface& s,
                            const std::function<double(const Vector3d&)>& size) {
   InterfaceFit fit;
   const auto& rule = element::triangle_rule(5);
+  // The corners and edge nodes, then the rule's points (whose area scales
+  // also give the triangle's area).
+  constexpr std::size_t kCornersAndEdges = 6;
   std::vector<Vector3d> samples{{0, 0, 0},   {1, 0, 0},     {0, 1, 0},
                                 {0.5, 0, 0}, {0.5, 0.5, 0}, {0, 0.5, 0}};
   samples.insert(samples.end(), rule.points.begin(), rule.points.end());
@@ -288,13 +296,13 @@ InterfaceFit interface_fit(const InterfaceSurface& s,
     const auto x = s.triangle_nodes(static_cast<int>(t));
     const auto nodes = as_columns(x);
     double smallest = std::numeric_limits<double>::infinity(), largest = 0.0, area = 0.0;
-    for (const Vector3d& xi : samples) {
-      const double scale = element::surface_point(nodes, xi).area_scale;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const double scale = element::surface_point(nodes, samples[i]).area_scale;
       smallest = std::min(smallest, scale);
       largest = std::max(largest, scale);
+      if (i >= kCornersAndEdges)
+        area += rule.weights[i - kCornersAndEdges] * scale;  // the rule's points
     }
-    for (int q = 0; q < rule.size(); ++q)
-      area += rule.weights[q] * element::surface_point(nodes, rule.points[q]).area_scale;
     fit.curved_shape =
         std::min(fit.curved_shape, mesh::triangle_shape(x[0], x[1], x[2]) * smallest / largest);
     const double side = std::sqrt(4.0 * area / std::sqrt(3.0));

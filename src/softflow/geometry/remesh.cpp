@@ -313,7 +313,6 @@ void place_interface_nodes(const mesh::Mesh& old, const GivenInterfaces& given, 
   }
 }
 
-// One remesh with gmsh's 3D algorithm `algorithm` (Mesh.Algorithm3D).
 /// A point gmsh must make a vertex of region `region`'s mesh.
 struct EmbeddedPoint {
   int region = 0;
@@ -367,6 +366,8 @@ std::vector<EmbeddedPoint> cap_points(const mesh::Mesh& m) {
   return points;
 }
 
+// One remesh with gmsh's 3D algorithm `algorithm` (Mesh.Algorithm3D), the
+// points `embedded` made vertices of their regions.
 Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current,
                      const std::vector<InterfaceSurface>& surfaces,
                      const std::vector<detail::SurfaceDistance>& distances, int algorithm,
