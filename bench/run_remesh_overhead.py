@@ -14,13 +14,15 @@ The machine is shared: the percentages are ratios within one run.
 Writes docs/benchmarks/remesh_overhead.{md,json}.
 Usage: bench/run_remesh_overhead.py [build_dir] [--work DIR]"""
 import argparse
-import csv
 import json
 import os
 import subprocess
+import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "docs", "benchmarks")
+sys.path.insert(0, os.path.join(ROOT, "scripts", "validation"))
+from case_runs import read_csv, remesh_overhead  # noqa: E402
 
 
 def particle_case():
@@ -39,21 +41,12 @@ CASES = [("particle_cae05_n28", "neo-Hookean particle, Ca_e = 0.5, 28 equator no
          ("two_drops_passing", "two drops passing each other (examples/two_drops_passing.toml), t = 8", drops_case)]
 
 
-def read_csv(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
 def measure(directory):
     summary = json.load(open(os.path.join(directory, "summary.json")))
     rows = read_csv(os.path.join(directory, "timeseries.csv"))
     remeshes = read_csv(os.path.join(directory, "remesh.csv")) if os.path.exists(
         os.path.join(directory, "remesh.csv")) else []
-    steps = sorted(float(r["step_seconds"]) for r in rows[1:])
-    median = steps[len(steps) // 2]
-    by_step = {int(r["step"]): float(r["step_seconds"]) for r in rows[1:]}
-    remesh_seconds = sum(float(r["seconds"]) for r in remeshes)
-    first_steps = sum(max(0.0, by_step.get(int(r["step"]) + 1, median) - median) for r in remeshes)
+    remesh_seconds, first_steps, median = remesh_overhead(rows, remeshes)
     wall = summary["wall_seconds"]
     return {"status": summary["status"], "t": float(rows[-1]["t"]), "steps": summary["steps"],
             "unknowns": summary["unknowns"], "wall_seconds": wall, "median_step_seconds": median,
