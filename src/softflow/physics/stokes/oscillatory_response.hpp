@@ -151,12 +151,15 @@ class OscillatorySystem {
   /// The iterative path's real N-size matrices: K + B, its preconditioning
   /// matrix (pressure block -M/eta) and B alone; the inner solver.
   void create_inner_matrices();
+  /// The iterative path's gauge: the constant pressures as the null spaces
+  /// of the real form and of K + B (the direct path pins the gauge instead).
+  void attach_pressure_nullspaces();
   /// Assembles every matrix of the method at problem.omega and eliminates
-  /// the Dirichlet rows (walls, the gauge's pressures); returns the real
+  /// the Dirichlet rows (walls; the gauge's pressures on the direct path); returns the real
   /// system's right-hand side and initial guess.
   std::pair<la::Vector, la::Vector> assemble(const OscillatoryProblem& problem);
   void solve_direct(const OscillatoryProblem& problem, Vec rhs, Vec x, OscillatoryResponse& out);
-  void solve_iterative(Vec rhs, Vec x, OscillatoryResponse& out);
+  void solve_iterative(const OscillatoryProblem& problem, Vec rhs, Vec x, OscillatoryResponse& out);
   /// The side the tension acts on: the drop's copy with slip (so that the
   /// multipliers are the matrix's traction, as in StokesSystem), else the shared one.
   [[nodiscard]] int tension_region(int face) const { return slip_ ? mesh_.interface_object[face] : 0; }
