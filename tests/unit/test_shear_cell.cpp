@@ -15,6 +15,7 @@
 #include "softflow/element/isoparametric.hpp"
 #include "softflow/element/quadrature.hpp"
 #include "softflow/element/shape_functions.hpp"
+#include "softflow/geometry/random_packing.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/mesh/fingerprint.hpp"
 #include "softflow/mesh/quality.hpp"
@@ -616,6 +617,34 @@ TEST(ShearCellConfinement, WallSizeGradesTheMeshTowardsTheWalls) {
   const double fine = mean_wall_edge(geometry::build_shear_cell(spec));
   EXPECT_GT(coarse, 0.7);
   EXPECT_LT(fine, 0.45);
+}
+
+TEST(ShearCellMeshing, ADenseEmulsionWhoseFirstMeshFoldsACapIsMeshedAgainValid) {
+  // Ten drops at phi = 0.2 in a core cube of side 6, 0.1 R apart (the
+  // thesis's frame layout, as examples' [emulsion] makes it), 16 equator
+  // nodes. gmsh's first mesh has a matrix tetrahedron lying flat on a drop
+  // with all four vertices on it, which folds (quality -1) once the
+  // interface is curved; before caps were repaired this case failed to
+  // mesh. Now a vertex goes below such caps and the mesh is made again.
+  geometry::RandomPacking packing;
+  packing.region = Vector3d::Constant(6.0);
+  packing.volume_fraction = 0.2;
+  packing.min_gap = 0.1;
+  packing.seed = 1;
+  ShearCellSpec spec;
+  spec.box = {10.0, 10.0, 10.0, true, true};
+  for (const Vector3d& c : geometry::random_sequential_addition(packing))
+    spec.objects.push_back(sphere(c, 1.0));
+  spec.sizing.equator_nodes = 16;
+  spec.sizing.far_size = 1.5;
+  geometry::MeshReport report;
+  const mesh::Mesh m = geometry::build_shear_cell(spec, &report);
+  std::printf(
+      "10 drops at phi = 0.2: %d nodes, %d vertices embedded below folded caps, min quality %.3f\n",
+      report.n_nodes, report.cap_vertices, report.min_quality);
+  EXPECT_EQ(m.n_objects, 10);
+  EXPECT_GT(report.min_quality, 0.05);
+  EXPECT_EQ(report.min_quality, mesh::min_quality(m));
 }
 
 TEST(ShearCellValidation, AcceptsTheThesisGapAndRefusesOneTheMeshCannotResolve) {

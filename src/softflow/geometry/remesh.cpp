@@ -39,8 +39,6 @@ constexpr int kFirstInterfaceSurface = 1000;
 /// their free nodes relocated (the moving mesh's time.relocation_quality
 /// default).
 constexpr double kRelocationQuality = 0.2;
-/// Remeshes with points added against caps (cap_points), at most.
-constexpr int kCapAttempts = 3;
 
 // ---------------------------------------------------------------------------
 // Distance to an object's current surface, for the size field
@@ -313,65 +311,12 @@ void place_interface_nodes(const mesh::Mesh& old, const GivenInterfaces& given, 
   }
 }
 
-/// A point gmsh must make a vertex of region `region`'s mesh.
-struct EmbeddedPoint {
-  int region = 0;
-  Vector3d x = Vector3d::Zero();
-};
-
-// Points that break up the tetrahedra with all four vertices on an
-// interface and quality below kRelocationQuality ("caps": two interface
-// triangles and the element between them). Curved, a cap degenerates where
-// its two interface faces meet: both lie in the surface's tangent plane
-// there, so det J of the P2 map goes to zero at the shared edge's ends, and
-// only interface nodes could move to save it (measured: a resampled
-// particle of 132 interface triangles, quality -0.003). A vertex half an
-// edge into the cap's region, below the middle of its interface faces, makes
-// gmsh mesh that place with elements that reach into the region instead.
-std::vector<EmbeddedPoint> cap_points(const mesh::Mesh& m) {
-  std::vector<char> on_interface(m.n_nodes(), 0);
-  std::map<std::array<int, 3>, Vector3d>
-      face_normal;  // sorted corners -> outward (from the object) normal
-  for (const auto& f : m.interface_faces) {
-    for (int k = 0; k < 3; ++k) on_interface[f[k]] = 1;
-    std::array<int, 3> key{f[0], f[1], f[2]};
-    std::sort(key.begin(), key.end());
-    face_normal[key] = (m.nodes[f[1]] - m.nodes[f[0]]).cross(m.nodes[f[2]] - m.nodes[f[0]]);
-  }
-  std::vector<EmbeddedPoint> points;
-  for (int t = 0; t < m.n_tets(); ++t) {
-    const auto& tet = m.tets[t];
-    if (!(on_interface[tet[0]] && on_interface[tet[1]] && on_interface[tet[2]] &&
-          on_interface[tet[3]]))
-      continue;
-    if (mesh::tet_quality(m, t) >= kRelocationQuality) continue;
-    Vector3d centre = Vector3d::Zero(), normal = Vector3d::Zero();
-    double edges = 0.0;
-    for (int a = 0; a < 4; ++a) {
-      centre += m.nodes[tet[a]] / 4.0;
-      for (int b = a + 1; b < 4; ++b) edges += (m.nodes[tet[a]] - m.nodes[tet[b]]).norm() / 6.0;
-      std::array<int, 3> key{};
-      for (int c = 0, j = 0; c < 4; ++c)
-        if (c != a) key[j++] = tet[c];
-      std::sort(key.begin(), key.end());
-      if (const auto it = face_normal.find(key); it != face_normal.end())
-        normal += it->second.normalized();
-    }
-    if (normal.norm() == 0.0) continue;  // no face on an interface: not a cap
-    // Into the element's region: against the outward normal inside an
-    // object, along it in the matrix.
-    const double into = m.tet_region[t] == 0 ? 1.0 : -1.0;
-    points.push_back({m.tet_region[t], centre + into * 0.5 * edges * normal.normalized()});
-  }
-  return points;
-}
-
 // One remesh with gmsh's 3D algorithm `algorithm` (Mesh.Algorithm3D), the
 // points `embedded` made vertices of their regions.
 Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current,
                      const std::vector<InterfaceSurface>& surfaces,
                      const std::vector<detail::SurfaceDistance>& distances, int algorithm,
-                     const std::vector<EmbeddedPoint>& embedded) {
+                     const std::vector<detail::EmbeddedPoint>& embedded) {
   Remeshed out;
   mesh::Mesh& m = out.mesh;
   {
@@ -383,13 +328,7 @@ Remeshed remesh_with(const ShearCellSpec& spec, const mesh::Mesh& current,
       for (int k = 1; k <= current.n_objects; ++k)
         interfaces.push_back(add_interface(surfaces[k - 1], k, node_tag, element_tag));
       add_box_and_volumes(spec.box, box_origin(current), interfaces, entities);
-      std::vector<std::pair<int, int>> points;  // (gmsh point, volume)
-      for (const EmbeddedPoint& p : embedded)
-        points.emplace_back(
-            gmsh::model::geo::addPoint(p.x.x(), p.x.y(), p.x.z()),
-            p.region == 0 ? entities.matrix : entities.object_volume.at(p.region - 1));
-      gmsh::model::geo::synchronize();
-      for (const auto& [point, volume] : points) gmsh::model::mesh::embed(0, {point}, 3, volume);
+      detail::embed_points(entities, embedded, detail::Kernel::built_in);
     });
     session.run("setting periodicity and mesh size", [&] {
       detail::set_periodicity(spec.box, entities);
@@ -480,13 +419,14 @@ Remeshed remesh(const ShearCellSpec& spec, const mesh::Mesh& current, InterfaceR
   std::string failure;
   for (int algorithm : {1, 10}) {
     try {
-      std::vector<EmbeddedPoint> embedded;
+      std::vector<detail::EmbeddedPoint> embedded;
       Remeshed candidate = remesh_with(spec, current, surfaces, distances, algorithm, embedded);
-      std::vector<EmbeddedPoint> caps = cap_points(candidate.mesh);
-      for (int attempt = 0; attempt < kCapAttempts && !caps.empty(); ++attempt) {
+      std::vector<detail::EmbeddedPoint> caps =
+          detail::cap_points(candidate.mesh, kRelocationQuality);
+      for (int attempt = 0; attempt < detail::kCapAttempts && !caps.empty(); ++attempt) {
         embedded.insert(embedded.end(), caps.begin(), caps.end());
         Remeshed again = remesh_with(spec, current, surfaces, distances, algorithm, embedded);
-        caps = cap_points(again.mesh);
+        caps = detail::cap_points(again.mesh, kRelocationQuality);
         if (again.report.quality_after > candidate.report.quality_after)
           candidate = std::move(again);
       }

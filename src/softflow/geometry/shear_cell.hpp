@@ -110,6 +110,9 @@ struct MeshReport {
   /// whose star of elements is all there is to deform.
   int n_object_interior_vertices = 0;
   double min_quality = 0.0;   ///< mesh::min_quality of the result
+  /// Vertices embedded below caps that folded once curved (the mesh was then
+  /// made again with them; 0: the first mesh was valid).
+  int cap_vertices = 0;
   double seconds = 0.0;
   /// mesh::fingerprint of the result: equal fingerprints, the same mesh to
   /// the bit (how a user checks that a case meshes reproducibly).

@@ -112,6 +112,7 @@ MeshedCase mesh_here(const io::CaseConfig& config) {
                 {"min_quality", r.min_quality},
                 {"seconds", r.seconds},
                 {"fingerprint", fmt::format("{:016x}", r.fingerprint)}};
+  if (r.cap_vertices > 0) out.report["cap_vertices"] = r.cap_vertices;
   if (r.wall_gap)  // an object close to a wall: how its gap was meshed
     out.report["wall_gap"] = wall_gap_report(*r.wall_gap, config);
   return out;

@@ -67,6 +67,12 @@ nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet) {
                meshed.report["object_interior_vertices"].get<int>(),
                meshed.report["min_quality"].get<double>(), meshed.report["seconds"].get<double>(),
                meshed.report["fingerprint"].get<std::string>());
+  if (!quiet && is_root() && meshed.report.contains("cap_vertices"))
+    fmt::print(
+        "folded caps: tetrahedra lying flat on an interface folded once curved; meshed again with "
+        "{} "
+        "vertices embedded below them\n",
+        meshed.report["cap_vertices"].get<int>());
   if (!quiet && is_root() && meshed.report.contains("wall_gap")) {
     const auto& g = meshed.report["wall_gap"];
     fmt::print("wall gap: objects[{}] to the wall y = {:g}: {:.4g} wide, {:.2f} elements across "
