@@ -1,6 +1,7 @@
 """Running softflow cases for the validation scripts and reading their output.
 
-run_case writes CASE.toml in `work` and runs `softflow run` into work/NAME,
+run_case writes CASE.toml in `work` and runs `softflow run` into work/NAME
+(run_response: `softflow response`),
 unless that directory already holds the summary.json of a run that ended by
 itself (scripts can be re-run to regenerate their reports); a run interrupted
 (SIGTERM/SIGINT: its summary says "interrupted") or killed, with a checkpoint
@@ -40,6 +41,24 @@ def run_case(build, work, name, text, rerun=False):
         f.write(text)
     subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q", "--overwrite"],
                    check=False)
+    return directory
+
+
+def run_response(build, work, name, text, frequencies=None):
+    """`softflow response` on the case `text` into work/NAME, unless its
+    response.csv is there (the command writes its outputs only at its end);
+    at `frequencies` (-f), or the case's own frequency when None."""
+    directory = os.path.join(work, name)
+    if os.path.exists(os.path.join(directory, "response.csv")):
+        return directory
+    os.makedirs(work, exist_ok=True)
+    path = os.path.join(work, name + ".toml")
+    with open(path, "w") as f:
+        f.write(text)
+    command = [os.path.join(build, "softflow"), "response", path, "-q", "-o", directory]
+    if frequencies:
+        command += ["-f", ",".join(f"{w:g}" for w in frequencies)]
+    subprocess.run(command, check=False)
     return directory
 
 

@@ -19,7 +19,6 @@ import csv
 import json
 import math
 import os
-import subprocess
 
 import matplotlib
 
@@ -27,7 +26,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import dilute_drop_moduli as time_domain  # noqa: E402
-from case_runs import run_case, validation_main  # noqa: E402
+from case_runs import run_case, run_response, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -71,16 +70,7 @@ def jobs():
 def runner(build, work, name, text):
     if not name.startswith("fd_"):
         return run_case(build, work, name, text)
-    directory = os.path.join(work, name)
-    if os.path.exists(os.path.join(directory, "response.csv")):
-        return directory
-    os.makedirs(work, exist_ok=True)
-    path = os.path.join(work, name + ".toml")
-    with open(path, "w") as f:
-        f.write(text)
-    subprocess.run([os.path.join(build, "softflow"), "response", path, "-q", "-o", directory,
-                    "-f", ",".join(f"{w:g}" for w in FREQUENCIES)], check=False)
-    return directory
+    return run_response(build, work, name, text, FREQUENCIES)
 
 
 def read_fd(work, lam, n, alpha=0.0):

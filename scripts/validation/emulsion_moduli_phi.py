@@ -20,14 +20,13 @@ Usage: scripts/validation/emulsion_moduli_phi.py [build_dir] [work_dir] [--jobs 
 import csv
 import os
 import statistics
-import subprocess
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import validation_main  # noqa: E402
+from case_runs import run_response, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -72,18 +71,6 @@ far_size = 1.5
 
 def jobs():
     return [(name(lam, phi, s), case_text(lam, phi, s)) for lam in LAMBDAS for phi in PHIS for s in SEEDS]
-
-
-def runner(build, work, run_name, text):
-    directory = os.path.join(work, run_name)
-    if os.path.exists(os.path.join(directory, "response.csv")):
-        return directory
-    os.makedirs(work, exist_ok=True)
-    path = os.path.join(work, run_name + ".toml")
-    with open(path, "w") as f:
-        f.write(text)
-    subprocess.run([os.path.join(build, "softflow"), "response", path, "-q", "-o", directory], check=False)
-    return directory
 
 
 def mean_std(values):
@@ -169,4 +156,4 @@ def report(work):
 
 
 if __name__ == "__main__":
-    validation_main("validation_emulsion_moduli_phi", jobs, report, runner=runner)
+    validation_main("validation_emulsion_moduli_phi", jobs, report, runner=run_response)

@@ -21,7 +21,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import validation_main  # noqa: E402
+from case_runs import run_response, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -57,13 +57,7 @@ def runner(build, work, name, text):
             f.write(text)
         subprocess.run([os.path.join(build, "softflow"), "moduli", path, "-q"], check=False)
         return directory
-    if os.path.exists(os.path.join(directory, "response.csv")):
-        return directory
-    with open(path, "w") as f:
-        f.write(text)
-    subprocess.run([os.path.join(build, "softflow"), "response", path, "-q", "-o", directory,
-                    "-f", ",".join(f"{w:g}" for w in FREQUENCIES)], check=False)
-    return directory
+    return run_response(build, work, name, text, FREQUENCIES)
 
 
 def number(text):
