@@ -4,7 +4,7 @@ the thesis (issue 35; docs/confinement.md): the time step and the solvent
 fraction. The y_p0 = 0.20 H start of scripts/validation/giesekus_migration.py
 (beta = 0.2, Ca_e = 0.1, p = 4.5 read with the zero-shear Psi_1, alpha_m =
 0.2, 20 equator nodes), to t = 6, with
-  - the time step halved twice: dt = 0.04 (the figures'), 0.02, 0.01 (the
+  - the time step halved: dt = 0.04 (the figures'), 0.02, 0.01, 0.005 (to t = 2; the
     thesis, §3.1, took steps of 1-2e-3 on meshes of
     2-4 * 10^4 tetrahedra, the size of this 20-node mesh),
   - the solvent fraction mu_m / eta_m = 0.01, 0.1 (the figures'), 0.5 at the
