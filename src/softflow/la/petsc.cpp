@@ -81,4 +81,22 @@ NullSpace rigid_body_modes(std::span<const PetscScalar> xyz) {
   return modes;
 }
 
+void attach_null_space(Mat matrix, std::span<const Vec> basis) {
+  std::vector<Vector> units(basis.size());
+  std::vector<Vec> handles;
+  for (std::size_t i = 0; i < basis.size(); ++i) {
+    check(VecDuplicate(basis[i], units[i].out()), "VecDuplicate");
+    check(VecCopy(basis[i], units[i].get()), "VecCopy");
+    check(VecNormalize(units[i].get(), nullptr), "VecNormalize");
+    handles.push_back(units[i].get());
+  }
+  // The matrix keeps references to the null space and its vectors.
+  NullSpace space;
+  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, static_cast<PetscInt>(handles.size()),
+                           handles.data(), space.out()),
+        "MatNullSpaceCreate");
+  check(MatSetNullSpace(matrix, space.get()), "MatSetNullSpace");
+  check(MatSetTransposeNullSpace(matrix, space.get()), "MatSetTransposeNullSpace");
+}
+
 }  // namespace softflow::la

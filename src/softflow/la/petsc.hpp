@@ -90,4 +90,12 @@ void make_shell_preconditioner(PC pc, void* context, PetscErrorCode (*set_up)(PC
 /// near-nullspace smoothed-aggregation AMG needs for elasticity-like blocks.
 NullSpace rigid_body_modes(std::span<const PetscScalar> xyz);
 
+/// Gives `matrix` the span of `basis` (mutually orthogonal vectors, not
+/// necessarily normalised: normalised copies are made) as its null space
+/// and as its transpose's: KSPSolve then projects the right-hand side onto
+/// the range and Krylov methods solve the singular, consistent system. For
+/// operators whose left and right null spaces agree, e.g. a pressure free
+/// up to a constant with continuity rows that sum to zero.
+void attach_null_space(Mat matrix, std::span<const Vec> basis);
+
 }  // namespace softflow::la

@@ -217,18 +217,10 @@ void StokesSystem::attach_pressure_nullspace() {
   for (PetscInt d = range_.begin; d < range_.end; ++d)
     a[d - range_.begin] = dofs_.field_of(static_cast<int>(d)) == kPressureField ? 1.0 : 0.0;
   check(VecRestoreArray(pressure_constant_.get(), &a), "VecRestoreArray");
-  la::Vector unit;
-  check(VecDuplicate(pressure_constant_.get(), unit.out()), "VecDuplicate");
-  check(VecCopy(pressure_constant_.get(), unit.get()), "VecCopy");
-  check(VecNormalize(unit.get(), nullptr), "VecNormalize");
-  la::NullSpace constant;
-  Vec basis = unit.get();
-  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, 1, &basis, constant.out()),
-        "MatNullSpaceCreate");
   // The operator is symmetric: the constant is in both null spaces, and
   // KSPSolve projects it out of the right-hand side (round-off only).
-  check(MatSetNullSpace(operator_matrix(), constant.get()), "MatSetNullSpace");
-  check(MatSetTransposeNullSpace(operator_matrix(), constant.get()), "MatSetTransposeNullSpace");
+  const Vec basis = pressure_constant_.get();
+  la::attach_null_space(operator_matrix(), std::span<const Vec>(&basis, 1));
 }
 
 void StokesSystem::move_flux_defect_to_gauge(const StokesProblem& problem, Vec rhs) const {
