@@ -63,6 +63,9 @@ struct EmbeddedPoint {
 
 /// Meshes made again with points embedded against caps (cap_points), at most.
 inline constexpr int kCapAttempts = 3;
+/// Caps below this quality get a point below them (the moving mesh's
+/// time.relocation_quality default, below which the remesher also relocates).
+inline constexpr double kCapQuality = 0.2;
 
 /// Points that break up the "caps" below `quality`: tetrahedra with all four
 /// vertices on one interface, two interface triangles and the element

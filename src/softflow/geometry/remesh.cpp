@@ -422,11 +422,11 @@ Remeshed remesh(const ShearCellSpec& spec, const mesh::Mesh& current, InterfaceR
       std::vector<detail::EmbeddedPoint> embedded;
       Remeshed candidate = remesh_with(spec, current, surfaces, distances, algorithm, embedded);
       std::vector<detail::EmbeddedPoint> caps =
-          detail::cap_points(candidate.mesh, kRelocationQuality);
+          detail::cap_points(candidate.mesh, detail::kCapQuality);
       for (int attempt = 0; attempt < detail::kCapAttempts && !caps.empty(); ++attempt) {
         embedded.insert(embedded.end(), caps.begin(), caps.end());
         Remeshed again = remesh_with(spec, current, surfaces, distances, algorithm, embedded);
-        caps = detail::cap_points(again.mesh, kRelocationQuality);
+        caps = detail::cap_points(again.mesh, detail::kCapQuality);
         if (again.report.quality_after > candidate.report.quality_after)
           candidate = std::move(again);
       }

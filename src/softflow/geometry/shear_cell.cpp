@@ -822,9 +822,6 @@ std::string slow_meshing_note(const ShearCellSpec& spec, double seconds) {
 
 namespace {
 
-/// Caps below this quality get a vertex below them when a mesh folds (the remesher's threshold).
-constexpr double kCapQuality = 0.2;
-
 /// One gmsh meshing of the cell, with `embedded` made vertices of their regions.
 mesh::Mesh mesh_cell(const ShearCellSpec& spec,
                      const std::vector<detail::EmbeddedPoint>& embedded) {
@@ -870,17 +867,19 @@ mesh::Mesh build_shear_cell(const ShearCellSpec& spec, MeshReport* report) {
   // again: a mesh that came out valid stays as it was (its fingerprint too).
   // The half-turn-symmetric mesher would need each point's image: left out.
   std::vector<detail::EmbeddedPoint> embedded;
-  for (int attempt = 0; attempt < detail::kCapAttempts && !spec.sizing.point_symmetric &&
-                        mesh::min_quality(m) <= 0.0;
+  double q = mesh::min_quality(m);
+  for (int attempt = 0; q <= 0.0 && attempt < detail::kCapAttempts && !spec.sizing.point_symmetric;
        ++attempt) {
-    const auto caps = detail::cap_points(m, kCapQuality);
+    const auto caps = detail::cap_points(m, detail::kCapQuality);
     if (caps.empty()) break;
     embedded.insert(embedded.end(), caps.begin(), caps.end());
     m = mesh_cell(spec, embedded);
+    q = mesh::min_quality(m);
   }
   mesh::renumber_nodes_spatially(m);  // compact per-rank node ranges, local element loops
   detail::verify_periodic(m);
-  const double q = detail::check_quality(m, spec.sizing.optimize_high_order);
+  if (q <= 0.0)
+    detail::check_quality(m, spec.sizing.optimize_high_order);  // throws, naming where it folds
   if (report) {
     *report = make_report(m, spec, q,
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
