@@ -149,6 +149,31 @@ TEST(CaseConfig, RemeshInterfacesAreResampledWhereNeededByDefaultAndKeptWithSlip
   EXPECT_EQ(error_of("[[objects]]\nslip = 0.5\n[remesh]\ninterfaces = \"auto\"\n"), "");
 }
 
+TEST(CaseConfig, ConformationSupgTauIsTransientInSolidsAndSteadyInLiquidsByDefault) {
+  using physics::SupgTau;
+  const std::string particle = "[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 10.0\n";
+  const std::string giesekus =
+      "[matrix]\nmodel = \"giesekus\"\nsolvent_viscosity = 0.1\npolymer_viscosity = 0.9\n"
+      "relaxation_time = 0.5\nmobility = 0.2\n";
+  EXPECT_EQ(conformation_supg_taus(parse_case(giesekus + particle, "case.toml")),
+            (std::vector<SupgTau>{SupgTau::steady, SupgTau::transient}));
+  EXPECT_EQ(conformation_supg_taus(parse_case(
+                giesekus + particle + "[conformation]\nsupg_tau = \"transient\"\n", "c.toml")),
+            (std::vector<SupgTau>{SupgTau::transient, SupgTau::transient}));
+  const CaseConfig steady =
+      parse_case(particle + "[conformation]\nsupg_tau = \"steady\"\n", "case.toml");
+  EXPECT_EQ(conformation_supg_taus(steady),
+            (std::vector<SupgTau>{SupgTau::steady, SupgTau::steady}));
+  // The resolved case keeps the choice (a restart's case.toml) ...
+  EXPECT_NE(to_toml(steady).find("[conformation]\nsupg_tau = \"steady\""), std::string::npos);
+  EXPECT_EQ(parse_case(to_toml(steady), "case.toml").conformation.supg_tau,
+            ConformationConfig::SupgTau::steady);
+  // ... and a case without a conformation prints as before the key.
+  EXPECT_EQ(to_toml(parse_case("[[objects]]\n", "case.toml")).find("[conformation]"),
+            std::string::npos);
+  EXPECT_ERROR("[conformation]\nsupg_tau = \"fast\"\n", "conformation.supg_tau");
+}
+
 TEST(CaseConfig, StepsAreAdaptiveByDefaultWhereAvailableAndConstantOneKeyAway) {
   // A drop in time with neither time.step nor time.adaptive_tolerance:
   // adaptive from the default first step, bounded only by the redistribution.

@@ -461,6 +461,21 @@ bool has_relaxing_phase(const CaseConfig& c) {
                      [&](const ObjectConfig& o) { return object_constitutive(c, o).relaxes(); });
 }
 
+std::vector<physics::SupgTau> conformation_supg_taus(const CaseConfig& c) {
+  using Choice = ConformationConfig::SupgTau;
+  const auto kind = [&](const physics::viscoelastic::Constitutive& model) {
+    switch (c.conformation.supg_tau) {
+      case Choice::transient: return physics::SupgTau::transient;
+      case Choice::steady: return physics::SupgTau::steady;
+      case Choice::automatic: break;
+    }
+    return model.relaxes() ? physics::SupgTau::steady : physics::SupgTau::transient;
+  };
+  std::vector<physics::SupgTau> taus{kind(matrix_constitutive(c))};
+  for (const auto& o : c.objects) taus.push_back(kind(object_constitutive(c, o)));
+  return taus;
+}
+
 bool has_interface_slip(const CaseConfig& c) {
   return std::any_of(c.objects.begin(), c.objects.end(),
                      [](const ObjectConfig& o) { return o.slip > 0.0; });
@@ -1074,6 +1089,7 @@ std::string to_toml(const CaseConfig& c) {
       // of its checkpoints and stored runs compares with the printout.
       if (table.name == "remesh" && !c.remesh.enabled()) continue;
       if (table.name == "emulsion" && c.emulsion.volume_fraction == 0.0) continue;
+      if (table.name == "conformation" && !carries_conformation(c)) continue;
       s += '\n';
       s += schema::write_table(*keys.table(table.name), c);
       continue;

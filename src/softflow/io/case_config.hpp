@@ -14,6 +14,7 @@
 #include "softflow/geometry/remesh.hpp"
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
+#include "softflow/physics/transport/ale_transport.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/viscoelastic/constitutive.hpp"
 
@@ -147,6 +148,15 @@ struct BulkStressConfig {
   double fit_periods = 2.0;
 };
 
+/// [conformation]: the numerics of the conformation (log c) transport of
+/// every phase that has one (viscoelastic liquids, elastic particles).
+struct ConformationConfig {
+  /// The SUPG parameter's kind per phase: `automatic` = transient in the
+  /// elastic solids, steady (the thesis's) in viscoelastic liquids.
+  enum class SupgTau { automatic, transient, steady };
+  SupgTau supg_tau = SupgTau::automatic;
+};
+
 /// [emulsion]: many drops at random (thesis ch. 4; docs/emulsions.md): the
 /// single [[objects]] entry is the template, copied at the centres random
 /// sequential addition picks (geometry::random_sequential_addition).
@@ -227,6 +237,7 @@ struct CaseConfig {
   bool write_fields = true;  ///< [output] fields: write VTU/PVD fields
   TimeConfig time;            ///< [time]
   InterfaceConfig interface;  ///< [interface]
+  ConformationConfig conformation;  ///< [conformation]
   CheckpointConfig checkpoint;  ///< [checkpoint]
   BulkStressConfig bulk_stress;  ///< [bulk_stress]
   EmulsionConfig emulsion;       ///< [emulsion]
@@ -351,6 +362,10 @@ struct DimensionlessGroup {
 /// or an elastic particle's Finger tensor): its time error is one the
 /// adaptive steps' interface estimate does not see.
 [[nodiscard]] bool carries_conformation(const CaseConfig& c);
+
+/// The transport's SUPG parameter in every region ([0] the matrix, [k]
+/// object k) as [conformation] supg_tau resolves it.
+[[nodiscard]] std::vector<physics::SupgTau> conformation_supg_taus(const CaseConfig& c);
 
 /// Whether a phase is a viscoelastic liquid (a finite relaxation time: the
 /// matrix or a drop of Oldroyd-B, Giesekus, UCM or FENE-P).

@@ -460,6 +460,24 @@ Table<CaseConfig> bulk_stress_table() {
                .printed_if([](const CaseConfig& c) { return c.bulk_stress.box_side > 0.0; })}};
 }
 
+Table<CaseConfig> conformation_table() {
+  const auto conformation = [](auto member) { return field(&CaseConfig::conformation, member); };
+  return {"conformation",
+          "Numerics of the transport of log c in every phase that carries a conformation "
+          "(viscoelastic liquids, elastic particles; docs/viscoelastic.md).",
+          false,
+          {choice("supg_tau", conformation(&ConformationConfig::supg_tau),
+                  ConformationConfig::SupgTau::automatic,
+                  {{"auto", ConformationConfig::SupgTau::automatic,
+                    "transient in elastic solids (particles), steady in viscoelastic liquids"},
+                   {"transient", ConformationConfig::SupgTau::transient,
+                    "1 / tau^2 = (2 |w| / h)^2 + (2 / dt)^2 everywhere"},
+                   {"steady", ConformationConfig::SupgTau::steady,
+                    "tau = h / (2 |w|) whatever the step, everywhere (the thesis's; an elastic "
+                    "particle's shape then does not converge as dt -> 0)"}},
+                  "the SUPG parameter of the transport (w = u - u_mesh, h the element length)")}};
+}
+
 Table<CaseConfig> emulsion_table() {
   const auto emulsion = [](auto member) { return field(&CaseConfig::emulsion, member); };
   return {"emulsion",
@@ -661,9 +679,10 @@ Table<ObjectConfig> objects_table() {
 
 CaseKeys build() {
   CaseKeys k;
-  k.tables = {case_table(),   cell_table(), matrix_table(), flow_table(),
-              mesh_table(),   solver_table(), output_table(), time_table(),
-              checkpoint_table(), interface_table(), bulk_stress_table(), emulsion_table(), remesh_table()};
+  k.tables = {case_table(),       cell_table(),      matrix_table(),       flow_table(),
+              mesh_table(),       solver_table(),    output_table(),       time_table(),
+              checkpoint_table(), interface_table(), conformation_table(), bulk_stress_table(),
+              emulsion_table(),   remesh_table()};
   k.objects = objects_table();
   // [[objects]] after [flow]: the objects come after what sets their Gamma.
   for (const auto& t : k.tables) {

@@ -40,14 +40,13 @@ void for_each_owned_block(fem::Field& field, F&& f) {
 }  // namespace
 
 ViscoelasticPhases::ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<ve::Constitutive> models,
-                                       bool slip_velocity)
+                                       bool slip_velocity, std::vector<physics::SupgTau> supg_taus)
     : mesh_(mesh),
       models_(std::move(models)),
       p1_(std::make_shared<fem::Space>(mesh, 1, fem::Continuity::per_region)),
       p2_(std::make_shared<fem::Space>(mesh, 2, fem::Continuity::continuous)),
-      velocity_space_(slip_velocity
-                          ? std::make_shared<fem::Space>(mesh, 2, fem::Continuity::per_region)
-                          : p2_),
+      velocity_space_(
+          slip_velocity ? std::make_shared<fem::Space>(mesh, 2, fem::Continuity::per_region) : p2_),
       log_conformation_(mesh, "log_conformation", p1_, ve::kSymmetricComponents),
       conformation_(mesh, "conformation", p1_, ve::kSymmetricComponents),
       stress_(mesh, "polymer_stress", p1_, ve::kSymmetricComponents),
@@ -59,7 +58,7 @@ ViscoelasticPhases::ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<ve::C
                             mesh.n_objects + 1));
   // c = I everywhere at t = 0 (eq. 2.20): s = 0, tau = 0.
   for_each_owned_block(conformation_, [](int, auto c) { c = ve::pack_symmetric(ve::Mat3::Identity()); });
-  transport_ = std::make_unique<physics::AleTransport>(log_conformation_);
+  transport_ = std::make_unique<physics::AleTransport>(log_conformation_, std::move(supg_taus));
   source_ = ve::log_conformation_source(models_, velocity_, log_conformation_, *transport_);
 }
 

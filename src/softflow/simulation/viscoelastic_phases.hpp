@@ -56,8 +56,11 @@ class ViscoelasticPhases {
   /// run's and must outlive this object.
   /// `slip_velocity`: the Stokes velocity has a copy per region (interface
   /// slip), and the transport reads each region's own copy.
-  ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<physics::viscoelastic::Constitutive> models,
-                     bool slip_velocity = false);
+  /// `supg_taus[r]`: the transport's SUPG parameter in region r
+  /// (physics::AleTransport; steady where not given).
+  ViscoelasticPhases(const mesh::Mesh& mesh,
+                     std::vector<physics::viscoelastic::Constitutive> models,
+                     bool slip_velocity = false, std::vector<physics::SupgTau> supg_taus = {});
   ~ViscoelasticPhases();
   ViscoelasticPhases(const ViscoelasticPhases&) = delete;
   ViscoelasticPhases& operator=(const ViscoelasticPhases&) = delete;

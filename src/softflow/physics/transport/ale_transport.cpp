@@ -3,6 +3,7 @@
 #include "softflow/fem/mesh_transfer.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -22,8 +23,9 @@ constexpr int kQuadratureDegree = 4;
 
 }  // namespace
 
-AleTransport::AleTransport(fem::Field& s)
+AleTransport::AleTransport(fem::Field& s, std::vector<SupgTau> tau_by_region)
     : s_(s),
+      tau_by_region_(std::move(tau_by_region)),
       previous_(s.mesh(), s.name() + "_previous", s.dofs().field(0).space, s.components()),
       scalar_(s.mesh(), s.name() + "_component", s.dofs().field(0).space, 1),
       operator_(fem::element_matrix(scalar_)) {}
@@ -82,7 +84,11 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
       volume += points[q].weight;
       speed += points[q].weight * w[q].norm();
     }
-    const double tau = fem::supg_tau(fem::element_length(volume), speed / volume, 0.0);
+    const double steady_tau = fem::supg_tau(fem::element_length(volume), speed / volume, 0.0);
+    const int region = mesh.tet_region[t];
+    const bool transient = region < static_cast<int>(tau_by_region_.size()) &&
+                           tau_by_region_[region] == SupgTau::transient;
+    const double tau = transient ? fem::transient_supg_tau(steady_tau, dt) : steady_tau;
     ke.setZero();
     fe.setZero();
     for (std::size_t q = 0; q < points.size(); ++q) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -19,6 +20,10 @@ class MeshTransfer;
 
 namespace softflow::physics {
 
+/// The SUPG parameter's time scale (fem/supg.hpp): `steady` is h / (2 |w|)
+/// whatever the step (the thesis's), `transient` limits it to dt / 2.
+enum class SupgTau { steady, transient };
+
 /// Advances a field s with any number of components on a scalar space (P1
 /// per region for the log-conformation tensor, thesis §2.3.2) through
 ///
@@ -30,7 +35,8 @@ namespace softflow::physics {
 /// Fattal-Kupferman terms, from the latest s and grad u). In time BDF1 at
 /// the first step, BDF2 after (time::bdf, eqs. 2.47-2.50's Gear scheme); in
 /// space SUPG, test functions v + tau w . grad v with tau = h / (2 |w|)
-/// (SPEC §2 part 5, fem::supg_tau without diffusion).
+/// (SPEC §2 part 5, fem::supg_tau without diffusion), or, per region,
+/// combined with dt / 2 (SupgTau::transient, fem::transient_supg_tau).
 ///
 /// The operator (a0/dt) M + C(w) + SUPG is the same for every component:
 /// it is assembled once per step (la::CsrMatrix; non-symmetric), factored
@@ -49,7 +55,9 @@ class AleTransport {
 
   /// `s` is the transported field (its space and components); it must
   /// outlive this object.
-  explicit AleTransport(fem::Field& s);
+  /// `tau_by_region[r]`: the SUPG parameter's kind in region r (0 the
+  /// matrix, k object k); steady where not given.
+  explicit AleTransport(fem::Field& s, std::vector<SupgTau> tau_by_region = {});
   ~AleTransport();
   AleTransport(const AleTransport&) = delete;
   AleTransport& operator=(const AleTransport&) = delete;
@@ -88,6 +96,7 @@ class AleTransport {
 
  private:
   fem::Field& s_;
+  std::vector<SupgTau> tau_by_region_;
   fem::Field previous_;  // s_{n-1}
   fem::Field scalar_;    // one component's solution
   fem::ElementMatrix operator_;  // on scalar_'s dofs
