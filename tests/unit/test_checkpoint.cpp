@@ -21,6 +21,7 @@
 #include "softflow/io/checkpoint.hpp"
 #include "support/verification/structured_box.hpp"
 #include "softflow/simulation/drop_run.hpp"
+#include "softflow/simulation/run_directory.hpp"
 
 namespace softflow::io {
 namespace {
@@ -174,6 +175,37 @@ TEST(Checkpoint, RestartRefusesAnotherSoftflowVersion) {
     EXPECT_NE(std::string(e.what()).find("written by softflow 0.0.1-old"), std::string::npos)
         << e.what();
   }
+  fs::remove_all(dir);
+}
+
+TEST(Checkpoint, AParticleRunFromBeforeTheConformationKeysContinuesOnlyWithTheSteadySupgTau) {
+  // Such runs carried the particle's conformation with the steady SUPG
+  // parameter; the default is now transient in solids: continuing silently
+  // would change the numerics half-way.
+  const std::string particle =
+      "[[objects]]\nmodel = \"neo_hookean\"\nmodulus = 10.0\n[time]\nend = 1.0\n";
+  const auto dir = fresh_directory("conformation_keys");
+  Checkpoint c = sample();
+  std::string old_case = to_toml(parse_case(particle, "case.toml"));
+  const std::string section = "\n[conformation]\nsupg_tau = \"auto\"\n";
+  old_case.erase(old_case.find(section), section.size());
+  ASSERT_EQ(old_case.find("supg_tau"), std::string::npos);
+  c.case_toml = old_case;
+  try {
+    simulation::check_same_case(parse_case(particle, "case.toml"), c, dir);
+    FAIL() << "the default supg_tau was accepted for a run from before the key";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "'supg_tau = \"auto\"' here, 'supg_tau = \"steady\"' in the checkpoint"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(simulation::check_same_case(
+      parse_case(particle + "[conformation]\nsupg_tau = \"steady\"\n", "case.toml"), c, dir));
+  // A case without a conformation is unaffected.
+  const std::string drop = "[[objects]]\n[time]\nend = 1.0\n";
+  c.case_toml = to_toml(parse_case(drop, "case.toml"));
+  EXPECT_NO_THROW(simulation::check_same_case(parse_case(drop, "case.toml"), c, dir));
   fs::remove_all(dir);
 }
 

@@ -78,7 +78,8 @@ void RunFiles::close() {
 }
 
 /// The case of `directory`/case.toml must be the one the checkpoint was
-/// written with; only [checkpoint] may change between sessions.
+/// written with; only [checkpoint] may change between sessions. A case from
+/// before [conformation] was run with its steady SUPG parameter.
 void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpoint,
                      const fs::path& directory) {
   if (checkpoint.softflow_version != SOFTFLOW_VERSION)
@@ -89,6 +90,11 @@ void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpo
         checkpoint.softflow_version));
   io::CaseConfig saved = io::parse_case(checkpoint.case_toml, "checkpoint");
   saved.checkpoint = config.checkpoint;
+  // A checkpoint from before [conformation] carried its conformation with the
+  // steady SUPG parameter: continuing it needs supg_tau = "steady" (the
+  // mismatch below names the line), not the later default.
+  if (checkpoint.case_toml.find("[conformation]") == std::string::npos)
+    saved.conformation.supg_tau = io::ConformationConfig::SupgTau::steady;
   const std::string expected = io::to_toml(saved), given = io::to_toml(config);
   if (expected == given) return;
   std::istringstream a(expected), b(given);

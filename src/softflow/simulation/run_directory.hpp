@@ -39,7 +39,8 @@ int truncate_timeseries(const std::filesystem::path& path, int step, const std::
 void open_series(const std::filesystem::path& directory, const DropSimulation& sim, RunFiles& files);
 
 /// The case of `directory`/case.toml must be the one the checkpoint was
-/// written with; only [checkpoint] may change between sessions.
+/// written with; only [checkpoint] may change between sessions. A checkpoint
+/// whose case has no [conformation] was written with supg_tau = "steady".
 void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpoint,
                      const std::filesystem::path& directory);
 
