@@ -29,13 +29,14 @@ inline double supg_tau(double h, double speed, double diffusivity) {
 
 /// tau of a transient problem stepped with dt: the steady tau (above) and
 /// dt / 2 combined as 1 / tau^2 = 1 / tau_steady^2 + (2 / dt)^2 (Shakib,
-/// Hughes & Johan 1991; Tezduyar 1992), so that tau <= dt / 2. Why: with
-/// the steady tau the Petrov-Galerkin weight tau b.grad v ~ (h / 2) b/|b| . grad v
-/// keeps an O(1) share of the time-derivative term however small |b| is,
-/// and where the transport speed is small (inside a tank-treading elastic
-/// particle, b = u - u_mesh) a neo-Hookean particle's shape then did not
-/// converge as dt -> 0 (docs/viscoelastic.md, "SUPG and the time step").
-/// 0 where the steady tau is 0 (no transport: no streamline term).
+/// Hughes & Johan 1991; Tezduyar 1992), so that tau <= dt / 2. Why: where
+/// the transport speed |b| is small (inside a tank-treading elastic
+/// particle, b = u - u_mesh) the steady tau is large, and its weight
+/// tau b.grad v ~ (h / 2) b/|b| . grad v on the time derivative does not
+/// shrink with dt; measured, a neo-Hookean particle's shape then did not
+/// converge as dt fell, and does with this tau (docs/viscoelastic.md, "The
+/// SUPG parameter and the time step"). 0 where the steady tau is 0 (no
+/// transport: no streamline term).
 inline double transient_supg_tau(double steady_tau, double dt) {
   if (steady_tau <= 0.0) return 0.0;
   const double inverse_dt = 2.0 / dt;
