@@ -163,7 +163,8 @@ def report(work):
     # Long study.
     lines += [f"## The validation case to t = {LONG_END:g} (box 30, 28 equator nodes; examples/elastic_particle.toml)",
               "", "D and theta: means over the last 2 pi; `D ampl.`: D's half-amplitude over that window; "
-              "`ellipsoid dev.`: the interface's largest distance from its fitted ellipsoid at the end, over R.", "",
+              "`ellipsoid dev.`: the interface's largest distance from its fitted ellipsoid at the end, over R. "
+              "Wall times are from a shared machine (two to four runs on two cores): not comparable.", "",
               "| supg_tau | dt | D | D ampl. | theta [deg] | ellipsoid dev. | volume drift | wall time [s] | status |",
               "|---|---|---|---|---|---|---|---|---|"]
     long = {}
