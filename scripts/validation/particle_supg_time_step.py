@@ -14,7 +14,9 @@ Two studies, each at both settings:
     box 30, 28 equator nodes, t = 12) at dt = 0.04, 0.02, 0.01: steady D and
     theta (means over the last 2 pi), D's half-amplitude over that window
     and the interface's largest distance from its fitted ellipsoid at t = 12
-    (docs/validation/elastic_particle.md's open findings).
+    (docs/validation/elastic_particle.md's open findings), and at dt = 0.02
+    on the 40-node mesh of that document's mesh study (far size 2.25,
+    growth 0.28): whether the two settings meet as the mesh is refined.
 Writes docs/validation/particle_supg_time_step.{md,csv,png}.
 Usage: scripts/validation/particle_supg_time_step.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import csv
@@ -35,14 +37,17 @@ SHORT_STEPS = [0.04, 0.02, 0.01, 0.005, 0.0025]
 SHORT_END = 0.6
 LONG_STEPS = [0.04, 0.02, 0.01]
 LONG_END = 12.0
+# (equator nodes, far size, growth): the validation mesh and the next level of its mesh study.
+LONG_MESHES = [(28, 3.2, 0.4), (40, 2.25, 0.28)]
+FINE_MESH_STEP = 0.02
 
 
 def short_name(kind, dt):
     return f"short_{kind}_dt{dt:g}"
 
 
-def long_name(kind, dt):
-    return f"long_{kind}_dt{dt:g}"
+def long_name(kind, dt, nodes=28):
+    return f"long_{kind}_dt{dt:g}" + ("" if nodes == 28 else f"_n{nodes}")
 
 
 def short_text(kind, dt):
@@ -69,9 +74,10 @@ supg_tau = "{kind}"
 """
 
 
-def long_text(kind, dt):
+def long_text(kind, dt, nodes=28):
+    _, far, growth = next(m for m in LONG_MESHES if m[0] == nodes)
     return f"""[case]
-name = "{long_name(kind, dt)}"
+name = "{long_name(kind, dt, nodes)}"
 [cell]
 length = 30.0
 height = 30.0
@@ -85,9 +91,9 @@ radius = 1.0
 model = "neo_hookean"
 elastic_capillary_number = 0.1
 [mesh]
-equator_nodes = 28
-far_size = 3.2
-growth = 0.4
+equator_nodes = {nodes}
+far_size = {far:g}
+growth = {growth:g}
 [time]
 step = {dt:g}
 end = {LONG_END:g}
@@ -100,7 +106,8 @@ supg_tau = "{kind}"
 
 def jobs():
     # The long runs first (the longest takes ~15 min on a free core).
-    return ([(long_name(k, dt), long_text(k, dt)) for dt in reversed(LONG_STEPS) for k in KINDS] +
+    return ([(long_name(k, FINE_MESH_STEP, 40), long_text(k, FINE_MESH_STEP, 40)) for k in KINDS] +
+            [(long_name(k, dt), long_text(k, dt)) for dt in reversed(LONG_STEPS) for k in KINDS] +
             [(short_name(k, dt), short_text(k, dt)) for dt in reversed(SHORT_STEPS) for k in KINDS])
 
 
@@ -161,26 +168,28 @@ def report(work):
                          " / ".join(f"{abs(a / b):.2f}" for a, b in zip(dd, dd[1:]) if b != 0.0))
     lines.append("")
     # Long study.
-    lines += [f"## The validation case to t = {LONG_END:g} (box 30, 28 equator nodes; examples/elastic_particle.toml)",
+    lines += [f"## The validation case to t = {LONG_END:g} (box 30, 28 equator nodes unless stated; examples/elastic_particle.toml)",
               "", "D and theta: means over the last 2 pi; `D ampl.`: D's half-amplitude over that window; "
               "`ellipsoid dev.`: the interface's largest distance from its fitted ellipsoid at the end, over R. "
               "Wall times are from a shared machine (two to four runs on two cores): not comparable.", "",
-              "| supg_tau | dt | D | D ampl. | theta [deg] | ellipsoid dev. | volume drift | wall time [s] | status |",
-              "|---|---|---|---|---|---|---|---|---|"]
+              "| supg_tau | equator nodes | dt | D | D ampl. | theta [deg] | ellipsoid dev. | volume drift | "
+              "wall time [s] | status |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
     long = {}
     for kind in KINDS:
         long[kind] = []
-        for dt in LONG_STEPS:
-            r = read_run(os.path.join(work, long_name(kind, dt)), 2 * math.pi)
-            long[kind].append(r)
+        for nodes, dt in [(28, dt) for dt in LONG_STEPS] + [(40, FINE_MESH_STEP)]:
+            r = read_run(os.path.join(work, long_name(kind, dt, nodes)), 2 * math.pi)
+            if nodes == 28:
+                long[kind].append(r)
             if r is None:
-                lines.append(f"| {kind} | {dt:g} | (not run) | | | | | | |")
+                lines.append(f"| {kind} | {nodes} | {dt:g} | (not run) | | | | | | |")
                 continue
             status = r["status"] if r["end"] >= LONG_END - 1e-9 else f"{r['status']} (t = {r['end']:.2f})"
-            lines.append(f"| {kind} | {dt:g} | {r['D_steady']:.5f} | {r['D_amplitude']:.1e} | "
+            lines.append(f"| {kind} | {nodes} | {dt:g} | {r['D_steady']:.5f} | {r['D_amplitude']:.1e} | "
                          f"{r['theta_steady']:.3f} | {r['deviation']:.2e} | {r['volume_drift']:.1e} | "
                          f"{r['wall']:.0f} | {status} |")
-            out_rows.append({"study": "long", "supg_tau": kind, "dt": dt, "D": r["D_steady"],
+            out_rows.append({"study": f"long_n{nodes}", "supg_tau": kind, "dt": dt, "D": r["D_steady"],
                              "theta_deg": r["theta_steady"], "y_c": "", "D_amplitude": r["D_amplitude"],
                              "ellipsoid_dev": r["deviation"]})
     lines.append("")
