@@ -31,11 +31,17 @@ BASE_DT = 0.04
 # (name, time step, solvent viscosity, end); eta_m = 1 throughout. The
 # longest first; the smallest step only through the first window (t = 1-2,
 # after two relaxation times of the matrix) for the time-step study.
-RUNS = [("dt0.01", 0.01, SOLVENT, END), ("base", BASE_DT, SOLVENT, END), ("dt0.02", 0.02, SOLVENT, END),
-        ("solvent0.5", BASE_DT, 0.5, END), ("solvent0.01", BASE_DT, 0.01, END), ("dt0.005", 0.005, SOLVENT, 2.0)]
+# The last element: [conformation] supg_tau (docs/viscoelastic.md): the
+# studies above with the thesis's steady parameter everywhere (the only one
+# when they ran), then the figures' step with the default (auto: transient in
+# the particle) and with the transient parameter in the matrix as well.
+RUNS = [("dt0.01", 0.01, SOLVENT, END, "steady"), ("base", BASE_DT, SOLVENT, END, "steady"),
+        ("dt0.02", 0.02, SOLVENT, END, "steady"), ("solvent0.5", BASE_DT, 0.5, END, "steady"),
+        ("solvent0.01", BASE_DT, 0.01, END, "steady"), ("dt0.005", 0.005, SOLVENT, 2.0, "steady"),
+        ("supg_auto", BASE_DT, SOLVENT, END, "auto"), ("supg_transient", BASE_DT, SOLVENT, END, "transient")]
 
 
-def text(name, dt, solvent, end):
+def text(name, dt, solvent, end, supg):
     polymer = 1.0 - solvent
     base = case_text(START).replace(f'name = "{case_name(START)}"', f'name = "{name}"')
     old_matrix = base[base.index("solvent_viscosity"):base.index("mobility")]
@@ -43,11 +49,11 @@ def text(name, dt, solvent, end):
                   f"relaxation_time = {P * CA_E / polymer:.10g}\n")
     base = base.replace(old_matrix, new_matrix)
     base = base.replace(f"step = {BASE_DT}", f"step = {dt}")
-    return base.replace("end = 15.0", f"end = {end}")
+    return base.replace("end = 15.0", f"end = {end}") + f'[conformation]\nsupg_tau = "{supg}"\n'
 
 
 def jobs():
-    return [(name, text(name, dt, solvent, end)) for name, dt, solvent, end in RUNS]
+    return [(name, text(name, dt, solvent, end, supg)) for name, dt, solvent, end, supg in RUNS]
 
 
 def summary_of(directory):
@@ -57,7 +63,7 @@ def summary_of(directory):
 
 def report(work):
     rows = []
-    for name, dt, solvent, _ in RUNS:
+    for name, dt, solvent, _, supg in RUNS:
         directory = os.path.join(work, name)
         if not os.path.exists(os.path.join(directory, "migration.csv")):
             continue
@@ -66,16 +72,16 @@ def report(work):
         s = summary_of(directory)
         groups = {g["symbol"]: g["value"] for g in s.get("dimensionless_groups", []) if g.get("object") == 1}
         vs = [mean_velocity(r, a, b) if t_last >= b - 1e-9 else None for a, b in WINDOWS]
-        rows.append(dict(name=name, dt=dt, solvent=solvent, lam=P * CA_E / (1.0 - solvent), p=groups.get("p"),
+        rows.append(dict(name=name, dt=dt, solvent=solvent, supg=supg, lam=P * CA_E / (1.0 - solvent), p=groups.get("p"),
                          p_n1=groups.get("p_N1"), vs=vs, t_last=t_last, wall=s.get("wall_seconds"),
                          unknowns=s.get("unknowns")))
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "giesekus_migration_sensitivity.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["run", "dt", "solvent_viscosity", "relaxation_time", "p", "p_N1"] +
+        w.writerow(["run", "supg_tau", "dt", "solvent_viscosity", "relaxation_time", "p", "p_N1"] +
                    [f"mean_v_p_t{a:g}_{b:g}" for a, b in WINDOWS] + ["t_last", "wall_time_s"])
         for x in rows:
-            w.writerow([x["name"], x["dt"], x["solvent"], f"{x['lam']:.6g}", x["p"], x["p_n1"]] +
+            w.writerow([x["name"], x["supg"], x["dt"], x["solvent"], f"{x['lam']:.6g}", x["p"], x["p_n1"]] +
                        ["" if v is None else f"{v:.6g}" for v in x["vs"]] + [x["t_last"], x["wall"]])
 
     def cell(v, fmt):
@@ -87,18 +93,20 @@ def report(work):
              "the time step halved (dt = 0.005 only to t = 2; a run stopped early shows the t it reached, its "
              "windows past that empty) and with the solvent fraction changed at the same p. v_p is the slope of y_p(t) in "
              "gamma_dot H; negative is towards the centre plane. The thesis (Fig. 3.12, y_N = 0.26 H) has this "
-             "start migrating towards the wall (v_p > 0).", "",
-             "| run | dt | mu_m / eta_m | lambda_m | p | p_N1 | " +
+             "start migrating towards the wall (v_p > 0). `supg_tau`: the conformation transport's SUPG "
+             "parameter (docs/viscoelastic.md); the time-step study below uses the steady runs.", "",
+             "| run | supg_tau | dt | mu_m / eta_m | lambda_m | p | p_N1 | " +
              " | ".join(f"v_p, t = {a:g}-{b:g}" for a, b in WINDOWS) + " | t reached | wall time (s) |",
-             "|---|---|---|---|---|---|" + "---|" * len(WINDOWS) + "---|---|"]
+             "|---|---|---|---|---|---|---|" + "---|" * len(WINDOWS) + "---|---|"]
     for x in rows:
-        lines.append(f"| {x['name']} | {x['dt']:g} | {x['solvent']:g} | {x['lam']:.4f} | {cell(x['p'], '.3f')} | "
+        lines.append(f"| {x['name']} | {x['supg']} | {x['dt']:g} | {x['solvent']:g} | {x['lam']:.4f} | {cell(x['p'], '.3f')} | "
                      f"{cell(x['p_n1'], '.3f')} | " + " | ".join(cell(v, ".3e") for v in x["vs"]) +
                      f" | {x['t_last']:g} | {cell(x['wall'], '.0f')} |")
     # The time-step study: per window, v_p against dt, and v = v* + c dt^p
     # through each three successive halvings.
     for k, (a, b) in enumerate(WINDOWS):
-        steps = {x["dt"]: x["vs"][k] for x in rows if x["solvent"] == SOLVENT and x["vs"][k] is not None}
+        steps = {x["dt"]: x["vs"][k] for x in rows
+                 if x["solvent"] == SOLVENT and x["supg"] == "steady" and x["vs"][k] is not None}
         levels = sorted(steps, reverse=True)
         if len(levels) < 2:
             continue
