@@ -49,7 +49,8 @@ def text(name, dt, solvent, end, supg):
                   f"relaxation_time = {P * CA_E / polymer:.10g}\n")
     base = base.replace(old_matrix, new_matrix)
     base = base.replace(f"step = {BASE_DT}", f"step = {dt}")
-    return base.replace("end = 15.0", f"end = {end}") + f'[conformation]\nsupg_tau = "{supg}"\n'
+    base = base.replace("end = 15.0", f"end = {end}")
+    return base.replace('supg_tau = "steady"', f'supg_tau = "{supg}"')
 
 
 def jobs():
