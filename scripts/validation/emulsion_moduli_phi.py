@@ -15,7 +15,13 @@ reach of this layout.
 
 Runs lambda = 1 first (Fig. 4.13), then 5, 0.1, 0.5, 100; every configuration
 is its own run (kept; a second call only reports), so the script can be
-stopped and called again. Writes docs/validation/emulsion_moduli_phi.{md,csv,png}.
+stopped and called again. Each configuration's result is also kept in the
+repository (docs/validation/emulsion_moduli_phi_configurations.csv), and a
+configuration found there is not run again, so that a later call on another
+machine, whose work directory is empty, goes on where the last one stopped;
+the points made before that record existed (lambda = 1, 5, 0.1) are carried
+over from the document's own csv and table. Writes
+docs/validation/emulsion_moduli_phi{.md,.csv,.png,_configurations.csv}.
 Usage: scripts/validation/emulsion_moduli_phi.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import csv
 import os
@@ -69,33 +75,82 @@ far_size = 1.5
 """
 
 
+RECORD = os.path.join(OUT, "emulsion_moduli_phi_configurations.csv")
+KEYS = ("box_phi", "box_G_storage_R_over_Gamma", "box_G_loss_over_eta_m_omega", "oldroyd_box_G_storage",
+        "oldroyd_box_G_loss", "seconds", "iterations")
+
+
+def recorded():
+    """Every configuration's result kept in the repository, by run name."""
+    if not os.path.exists(RECORD):
+        return {}
+    return {row["run"]: row for row in csv.DictReader(open(RECORD))}
+
+
+def earlier_points():
+    """The points of the document made before the per-configuration record
+    (their runs are gone): the csv's values with the table's wall time and
+    iterations, by (lambda, phi asked)."""
+    table = os.path.join(OUT, "emulsion_moduli_phi.md")
+    if not os.path.exists(RECORD.replace("_configurations", "")) or not os.path.exists(table):
+        return {}
+    cost = {}
+    for line in open(table):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 13 and cells[1].replace(".", "").isdigit():
+            cost[(float(cells[1]), float(cells[2]))] = (float(cells[11]), float(cells[12]))
+    points = {}
+    for row in csv.DictReader(open(RECORD.replace("_configurations", ""))):
+        key = (float(row["lambda"]), float(row["phi_asked"]))
+        if key in cost:
+            points[key] = dict(lam=key[0], phi=key[1], n=int(row["configurations"]),
+                               box_phi=(float(row["box_phi"]), 0.0),
+                               storage=(float(row["G_storage_R_over_Gamma"]), float(row["G_storage_std"])),
+                               loss=(float(row["G_loss_over_eta_m_omega"]), float(row["G_loss_std"])),
+                               oldroyd=(float(row["oldroyd_G_storage"]), float(row["oldroyd_G_loss"])),
+                               seconds=cost[key][0], iterations=cost[key][1])
+    return points
+
+
+# The points of the earlier document that are complete (every seed) need no runs.
+CARRIED = {key for key, p in earlier_points().items() if p["n"] == len(SEEDS)}
+
+
 def jobs():
-    return [(name(lam, phi, s), case_text(lam, phi, s)) for lam in LAMBDAS for phi in PHIS for s in SEEDS]
+    done = recorded()
+    return [(name(lam, phi, s), case_text(lam, phi, s)) for lam in LAMBDAS for phi in PHIS for s in SEEDS
+            if (lam, phi) not in CARRIED and name(lam, phi, s) not in done]
 
 
 def mean_std(values):
     return statistics.mean(values), (statistics.stdev(values) if len(values) > 1 else 0.0)
 
 
-def read_point(work, lam, phi):
+def read_point(work, lam, phi, record):
+    """The configurations of one point: each run's response.csv, else its recorded row."""
     rows = []
     for s in SEEDS:
         path = os.path.join(work, name(lam, phi, s), "response.csv")
         if os.path.exists(path):
-            rows.append(next(csv.DictReader(open(path))))
+            rows.append(dict(next(csv.DictReader(open(path))), run=name(lam, phi, s)))
+        elif name(lam, phi, s) in record:
+            rows.append(record[name(lam, phi, s)])
     return rows
 
 
 def report(work):
-    table, points = [], {}
+    table, points, record, earlier = [], {}, recorded(), earlier_points()
+    kept = []
     for lam in LAMBDAS:
         for phi in PHIS:
-            rows = read_point(work, lam, phi)
+            rows = read_point(work, lam, phi, record)
+            kept += rows
             if not rows:
+                if (lam, phi) in earlier:
+                    points.setdefault(lam, []).append(earlier[(lam, phi)])
+                    table.append(earlier[(lam, phi)])
                 continue
-            value = {key: [float(r[key]) for r in rows] for key in
-                     ("box_phi", "box_G_storage_R_over_Gamma", "box_G_loss_over_eta_m_omega", "oldroyd_box_G_storage",
-                      "oldroyd_box_G_loss", "seconds", "iterations")}
+            value = {key: [float(r[key]) for r in rows] for key in KEYS}
             p = dict(lam=lam, phi=phi, n=len(rows), box_phi=mean_std(value["box_phi"]),
                      storage=mean_std(value["box_G_storage_R_over_Gamma"]),
                      loss=mean_std(value["box_G_loss_over_eta_m_omega"]),
@@ -127,6 +182,11 @@ def report(work):
               "above the theory beyond the dilute regime by up to 25 % (phi = 0.28), G'' 5 % above there; lambda = 100, "
               "G' qualitatively like the theory only, with wide error bars."]
     os.makedirs(OUT, exist_ok=True)
+    with open(RECORD, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(("run",) + KEYS)
+        for row in kept:
+            w.writerow([row["run"]] + [row[key] for key in KEYS])
     with open(os.path.join(OUT, "emulsion_moduli_phi.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     with open(os.path.join(OUT, "emulsion_moduli_phi.csv"), "w", newline="") as f:
