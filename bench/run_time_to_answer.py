@@ -10,10 +10,12 @@ Every run stops at steady state (time.steady_tolerance 2e-5 over a window of
 accepted and rejected steps, unknowns, the steady D and its error against the
 extrapolated D; runs go one at a time (timings), `--repeats` times, medians
 reported. The machine is shared: compare ratios within one run of this script.
-A second table answers the same question by extrapolation: `softflow
-converge` on three coarse meshes of the same family (coarsest `--richardson`
-equator nodes, factor 1.25), timed as a whole; its Richardson value is
-compared with the reference. The reference comes from the study's finest
+One stepping also stops sooner (steady_window 1 instead of 2). A second
+table answers the same question by extrapolation: `softflow converge` on
+three coarse meshes of the same family (coarsest `--richardson` equator
+nodes, factor 1.25), or on the coarsest two with the study's order given
+(`--order 3`), timed as a whole; its Richardson value is compared with the
+reference. The reference comes from the study's finest
 three levels, so the two share at most one mesh (stated in the table).
 
 Writes docs/benchmarks/time_to_answer.{md,json}.
@@ -50,11 +52,17 @@ STEPPING = [("constant dt = 0.05", "step = 0.05\n", False),
             ("adaptive, tolerance 1e-3", "step = 0.01\nadaptive_tolerance = 1e-3\n", False),
             ("adaptive, tolerance 3e-3", "step = 0.01\nadaptive_tolerance = 3e-3\n", False),
             ("Taylor start, adaptive 1e-3", "step = 0.01\nadaptive_tolerance = 1e-3\n", True),
-            ("Taylor start, adaptive 3e-3", "step = 0.01\nadaptive_tolerance = 3e-3\n", True)]
+            ("Taylor start, adaptive 3e-3", "step = 0.01\nadaptive_tolerance = 3e-3\n", True),
+            ("Taylor start, adaptive 3e-3, window 1", "step = 0.01\nadaptive_tolerance = 3e-3\nsteady_window = 1.0\n",
+             True)]
 # The extrapolation's levels: as the study (constant 0.05 from the sphere),
-# and the fastest stepping above.
-EXTRAPOLATIONS = [("constant dt = 0.05, sphere", "step = 0.05\n", False),
-                  ("Taylor start, adaptive 3e-3", "step = 0.01\nadaptive_tolerance = 3e-3\n", True)]
+# and the fastest stepping above; (label, [time] lines, Taylor start, levels,
+# order given to `converge --order` or None: observed from three levels).
+# The study's order is 3 (docs/accuracy.md: 2.9-3.0 from its finest levels).
+EXTRAPOLATIONS = [("constant dt = 0.05, sphere", "step = 0.05\n", False, 3, None),
+                  ("Taylor start, adaptive 3e-3", "step = 0.01\nadaptive_tolerance = 3e-3\n", True, 3, None),
+                  ("Taylor start, adaptive 3e-3, window 1",
+                   "step = 0.01\nadaptive_tolerance = 3e-3\nsteady_window = 1.0\n", True, 2, 3.0)]
 
 
 def reference_d():
@@ -84,6 +92,8 @@ def case_text(name, equator, far, growth, time_lines, taylor=False):
     text = re.sub(r"equator_nodes = \d+", f"equator_nodes = {equator}", text)
     text = re.sub(r"far_size = [0-9.]+", f"far_size = {far}", text)
     text = re.sub(r"growth = [0-9.]+", f"growth = {growth}", text)
+    if "steady_window" in time_lines:
+        text = re.sub(r"\nsteady_window = [^\n]*", "", text, count=1)
     text = re.sub(r"\nstep = [0-9.]+", "\n" + time_lines.rstrip("\n"), text)
     text = re.sub(r"interval_steps = \d+", "interval_steps = 0", text)
     text = re.sub(r'directory = "[^"]*".*\n', "", text)
@@ -103,10 +113,11 @@ def run(build, work, name, text, reuse):
         return json.load(f)
 
 
-def richardson_answer(build, work, coarsest, jobs, reuse, time_lines, taylor, tag):
-    """`softflow converge` on three levels from `coarsest` equator nodes:
-    (total wall seconds, converge.json's D entry, the levels' rows)."""
-    name = f"converge_N{coarsest}{tag}"
+def richardson_answer(build, work, coarsest, jobs, reuse, time_lines, taylor, tag, levels=3, order=None, repeat=0):
+    """`softflow converge` on `levels` levels from `coarsest` equator nodes
+    (with `--order order` if given): (total wall seconds, converge.json's D
+    entry, the levels' rows)."""
+    name = f"converge_N{coarsest}{tag}_r{repeat}"
     out = os.path.join(work, name)
     text = case_text(name, coarsest, *level_mesh(coarsest), time_lines, taylor)
     text = text.replace("\n[output]\n", f'\n[output]\ndirectory = "{out}"\n')
@@ -118,8 +129,9 @@ def richardson_answer(build, work, coarsest, jobs, reuse, time_lines, taylor, ta
         if os.path.exists(out):
             shutil.rmtree(out)
         start = time.monotonic()
-        subprocess.run([os.path.join(build, "softflow"), "converge", path, "--levels", "3",
-                        "--factor", "1.25", "-j", str(jobs), "-q"], check=True)
+        subprocess.run([os.path.join(build, "softflow"), "converge", path, "--levels", str(levels),
+                        "--factor", "1.25", "-j", str(jobs), "-q"] + ([] if order is None else ["--order", f"{order:g}"]),
+                       check=True)
         with open(timing, "w") as f:
             f.write(f"{time.monotonic() - start}\n")
     with open(timing) as f:
@@ -167,16 +179,20 @@ def main():
                   f"(+{r['rejected_steps']} rejected)  t_steady {r['t_steady']}  D {d:.6f}  error {100 * r['D_error']:+.3f} %",
                   flush=True)
     extrapolations = []
-    for label, lines, taylor in EXTRAPOLATIONS:
-        tag = "" if not taylor else "_taylor"
-        wall, entry, levels = richardson_answer(args.build, args.work, args.richardson, args.jobs, args.reuse,
-                                                lines, taylor, tag)
+    for label, lines, taylor, n_levels, order in EXTRAPOLATIONS:
+        tag = re.sub(r"[^a-z0-9]+", "_", label.lower()).strip("_")
+        answers = [richardson_answer(args.build, args.work, args.richardson, args.jobs, args.reuse, lines, taylor,
+                                     tag, n_levels, order, k) for k in range(args.repeats)]
+        wall = statistics.median(a[0] for a in answers)
+        _, entry, levels = answers[-1]
         meshed = [int(l["meshed_equator_nodes"]) for l in levels]
         e = {"stepping": label, "equator_nodes": [int(l["equator_nodes"]) for l in levels],
              "meshed_equator_nodes": meshed,
              "unknowns": [int(l["unknowns"]) for l in levels], "jobs": args.jobs,
              "level_wall_seconds": [float(l["wall_seconds"]) for l in levels],
-             "wall_seconds": wall, "order": entry["orders"][-1], "D": entry["extrapolated"],
+             "wall_seconds": wall, "wall_seconds_all": [a[0] for a in answers],
+             "order": order if order is not None else entry["orders"][-1],
+             "order_given": order is not None, "D": entry["extrapolated"],
              "D_error": (entry["extrapolated"] / d_ref - 1.0) if entry["extrapolated"] else None,
              "shared_with_reference": sorted(set(meshed) & set(reference_levels))}
         extrapolations.append(e)
@@ -203,20 +219,23 @@ def main():
                   f"{r['D']:.6f} | {100 * r['D_error']:+.3f} % |")
     e0 = extrapolations[0]
     shared = ", ".join(map(str, e0["shared_with_reference"])) or "none"
-    md += ["", "## The answer by extrapolation from three coarse meshes", "",
-           f"`softflow converge` (the same steady stop) on the family's meshes with "
+    md += ["", "## The answer by extrapolation from coarse meshes", "",
+           f"`softflow converge` (the same steady stop unless the row says otherwise) on the family's meshes with "
            f"{' / '.join(map(str, e0['equator_nodes']))} equator nodes asked "
            f"({' / '.join(map(str, e0['meshed_equator_nodes']))} meshed), {e0['jobs']} level(s) at a time; "
-           f"the Richardson value of D from the three against the reference. Meshes shared with the "
+           f"the Richardson value of D against the reference: from three levels with their observed order, or "
+           f"from the coarsest two with the order the study observed, 3 (`--order 3`, marked \"given\"). "
+           f"Total wall time: the whole command, median of {args.repeats}. Meshes shared with the "
            f"reference's three: {shared}.", "",
            "| stepping | levels (meshed equator nodes) | unknowns | wall time of each level [s] | "
-           "total wall time [s] | observed order | extrapolated D | error of D |",
+           "total wall time [s] | order | extrapolated D | error of D |",
            "|---|---|---|---|---|---|---|---|"]
     for e in extrapolations:
         md.append(f"| {e['stepping']} | {' / '.join(map(str, e['meshed_equator_nodes']))} | "
                   f"{' / '.join(map(str, e['unknowns']))} | "
                   f"{' / '.join(f'{w:.1f}' for w in e['level_wall_seconds'])} | {e['wall_seconds']:.1f} | "
-                  f"{e['order']:.2f} | {e['D']:.6f} | {100 * e['D_error']:+.3f} % |")
+                  f"{e['order']:.2f}{' (given)' if e['order_given'] else ''} | {e['D']:.6f} | "
+                  f"{100 * e['D_error']:+.3f} % |")
     md += ["", "![D and dt against t](time_to_answer.png)"]
     with open(os.path.join(OUT, "time_to_answer.md"), "w") as f:
         f.write("\n".join(md) + "\n")

@@ -400,7 +400,7 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   auto* levels_option =
-      converge->add_option("--levels", converge_options.levels, "meshes (3 to 8)")->capture_default_str();
+      converge->add_option("--levels", converge_options.levels, "meshes (3 to 8; 2 with --order)")->capture_default_str();
   auto* factor_option =
       converge
           ->add_option("--factor", converge_options.factor,
@@ -421,6 +421,10 @@ int main(int argc, char** argv) {
           "N,N,..."))
       ->excludes(levels_option)
       ->excludes(factor_option);
+  converge->add_option("--order", converge_options.order,
+                       "the order of the error, known from an earlier study of the same meshes (the main "
+                       "drop's: 3): extrapolate from the finest two levels with it (two levels suffice; with "
+                       "more, the observed orders check it)");
   converge->add_option("-j,--jobs", jobs, "levels run at the same time (each on one core)")
       ->capture_default_str();
   converge->add_flag("-q,--quiet", quiet, "print nothing but errors");

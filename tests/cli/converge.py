@@ -14,6 +14,8 @@ equator nodes:
    each run gives) and must agree.
 3. Running it again skips the finished levels; bad options and cases are
    refused with exit code 1 and a message naming them.
+4. With --order 3 two levels suffice: the finest two (the finished 14 and 17
+   nodes, not run again) extrapolated with the order given, recomputed here.
 """
 import csv
 import json
@@ -116,6 +118,26 @@ def main(softflow, case_source, work):
         f.write(text.replace("capillary_number = 0.1", "capillary_number = [0.1, 0.2]"))
     if "is a sweep" not in run([softflow, "converge", listed], 1).stderr:
         fail("a case file with lists is not refused as a sweep")
+    # 4. Two levels with the order known: the finest two extrapolated with it,
+    #    the observed order absent; an order out of range refused.
+    known = run([softflow, "converge", case, "--levels", "2", "--factor", "1.2", "--order", "3"])
+    if known.stdout.count("completed earlier, skipped") != 2:
+        fail("converge --levels 2 --order 3 did not reuse the two finished levels:\n" + known.stdout)
+    with open(os.path.join(out, "converge.json")) as f:
+        extrapolation = {e["quantity"]: e for e in json.load(f)["extrapolation"]}
+    finals = []
+    for r in rows[:2]:
+        with open(os.path.join(out, f"N{r['equator_nodes']}", "summary.json")) as f:
+            finals.append(json.load(f)["final"][0])  # full precision (converge.csv rounds)
+    for key in ("D", "theta_deg"):
+        q = [final[key] for final in finals]
+        limit = q[1] + (q[1] - q[0]) * h[1] ** 3 / (h[0] ** 3 - h[1] ** 3)
+        e = extrapolation[key]
+        if e["order_given"] != 3 or e["orders"] != [] or abs(e["extrapolated"] - limit) > 1e-9 * abs(limit):
+            fail(f"{key} with --order 3: converge.json {e}, recomputed limit {limit}")
+        print(f"{key}: {q}: with order 3, extrapolated {limit:.6g} (as reported)")
+    if "--order 20" not in run([softflow, "converge", case, "--levels", "2", "--order", "20"], 1).stderr:
+        fail("--order 20 is not refused naming it")
     static = os.path.join(work, "static.toml")
     with open(static, "w") as f:
         f.write(text.replace("end = 0.5", "end = 0"))

@@ -82,3 +82,26 @@ TEST(MeshLevels, ExplicitEquatorNodesMustBeThreeToEightAscendingCounts) {
     }
   }
 }
+
+TEST(MeshLevels, TwoLevelsNeedAKnownOrderWithinItsRange) {
+  simulation::ConvergeOptions options;
+  options.levels = 2;
+  const auto message = [&] {
+    try {
+      (void)simulation::mesh_levels(case_with(""), "case.toml", options);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message().find("--levels 2: between 3 and 8"), std::string::npos) << message();
+  options.order = 3.0;
+  EXPECT_EQ(simulation::mesh_levels(case_with(""), "case.toml", options).cases.size(), 2u);
+  options.equator_nodes = {20, 25};
+  EXPECT_EQ(simulation::mesh_levels(case_with(""), "case.toml", options).cases.size(), 2u);
+  options.equator_nodes = {20};
+  EXPECT_NE(message().find("--equator-nodes 20: 2 to 8 levels"), std::string::npos) << message();
+  options.equator_nodes.clear();
+  options.order = 15.0;
+  EXPECT_NE(message().find("--order 15"), std::string::npos) << message();
+}

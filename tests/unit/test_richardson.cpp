@@ -68,3 +68,31 @@ TEST(Richardson, RefusesLevelsOutOfOrderAndNonFiniteValues) {
   const std::vector<double> two{0.2, 0.1};
   EXPECT_THROW(richardson_triples(two, two), Error);
 }
+
+TEST(RichardsonWithOrder, TwoLevelsAndTheRightOrderGiveTheLimitOfAPowerLaw) {
+  for (double p : {2.0, 3.0}) {
+    const double h1 = 1.0 / 27, h2 = 1.0 / 32;  // the main drop's coarse levels (meshed)
+    const auto q = [&](double x) { return 0.1098 + 0.4 * std::pow(x, p); };
+    const auto e = analysis::richardson_with_order(h1, q(h1), h2, q(h2), p);
+    ASSERT_TRUE(e.order.has_value());
+    EXPECT_EQ(*e.order, p);
+    EXPECT_NEAR(*e.extrapolated, 0.1098, 1e-14);
+    EXPECT_NEAR(e.error_of_finest, 0.4 * std::pow(h2, p), 1e-14);
+  }
+}
+
+TEST(RichardsonWithOrder, AWrongOrderMissesTheLimitByWhatTheTriplesWouldShow) {
+  // Data of order 2 extrapolated as if of order 3 keeps part of the error:
+  // exactly (q2 - q_inf)(1 - (r^2 - 1) / (r^3 - 1)), r = h1 / h2.
+  const double h1 = 0.1, h2 = 0.08, r = h1 / h2;
+  const double q1 = 1.0 + h1 * h1, q2 = 1.0 + h2 * h2;
+  const auto e = analysis::richardson_with_order(h1, q1, h2, q2, 3.0);
+  EXPECT_NEAR(*e.extrapolated - 1.0, h2 * h2 * (1.0 - (r * r - 1.0) / (r * r * r - 1.0)), 1e-15);
+}
+
+TEST(RichardsonWithOrder, RefusesRisingSizesNonFiniteValuesAndOrdersOutOfRange) {
+  EXPECT_THROW(analysis::richardson_with_order(0.1, 1.0, 0.2, 1.1, 2.0), Error);
+  EXPECT_THROW(analysis::richardson_with_order(0.2, NAN, 0.1, 1.1, 2.0), Error);
+  EXPECT_THROW(analysis::richardson_with_order(0.2, 1.0, 0.1, 1.1, 0.0), Error);
+  EXPECT_THROW(analysis::richardson_with_order(0.2, 1.0, 0.1, 1.1, 20.0), Error);
+}

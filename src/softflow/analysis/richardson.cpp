@@ -53,6 +53,22 @@ RichardsonEstimate richardson(double h1, double q1, double h2, double q2, double
   return e;
 }
 
+RichardsonEstimate richardson_with_order(double h1, double q1, double h2, double q2, double order) {
+  if (!(h1 > h2 && h2 > 0.0))
+    throw Error(fmt::format("richardson: mesh sizes must fall, h1 > h2 > 0; got {}, {}", h1, h2));
+  if (!std::isfinite(q1) || !std::isfinite(q2))
+    throw Error(fmt::format("richardson: values {}, {} are not both finite", q1, q2));
+  if (!(order >= kMinOrder && order <= kMaxOrder))
+    throw Error(fmt::format("richardson: order {} outside [{}, {}]", order, kMinOrder, kMaxOrder));
+  RichardsonEstimate e;
+  e.monotone = true;
+  e.order = order;
+  const double h1p = std::pow(h1, order), h2p = std::pow(h2, order);
+  e.extrapolated = q2 + (q2 - q1) * h2p / (h1p - h2p);
+  e.error_of_finest = std::abs(q2 - *e.extrapolated);
+  return e;
+}
+
 std::vector<RichardsonEstimate> richardson_triples(std::span<const double> h,
                                                    std::span<const double> q) {
   if (h.size() != q.size() || h.size() < 3)

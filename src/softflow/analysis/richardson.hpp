@@ -31,6 +31,14 @@ inline constexpr double kMaxOrder = 12.0;
 /// unless h1 > h2 > h3 > 0 and every value is finite.
 RichardsonEstimate richardson(double h1, double q1, double h2, double q2, double h3, double q3);
 
+/// From two levels h1 > h2 with values q1, q2 and the order p known (from an
+/// earlier study of the same family of meshes, or from theory):
+///   q_inf = q2 + (q2 - q1) h2^p / (h1^p - h2^p).
+/// Two levels cannot check p: `order` is the one given, `monotone` true, and
+/// error_of_finest = |q2 - q_inf|. Throws softflow::Error unless
+/// h1 > h2 > 0, both values are finite and p lies in [kMinOrder, kMaxOrder].
+RichardsonEstimate richardson_with_order(double h1, double q1, double h2, double q2, double order);
+
 /// For levels ordered coarse to fine (at least three): the estimate of each
 /// consecutive triple, coarsest triple first. The last one uses the finest
 /// meshes; agreement of the orders shows the sequence is asymptotic.

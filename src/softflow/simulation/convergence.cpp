@@ -83,8 +83,16 @@ std::string optional_number(const std::optional<double>& x, int digits = 6) {
 }
 
 /// "yes" when the two finest triples both have an order and these agree
-/// within 25 %; "unknown" with a single triple; else "no".
-std::string asymptotic_verdict(const std::vector<analysis::RichardsonEstimate>& triples) {
+/// within 25 %; "unknown" with a single triple; else "no". With the order
+/// given (--order): whether the finest triple's observed order agrees with
+/// it within 25 % ("unknown" with two levels, which cannot show one).
+std::string asymptotic_verdict(const std::vector<analysis::RichardsonEstimate>& triples,
+                               std::optional<double> given) {
+  if (given) {
+    if (triples.empty()) return "unknown";
+    const auto& observed = triples.back().order;
+    return observed && std::abs(*observed - *given) <= 0.25 * std::max(*observed, *given) ? "yes" : "no";
+  }
   if (triples.size() < 2) return "unknown";
   const auto& a = triples[triples.size() - 2];
   const auto& b = triples.back();
@@ -101,18 +109,22 @@ io::Sweep mesh_levels(const std::string& toml_text, const std::string& source_na
                                  "one case and makes the meshes itself",
                                  source_name));
   const auto& listed = options.equator_nodes;
+  if (options.order && !(*options.order >= analysis::kMinOrder && *options.order <= analysis::kMaxOrder))
+    throw InputError(fmt::format("--order {:g}: the order of the error must lie in [{:g}, {:g}]", *options.order,
+                                 analysis::kMinOrder, analysis::kMaxOrder));
+  // An observed order needs three meshes; a known one (--order) two.
+  const std::size_t fewest = options.order ? 2 : 3;
+  const char* why = options.order ? "two meshes with --order" : "an order needs three meshes; two with --order";
   if (!listed.empty()) {
-    if (listed.size() < 3 || listed.size() > 8)
-      throw InputError(fmt::format("--equator-nodes {}: 3 to 8 levels (an order needs three meshes)",
-                                   fmt::join(listed, ",")));
+    if (listed.size() < fewest || listed.size() > 8)
+      throw InputError(fmt::format("--equator-nodes {}: {} to 8 levels ({})", fmt::join(listed, ","), fewest, why));
     for (std::size_t k = 0; k < listed.size(); ++k)
       if (listed[k] < 8 || (k > 0 && listed[k] <= listed[k - 1]))
         throw InputError(fmt::format("--equator-nodes {}: ascending counts, each at least 8",
                                      fmt::join(listed, ",")));
   } else {
-    if (options.levels < 3 || options.levels > 8)
-      throw InputError(fmt::format("--levels {}: between 3 and 8 (an order needs three meshes)",
-                                   options.levels));
+    if (options.levels < static_cast<int>(fewest) || options.levels > 8)
+      throw InputError(fmt::format("--levels {}: between {} and 8 ({})", options.levels, fewest, why));
     if (!(options.factor > 1.0 && options.factor <= 2.0))
       throw InputError(fmt::format("--factor {}: the refinement ratio must lie in (1, 2]",
                                    options.factor));
@@ -232,8 +244,17 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
           "(|q_finest − q_extrapolated|; without an order, the larger of the two last "
           "differences). `asymptotic`: whether the orders of the two finest triples agree within "
           "25 % (\"yes\"), which is what makes the extrapolation trustworthy; \"unknown\" with "
-          "three levels (one order only).\n\n| object | quantity | orders | asymptotic | "
-          "extrapolated | finest | error of finest |\n|---|---|---|---|---|---|---|\n";
+          "three levels (one order only).\n\n";
+    if (options.order)
+      md += fmt::format(
+          "With the order given (--order {:g}, known from an earlier study of the same meshes): "
+          "the value is extrapolated from the finest two levels with it, q_inf = q2 + (q2 − q1) "
+          "h2^p / (h1^p − h2^p); the observed orders (three or more levels) only check it, and "
+          "`asymptotic` says whether the finest one agrees with it within 25 % (\"unknown\" with "
+          "two levels: nothing checks the order then).\n\n",
+          *options.order);
+    md += "| object | quantity | orders | asymptotic | extrapolated | finest | error of finest |\n"
+          "|---|---|---|---|---|---|---|\n";
     for (std::size_t o = 0; o < n_objects; ++o) {
       for (const bool is_d : {true, false}) {
         std::vector<double> q;
@@ -243,16 +264,21 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
                             o + 1, is_d ? "D" : "theta [deg]");
           continue;
         }
-        const auto triples = analysis::richardson_triples(h, q);
+        const auto triples = h.size() >= 3 ? analysis::richardson_triples(h, q)
+                                           : std::vector<analysis::RichardsonEstimate>{};
+        const std::size_t n = h.size();
+        const analysis::RichardsonEstimate finest =
+            options.order ? analysis::richardson_with_order(h[n - 2], q[n - 2], h[n - 1], q[n - 1], *options.order)
+                          : triples.back();
         std::string orders;
         nlohmann::json order_list = nlohmann::json::array();
         for (const auto& t : triples) {
           orders += (orders.empty() ? "" : ", ") + optional_number(t.order, 3);
           order_list.push_back(t.order ? nlohmann::json(*t.order) : nlohmann::json());
         }
-        const auto& finest = triples.back();
+        if (options.order) orders += fmt::format("{}given {:g}", orders.empty() ? "" : "; ", *options.order);
         const char* name = is_d ? "D" : "theta_deg";
-        const std::string asymptotic = asymptotic_verdict(triples);
+        const std::string asymptotic = asymptotic_verdict(triples, options.order);
         md +=
             fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", o + 1, is_d ? "D" : "theta [deg]",
                         orders, asymptotic, optional_number(finest.extrapolated, 7),
@@ -261,6 +287,7 @@ int run_convergence(const fs::path& case_file, const ConvergeOptions& options,
             {{"object", o + 1},
              {"quantity", name},
              {"orders", order_list},
+             {"order_given", options.order ? nlohmann::json(*options.order) : nlohmann::json()},
              {"asymptotic", asymptotic},
              {"extrapolated",
               finest.extrapolated ? nlohmann::json(*finest.extrapolated) : nlohmann::json()},

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,12 +13,17 @@
 namespace softflow::simulation {
 
 struct ConvergeOptions {
-  int levels = 4;        ///< meshes, at least 3 (an order needs three), at most 8
+  int levels = 4;        ///< meshes, at least 3 (an order needs three; 2 with `order`), at most 8
   double factor = 1.25;  ///< refinement ratio between consecutive levels, in (1, 2]
-  /// The levels' equator nodes given explicitly (ascending, 3 to 8 of them)
+  /// The levels' equator nodes given explicitly (ascending, 3 (2 with `order`) to 8 of them)
   /// instead of levels and factor: e.g. to step past a count gmsh cannot
   /// mesh. Far size and growth still scale by N_0 / N_k (N_0 the case's).
   std::vector<int> equator_nodes;
+  /// The order of the error, known from an earlier study of the same family
+  /// of meshes (the main drop's: 3): then two levels suffice, and the value
+  /// is extrapolated from the finest two with it; with three or more, the
+  /// observed orders are still reported, to check it.
+  std::optional<double> order;
 };
 
 /// The case of `toml_text` on `levels` meshes: level k has
