@@ -51,13 +51,21 @@ SEEDS = [1, 2, 3]
 ONE_DROP_NODES = [14, 20, 28, 40]  # one drop at lambda = 100, for Fig. 4.15's resolution
 
 
-def name(lam, phi, seed):
+# Points also run with finer drops, the same configurations (the packing's
+# gaps are in drop radii, so a seed packs the same drops on any mesh):
+# (lambda, phi asked, equator nodes).
+FINER = [(100.0, 0.05, 20)]
+
+
+def name(lam, phi, seed, nodes=14):
+    if nodes != 14:
+        return f"lambda{lam:g}_phi{phi:.2f}_seed{seed}_N{nodes}"
     return f"lambda{lam:g}_phi{phi:.2f}_seed{seed}"
 
 
-def case_text(lam, phi, seed):
+def case_text(lam, phi, seed, nodes=14):
     return f"""[case]
-name = "{name(lam, phi, seed)}"
+name = "{name(lam, phi, seed, nodes)}"
 [cell]
 length = 12.0
 height = 12.0
@@ -78,7 +86,7 @@ min_gap = 0.1
 [bulk_stress]
 box_side = 8.0
 [mesh]
-equator_nodes = 14
+equator_nodes = {nodes}
 far_size = 1.5
 """
 
@@ -160,7 +168,9 @@ def jobs():
     emulsions = [(name(lam, phi, s), case_text(lam, phi, s)) for lam in LAMBDAS for phi in PHIS for s in SEEDS
                  if (lam, phi) not in CARRIED and name(lam, phi, s) not in done]
     one_drop_done = {row["run"] for row in one_drop_rows("")}
-    return emulsions + [(one_drop_name(n), one_drop_text(n)) for n in ONE_DROP_NODES
+    finer = [(name(lam, phi, s, n), case_text(lam, phi, s, n)) for lam, phi, n in FINER for s in SEEDS
+             if name(lam, phi, s, n) not in done]
+    return emulsions + finer + [(one_drop_name(n), one_drop_text(n)) for n in ONE_DROP_NODES
                         if one_drop_name(n) not in one_drop_done]
 
 
@@ -168,15 +178,16 @@ def mean_std(values):
     return statistics.mean(values), (statistics.stdev(values) if len(values) > 1 else 0.0)
 
 
-def read_point(work, lam, phi, record):
+def read_point(work, lam, phi, record, nodes=14):
     """The configurations of one point: each run's response.csv, else its recorded row."""
     rows = []
     for s in SEEDS:
-        path = os.path.join(work, name(lam, phi, s), "response.csv")
+        run = name(lam, phi, s, nodes)
+        path = os.path.join(work, run, "response.csv")
         if os.path.exists(path):
-            rows.append(dict(next(csv.DictReader(open(path))), run=name(lam, phi, s)))
-        elif name(lam, phi, s) in record:
-            rows.append(record[name(lam, phi, s)])
+            rows.append(dict(next(csv.DictReader(open(path))), run=run))
+        elif run in record:
+            rows.append(record[run])
     return rows
 
 
@@ -224,6 +235,25 @@ def report(work):
                      f"{p['storage'][0] / p['oldroyd'][0]:.3f} | {p['loss'][0]:.4f} ± {p['loss'][1]:.4f} | "
                      f"{p['oldroyd'][1]:.4f} | {p['loss'][0] / p['oldroyd'][1]:.3f} | {p['seconds']:.0f} | "
                      f"{p['iterations']:.0f} |")
+    finer_lines = []
+    for lam, phi, n in FINER:
+        coarse, fine = read_point(work, lam, phi, record), read_point(work, lam, phi, record, n)
+        kept += fine
+        for nodes, rows in ((14, coarse), (n, fine)):
+            if rows:
+                v = {key: [float(r[key]) for r in rows] for key in KEYS}
+                st, lo = mean_std(v["box_G_storage_R_over_Gamma"]), mean_std(v["box_G_loss_over_eta_m_omega"])
+                ost, olo = statistics.mean(v["oldroyd_box_G_storage"]), statistics.mean(v["oldroyd_box_G_loss"])
+                finer_lines.append(
+                    f"| {lam:g} | {phi:.2f} | {nodes} | {len(rows)} | {modulus(st[0])} ± {modulus(st[1])} | "
+                    f"{modulus(ost)} | {lo[0]:.4f} ± {lo[1]:.4f} | {olo:.4f} | {lo[0] / olo:.3f} | "
+                    f"{statistics.median(v['seconds']):.0f} |")
+    if finer_lines:
+        lines += ["", "## Finer drops at one point", "",
+                  "The same configurations (seeds) with finer drops (equator nodes; far size and the rest of the mesh "
+                  "as above).", "",
+                  "| lambda | phi asked | equator nodes | configurations | G' R/Gamma | Oldroyd | G''/(eta_m omega) | "
+                  "Oldroyd | ratio | s per configuration |", "|---|---|---|---|---|---|---|---|---|---|"] + finer_lines
     drops = one_drop_rows(work)
     if drops:
         with open(ONE_DROP_RECORD, "w", newline="") as f:
