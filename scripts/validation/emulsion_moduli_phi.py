@@ -54,7 +54,7 @@ ONE_DROP_NODES = [14, 20, 28, 40]  # one drop at lambda = 100, for Fig. 4.15's r
 # Points also run with finer drops, the same configurations (the packing's
 # gaps are in drop radii, so a seed packs the same drops on any mesh):
 # (lambda, phi asked, equator nodes).
-FINER = [(100.0, 0.05, 20)]
+FINER = [(100.0, 0.05, 20), (1.0, 0.05, 20), (5.0, 0.05, 20)]
 
 
 def name(lam, phi, seed, nodes=14):
