@@ -82,22 +82,23 @@ std::string optional_number(const std::optional<double>& x, int digits = 6) {
   return x ? io::table_number(*x, digits) : std::string("—");
 }
 
-/// "yes" when the two finest triples both have an order and these agree
-/// within 25 %; "unknown" with a single triple; else "no". With the order
-/// given (--order): whether the finest triple's observed order agrees with
-/// it within 25 % ("unknown" with two levels, which cannot show one).
+/// Two orders agree when they differ by at most 25 % of the larger.
+bool orders_agree(std::optional<double> a, std::optional<double> b) {
+  return a && b && std::abs(*a - *b) <= 0.25 * std::max(*a, *b);
+}
+
+/// "yes" when the two finest triples both have an order and these agree;
+/// "unknown" with a single triple; else "no". With the order given
+/// (--order): whether the finest triple's observed order agrees with it
+/// ("unknown" with two levels, which cannot show one).
 std::string asymptotic_verdict(const std::vector<analysis::RichardsonEstimate>& triples,
                                std::optional<double> given) {
   if (given) {
     if (triples.empty()) return "unknown";
-    const auto& observed = triples.back().order;
-    return observed && std::abs(*observed - *given) <= 0.25 * std::max(*observed, *given) ? "yes" : "no";
+    return orders_agree(triples.back().order, given) ? "yes" : "no";
   }
   if (triples.size() < 2) return "unknown";
-  const auto& a = triples[triples.size() - 2];
-  const auto& b = triples.back();
-  if (!a.order || !b.order) return "no";
-  return std::abs(*a.order - *b.order) <= 0.25 * std::max(*a.order, *b.order) ? "yes" : "no";
+  return orders_agree(triples[triples.size() - 2].order, triples.back().order) ? "yes" : "no";
 }
 
 }  // namespace
