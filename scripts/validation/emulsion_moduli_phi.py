@@ -96,11 +96,12 @@ KEYS = ("box_phi", "box_G_storage_R_over_Gamma", "box_G_loss_over_eta_m_omega", 
         "oldroyd_box_G_loss", "seconds", "iterations")
 
 
-def recorded():
-    """Every configuration's result kept in the repository, by run name."""
-    if not os.path.exists(RECORD):
+def recorded(path=None):
+    """The results kept in the repository (RECORD unless `path`), by run name."""
+    path = path or RECORD
+    if not os.path.exists(path):
         return {}
-    return {row["run"]: row for row in csv.DictReader(open(RECORD))}
+    return {row["run"]: row for row in csv.DictReader(open(path))}
 
 
 def earlier_points():
@@ -147,9 +148,7 @@ ONE_DROP_KEYS = ("meshed_equator_nodes", "unknowns", "c_real", "c_imag", "oldroy
 
 def one_drop_rows(work):
     """The one-drop runs: each run's own output, else its recorded row."""
-    recorded_rows = {}
-    if os.path.exists(ONE_DROP_RECORD):
-        recorded_rows = {row["run"]: row for row in csv.DictReader(open(ONE_DROP_RECORD))}
+    recorded_rows = recorded(ONE_DROP_RECORD)
     rows = []
     for n in ONE_DROP_NODES:
         directory = os.path.join(work, one_drop_name(n))
@@ -167,7 +166,7 @@ def jobs():
     done = recorded()
     emulsions = [(name(lam, phi, s), case_text(lam, phi, s)) for lam in LAMBDAS for phi in PHIS for s in SEEDS
                  if (lam, phi) not in CARRIED and name(lam, phi, s) not in done]
-    one_drop_done = {row["run"] for row in one_drop_rows("")}
+    one_drop_done = recorded(ONE_DROP_RECORD)
     finer = [(name(lam, phi, s, n), case_text(lam, phi, s, n)) for lam, phi, n in FINER for s in SEEDS
              if name(lam, phi, s, n) not in done]
     return emulsions + finer + [(one_drop_name(n), one_drop_text(n)) for n in ONE_DROP_NODES
@@ -191,6 +190,17 @@ def read_point(work, lam, phi, record, nodes=14):
     return rows
 
 
+def point(lam, phi, rows):
+    """One point's mean and spread over its configurations' rows."""
+    value = {key: [float(r[key]) for r in rows] for key in KEYS}
+    return dict(lam=lam, phi=phi, n=len(rows), box_phi=mean_std(value["box_phi"]),
+                storage=mean_std(value["box_G_storage_R_over_Gamma"]),
+                loss=mean_std(value["box_G_loss_over_eta_m_omega"]),
+                oldroyd=(statistics.mean(value["oldroyd_box_G_storage"]),
+                         statistics.mean(value["oldroyd_box_G_loss"])),
+                seconds=statistics.median(value["seconds"]), iterations=max(value["iterations"]))
+
+
 def modulus(x):
     """Four decimals, or three significant digits below 0.01 (lambda = 100's G' is ~1e-4)."""
     return f"{x:.4f}" if abs(x) >= 0.01 or x == 0 else f"{x:.3g}"
@@ -198,7 +208,7 @@ def modulus(x):
 
 def report(work):
     table, points, record, earlier = [], {}, recorded(), earlier_points()
-    kept = []
+    kept, from_runs = [], {}
     for lam in LAMBDAS:
         for phi in PHIS:
             rows = read_point(work, lam, phi, record)
@@ -208,13 +218,7 @@ def report(work):
                     points.setdefault(lam, []).append(earlier[(lam, phi)])
                     table.append(earlier[(lam, phi)])
                 continue
-            value = {key: [float(r[key]) for r in rows] for key in KEYS}
-            p = dict(lam=lam, phi=phi, n=len(rows), box_phi=mean_std(value["box_phi"]),
-                     storage=mean_std(value["box_G_storage_R_over_Gamma"]),
-                     loss=mean_std(value["box_G_loss_over_eta_m_omega"]),
-                     oldroyd=(statistics.mean(value["oldroyd_box_G_storage"]),
-                              statistics.mean(value["oldroyd_box_G_loss"])),
-                     seconds=statistics.median(value["seconds"]), iterations=max(value["iterations"]))
+            p = from_runs[(lam, phi)] = point(lam, phi, rows)
             points.setdefault(lam, []).append(p)
             table.append(p)
     if not table:
@@ -237,17 +241,16 @@ def report(work):
                      f"{p['iterations']:.0f} |")
     finer_lines = []
     for lam, phi, n in FINER:
-        coarse, fine = read_point(work, lam, phi, record), read_point(work, lam, phi, record, n)
+        fine = read_point(work, lam, phi, record, n)
         kept += fine
-        for nodes, rows in ((14, coarse), (n, fine)):
-            if rows:
-                v = {key: [float(r[key]) for r in rows] for key in KEYS}
-                st, lo = mean_std(v["box_G_storage_R_over_Gamma"]), mean_std(v["box_G_loss_over_eta_m_omega"])
-                ost, olo = statistics.mean(v["oldroyd_box_G_storage"]), statistics.mean(v["oldroyd_box_G_loss"])
+        # The 14-node point only where its configurations' runs are known (not carried over).
+        for nodes, p in ((14, from_runs.get((lam, phi))), (n, point(lam, phi, fine) if fine else None)):
+            if p:
                 finer_lines.append(
-                    f"| {lam:g} | {phi:.2f} | {nodes} | {len(rows)} | {modulus(st[0])} ± {modulus(st[1])} | "
-                    f"{modulus(ost)} | {lo[0]:.4f} ± {lo[1]:.4f} | {olo:.4f} | {lo[0] / olo:.3f} | "
-                    f"{statistics.median(v['seconds']):.0f} |")
+                    f"| {lam:g} | {phi:.2f} | {nodes} | {p['n']} | {modulus(p['storage'][0])} ± "
+                    f"{modulus(p['storage'][1])} | {modulus(p['oldroyd'][0])} | {p['loss'][0]:.4f} ± "
+                    f"{p['loss'][1]:.4f} | {p['oldroyd'][1]:.4f} | {p['loss'][0] / p['oldroyd'][1]:.3f} | "
+                    f"{p['seconds']:.0f} |")
     if finer_lines:
         lines += ["", "## Finer drops at one point", "",
                   "The same configurations (seeds) with finer drops (equator nodes; far size and the rest of the mesh "
