@@ -20,11 +20,11 @@ import json
 import os
 import statistics
 import subprocess
+import sys
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "docs", "benchmarks")
-MPI = ["mpirun", "-n", "2", "--oversubscribe", "--allow-run-as-root"]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_rank_efficiency import MPI, OUT, ROOT  # noqa: E402  (the same launcher)
 # (equator nodes, far size, growth, steps): solver_crossover.md's 33- and
 # 100-node meshes (far_size 3) and the scaling benchmark's 1drop_400k.
 SIZES = {"30k": (33, 3.0, None, 10), "95k": (100, 3.0, None, 10), "370k": (90, 1.2, 0.3, 10),

@@ -92,8 +92,10 @@ def case_text(name, equator, far, growth, time_lines, taylor=False):
     text = re.sub(r"equator_nodes = \d+", f"equator_nodes = {equator}", text)
     text = re.sub(r"far_size = [0-9.]+", f"far_size = {far}", text)
     text = re.sub(r"growth = [0-9.]+", f"growth = {growth}", text)
-    if "steady_window" in time_lines:
-        text = re.sub(r"\nsteady_window = [^\n]*", "", text, count=1)
+    # The base's own line of every [time] key the stepping sets (its step is replaced below).
+    for key in re.findall(r"^(\w+) =", time_lines, flags=re.M):
+        if key != "step":
+            text = re.sub(rf"\n{key} = [^\n]*", "", text, count=1)
     text = re.sub(r"\nstep = [0-9.]+", "\n" + time_lines.rstrip("\n"), text)
     text = re.sub(r"interval_steps = \d+", "interval_steps = 0", text)
     text = re.sub(r'directory = "[^"]*".*\n', "", text)
