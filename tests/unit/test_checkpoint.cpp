@@ -187,7 +187,9 @@ TEST(Checkpoint, AParticleRunFromBeforeTheConformationKeysContinuesOnlyWithTheSt
   const auto dir = fresh_directory("conformation_keys");
   Checkpoint c = sample();
   std::string old_case = to_toml(parse_case(particle, "case.toml"));
-  const std::string section = "\n[conformation]\nsupg_tau = \"auto\"\n";
+  const std::string section =
+      "\n[conformation]\nsupg_tau = \"auto\"\nstress_prediction = \"consistent\"\n";
+  ASSERT_NE(old_case.find(section), std::string::npos) << old_case;
   old_case.erase(old_case.find(section), section.size());
   ASSERT_EQ(old_case.find("supg_tau"), std::string::npos);
   c.case_toml = old_case;
@@ -201,11 +203,43 @@ TEST(Checkpoint, AParticleRunFromBeforeTheConformationKeysContinuesOnlyWithTheSt
         << e.what();
   }
   EXPECT_NO_THROW(simulation::check_same_case(
-      parse_case(particle + "[conformation]\nsupg_tau = \"steady\"\n", "case.toml"), c, dir));
+      parse_case(
+          particle + "[conformation]\nsupg_tau = \"steady\"\nstress_prediction = \"euler\"\n",
+          "case.toml"),
+      c, dir));
   // A case without a conformation is unaffected.
   const std::string drop = "[[objects]]\n[time]\nend = 1.0\n";
   c.case_toml = to_toml(parse_case(drop, "case.toml"));
   EXPECT_NO_THROW(simulation::check_same_case(parse_case(drop, "case.toml"), c, dir));
+  fs::remove_all(dir);
+}
+
+TEST(Checkpoint, ARunFromBeforeStressPredictionContinuesOnlyWithTheEulerPrediction) {
+  // Such runs took the Stokes step's stress at the Euler prediction; the
+  // default is now the consistent one: continuing silently would change the
+  // numerics half-way.
+  const std::string giesekus =
+      "[matrix]\nmodel = \"giesekus\"\nsolvent_viscosity = 0.1\npolymer_viscosity = 0.9\n"
+      "relaxation_time = 0.5\nmobility = 0.2\n[[objects]]\n[time]\nend = 1.0\n";
+  const auto dir = fresh_directory("stress_prediction_key");
+  Checkpoint c = sample();
+  std::string old_case = to_toml(parse_case(giesekus, "case.toml"));
+  const std::string line = "stress_prediction = \"consistent\"\n";
+  ASSERT_NE(old_case.find(line), std::string::npos) << old_case;
+  old_case.erase(old_case.find(line), line.size());
+  c.case_toml = old_case;
+  try {
+    simulation::check_same_case(parse_case(giesekus, "case.toml"), c, dir);
+    FAIL() << "the default stress_prediction was accepted for a run from before the key";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'stress_prediction = \"consistent\"' here, "
+                                         "'stress_prediction = \"euler\"' in the checkpoint"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(simulation::check_same_case(
+      parse_case(giesekus + "[conformation]\nstress_prediction = \"euler\"\n", "case.toml"), c,
+      dir));
   fs::remove_all(dir);
 }
 

@@ -111,17 +111,20 @@ TEST(RemeshRun, ADropRemeshedMidwayKeepsItsVolumeContinuesAndRestartsToRoundOff)
 // A neo-Hookean particle: its Finger tensor (the log-conformation, per
 // region), the DEVSS-G gradient and the transport's s_{n-1} are carried by
 // MeshTransfer, so BDF2 and DEVSS-G go on across the remesh.
-TEST(RemeshRun, AnElasticParticleRemeshedMidwayKeepsItsStressAndRestartsToRoundOff) {
-  const auto r = run(small_case("[[objects]]\nmodel = \"neo_hookean\"\nelastic_capillary_number = 0.1\n",
-                                "remesh_particle"),
-                     4, 4, "remesh_particle");
+void expect_particle_carried_over(const std::string& prediction, double stress_tolerance) {
+  const std::string name = "remesh_particle_" + prediction;
+  const auto r =
+      run(small_case("[[objects]]\nmodel = \"neo_hookean\"\nelastic_capillary_number = 0.1\n", name,
+                     "[conformation]\nstress_prediction = \"" + prediction + "\"\n"),
+          4, 4, name);
   ASSERT_FALSE(r.remeshed.stresses.empty());
   const double d = r.remeshed.objects[0].deformation, d_plain = r.plain.objects[0].deformation;
   const double s = r.remeshed.stresses.front().mean(0, 1), s_plain = r.plain.stresses.front().mean(0, 1);
   const double d_fresh = r.remeshed_at_start.objects[0].deformation;
   const double s_fresh = r.remeshed_at_start.stresses.front().mean(0, 1);
-  std::printf("particle remeshed at the start: D %.2e, <tau_xy> %.2e relative to never remeshed\n",
-              d_fresh / d_plain - 1.0, s_fresh / s_plain - 1.0);
+  std::printf(
+      "%s: particle remeshed at the start: D %.2e, <tau_xy> %.2e relative to never remeshed\n",
+      prediction.c_str(), d_fresh / d_plain - 1.0, s_fresh / s_plain - 1.0);
   std::printf("particle: remesh %d -> %d nodes, quality %.3f -> %.3f; at t = %.2f D %.8f vs %.8f never remeshed "
               "(%.2e), <tau_xy> %.6f vs %.6f (%.2e); restart: fields %.3e apart\n",
               r.event.nodes_before, r.event.nodes_after, r.event.quality_before, r.event.quality_after,
@@ -134,7 +137,19 @@ TEST(RemeshRun, AnElasticParticleRemeshedMidwayKeepsItsStressAndRestartsToRoundO
   // same run remeshed at t = 0: 3.6e-4, 2.1e-4). Restarting the transport
   // at BDF1 and DEVSS-G without G_n instead left 4.2e-3 and 2.2e-2.
   EXPECT_NEAR(d / d_plain, 1.0, 3e-3);
-  EXPECT_NEAR(s / s_plain, 1.0, 1e-3);
+  EXPECT_NEAR(s / s_plain, 1.0, stress_tolerance);
+}
+
+TEST(RemeshRun, AnElasticParticleRemeshedMidwayKeepsItsStressAndRestartsToRoundOff) {
+  expect_particle_carried_over("euler", 1e-3);
+  // The consistent prediction (the default) meets the particle at the
+  // remesh in another shape, and the mesher makes another mesh of it (1734
+  // nodes, quality 0.217, against 1755 and 0.231): <tau_xy> 2.3e-3 off the
+  // never-remeshed run's, D 7e-5 (Euler: 1.6e-4 and 1.6e-3), while a lost
+  // carry-over left 2.2e-2 (above) and the never-remeshed run's own step
+  // error at this dt is 2 % (<tau_xy> 2.512 at dt 0.05 against 2.458 at
+  // 0.0125, order 2.0). Its bound is D's, the mesh-to-mesh spread.
+  expect_particle_carried_over("consistent", 3e-3);
 }
 
 // remesh.interfaces = "resample": the drop's interface is sampled afresh at

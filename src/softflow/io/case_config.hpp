@@ -15,6 +15,7 @@
 #include "softflow/geometry/shear_cell.hpp"
 #include "softflow/physics/stokes/wall_motion.hpp"
 #include "softflow/physics/transport/ale_transport.hpp"
+#include "softflow/physics/viscoelastic/conformation_prediction.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/viscoelastic/constitutive.hpp"
 
@@ -155,6 +156,10 @@ struct ConformationConfig {
   /// elastic solids, steady (the thesis's) in viscoelastic liquids.
   enum class SupgTau { automatic, transient, steady };
   SupgTau supg_tau = SupgTau::automatic;
+  /// The conformation the Stokes step's polymer stress is taken at
+  /// (physics::viscoelastic::StressPrediction).
+  physics::viscoelastic::StressPrediction stress_prediction =
+      physics::viscoelastic::StressPrediction::consistent;
 };
 
 /// [emulsion]: many drops at random (thesis ch. 4; docs/emulsions.md): the

@@ -475,7 +475,17 @@ Table<CaseConfig> conformation_table() {
                    {"steady", ConformationConfig::SupgTau::steady,
                     "tau = h / (2 |w|) whatever the step, everywhere (the thesis's; an elastic "
                     "particle's shape then does not converge as dt -> 0)"}},
-                  "the SUPG parameter of the transport (w = u - u_mesh, h the element length)")}};
+                  "the SUPG parameter of the transport (w = u - u_mesh, h the element length)"),
+           choice("stress_prediction", conformation(&ConformationConfig::stress_prediction),
+                  physics::viscoelastic::StressPrediction::consistent,
+                  {{"consistent", physics::viscoelastic::StressPrediction::consistent,
+                    "the transport's own BDF step, plus the last step's defect against the "
+                    "transported c: second order in dt"},
+                   {"euler", physics::viscoelastic::StressPrediction::euler,
+                    "one explicit Euler step from c_n (eq. 2.37, as the thesis; first order in "
+                    "dt where the flow is not homogeneous)"}},
+                  "the conformation the Stokes step's polymer stress is taken at "
+                  "(docs/viscoelastic.md)")}};
 }
 
 Table<CaseConfig> emulsion_table() {

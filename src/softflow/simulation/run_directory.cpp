@@ -95,6 +95,9 @@ void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpo
   // mismatch below names the line), not the later default.
   if (checkpoint.case_toml.find("[conformation]") == std::string::npos)
     saved.conformation.supg_tau = io::ConformationConfig::SupgTau::steady;
+  // Likewise one from before stress_prediction took the Euler prediction.
+  if (checkpoint.case_toml.find("stress_prediction") == std::string::npos)
+    saved.conformation.stress_prediction = physics::viscoelastic::StressPrediction::euler;
   const std::string expected = io::to_toml(saved), given = io::to_toml(config);
   if (expected == given) return;
   std::istringstream a(expected), b(given);

@@ -40,7 +40,8 @@ void open_series(const std::filesystem::path& directory, const DropSimulation& s
 
 /// The case of `directory`/case.toml must be the one the checkpoint was
 /// written with; only [checkpoint] may change between sessions. A checkpoint
-/// whose case has no [conformation] was written with supg_tau = "steady".
+/// whose case has no [conformation] was written with supg_tau = "steady", one
+/// without stress_prediction with stress_prediction = "euler".
 void check_same_case(const io::CaseConfig& config, const io::Checkpoint& checkpoint,
                      const std::filesystem::path& directory);
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -12,8 +13,10 @@
 #include "softflow/common/state.hpp"
 #include "softflow/fem/field.hpp"
 #include "softflow/mesh/mesh.hpp"
+#include "softflow/physics/stokes/prediction_defect.hpp"
 #include "softflow/physics/stokes/stokes_problem.hpp"
 #include "softflow/physics/transport/ale_transport.hpp"
+#include "softflow/physics/viscoelastic/conformation_prediction.hpp"
 #include "softflow/physics/viscoelastic/constitutive.hpp"
 
 namespace softflow::fem {
@@ -46,10 +49,12 @@ struct RegionStress {
 /// projected velocity gradient G_n (DEVSS-G).
 ///
 /// One step: coupling() gives the Stokes step the D'Avino-Hulsen/DEVSS-G
-/// data for t_{n+1} (c_n, u_m, G_n); after the Stokes
+/// data for t_{n+1} (c_n, with the consistent prediction also c_{n-1}, the
+/// transport's BDF step and the last defect; u_m, G_n); after the Stokes
 /// solve, advance() transports s to t_{n+1} with u_{n+1} (physics::AleTransport,
-/// SUPG, BDF1 then BDF2, source log_conformation_source) and updates c,
-/// tau and G. Newtonian regions carry zeros throughout.
+/// SUPG, BDF1 then BDF2, source log_conformation_source), updates c,
+/// tau and G, and measures the prediction's defect (physics::PredictionDefect).
+/// Newtonian regions carry zeros throughout.
 class ViscoelasticPhases {
  public:
   /// `models[r]` for region r (0 = matrix, k = object k); the mesh is the
@@ -58,9 +63,13 @@ class ViscoelasticPhases {
   /// slip), and the transport reads each region's own copy.
   /// `supg_taus[r]`: the transport's SUPG parameter in region r
   /// (physics::AleTransport; steady where not given).
+  /// `prediction`: the conformation the Stokes step's stress is taken at
+  /// (physics::viscoelastic::StressPrediction).
   ViscoelasticPhases(const mesh::Mesh& mesh,
                      std::vector<physics::viscoelastic::Constitutive> models,
-                     bool slip_velocity = false, std::vector<physics::SupgTau> supg_taus = {});
+                     bool slip_velocity = false, std::vector<physics::SupgTau> supg_taus = {},
+                     physics::viscoelastic::StressPrediction prediction =
+                         physics::viscoelastic::StressPrediction::consistent);
   ~ViscoelasticPhases();
   ViscoelasticPhases(const ViscoelasticPhases&) = delete;
   ViscoelasticPhases& operator=(const ViscoelasticPhases&) = delete;
@@ -113,16 +122,29 @@ class ViscoelasticPhases {
   /// admit c (FENE-P: tr c >= L^2). Collective.
   void update_conformation_and_stress(double t_new, int step);
   void update_velocity_gradient();
+  /// previous_conformation_ = exp(s_{n-1}) at every node.
+  void update_previous_conformation();
+  /// c = exp(s) node by node (I in Newtonian regions), ghosts updated.
+  void exponentiate(const fem::Field& s, fem::Field& c) const;
+  /// After carry_over(): the prediction's defect on this mesh, from a dry
+  /// repetition of the last step (PredictionDefect). Collective.
+  void estimate_defect(const ViscoelasticPhases& old, const fem::MeshTransfer& transfer);
 
   const mesh::Mesh& mesh_;
   std::vector<physics::viscoelastic::Constitutive> models_;
   std::shared_ptr<const fem::Space> p1_, p2_, velocity_space_;
   fem::Field log_conformation_, conformation_, stress_;
+  fem::Field previous_conformation_;  // exp(s_{n-1}) at the nodes, for the BDF2 prediction
   fem::Field velocity_, mesh_velocity_;
   fem::Field gradient_;
+  std::vector<physics::SupgTau> supg_taus_;
   std::unique_ptr<physics::AleTransport> transport_;
   physics::AleTransport::Source source_;
   int gradient_steps_ = 0;  // projections of G done so far
+  physics::viscoelastic::StressPrediction prediction_ =
+      physics::viscoelastic::StressPrediction::consistent;
+  physics::ViscoelasticCoupling last_coupling_;      // the Stokes step's, for the defect
+  std::optional<physics::PredictionDefect> defect_;  // with the consistent prediction
 };
 
 }  // namespace softflow::simulation

@@ -8,6 +8,10 @@
 namespace softflow::physics {
 
 /// Element matrix in the local order of fem::StokesDofMap (30 velocity + 4 pressure).
+/// The Stokes assembly's rule. Degree 5 (14 points): exact for the
+/// affine-element integrands (degree <= 4) and accurate to well below
+/// discretisation error on curved P2 elements.
+inline constexpr int kStokesQuadratureDegree = 5;
 inline constexpr int kTetVelocityDofs = 30;
 inline constexpr int kTetPressureDofs = 4;
 using TetMatrix = Eigen::Matrix<double, kTetVelocityDofs + kTetPressureDofs,

@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 
 #include "softflow/physics/viscoelastic/constitutive.hpp"
+#include "softflow/physics/stokes/point_tensors.hpp"
+#include "softflow/time/bdf.hpp"
 
 namespace softflow::fem {
 class Field;
@@ -60,6 +62,18 @@ struct ViscoelasticCoupling {
   std::vector<viscoelastic::Constitutive> models;
   /// c_n: 6 components (xx, yy, zz, xy, yz, xz), P1 per region.
   const fem::Field* conformation = nullptr;
+  /// c_{n-1}, alike; nullptr at a BDF1 step (bdf.a2 = 0 and extrapolation
+  /// c_n alone), which makes the prediction the Euler step of eq. 2.37.
+  const fem::Field* previous_conformation = nullptr;
+  /// The step the conformation transport will take (AleTransport::next_bdf,
+  /// next_extrapolation): the prediction takes the same (viscoelastic_terms.hpp).
+  time::BdfCoefficients bdf;
+  time::Extrapolation extrapolation;
+  /// The previous step's defect (PredictionDefect): per tetrahedron and
+  /// point of the Stokes rule, defect_scale times it is added to the
+  /// prediction; nullptr: none (the Euler prediction of eq. 2.37).
+  const PointTensors* defect = nullptr;
+  double defect_scale = 1.0;
   /// u_m over the step: 3 x P2; nullptr for a mesh at rest.
   const fem::Field* mesh_velocity = nullptr;
   /// G_n: the projected velocity gradient of the previous step

@@ -24,9 +24,6 @@ namespace softflow::physics {
 
 namespace {
 using la::check;
-// Degree 5 (14 points): exact for the affine-element integrands (degree <= 4)
-// and accurate to well below discretisation error on curved P2 elements.
-constexpr int kQuadratureDegree = 5;
 
 /// The viscosity region r's Schur-complement estimate M/eta divides by
 /// (what assemble hands add_stokes_tet_matrix as pressure_mass_viscosity):
@@ -57,7 +54,7 @@ StokesSystem::StokesSystem(const mesh::Mesh& mesh, const la::SaddlePointSettings
       settings_(settings),
       slip_(interface_slip),
       dofs_(make_stokes_dof_map(mesh, interface_slip)),
-      tabulation_(kQuadratureDegree) {
+      tabulation_(kStokesQuadratureDegree) {
   // Stale LU factors precondition a slip system worse: its constraint rows
   // carry the nodal normals, which turn with the deforming drop, and
   // alpha (I - nn) lambda then mixes the large normal traction (the Laplace
@@ -664,7 +661,7 @@ bool StokesSystem::factors_are_off_step(const StokesProblem& problem) const {
 }
 
 void StokesSystem::record_factorization(const StokesProblem& problem) {
-  MatrixRecord r{mesh_.nodes, {}, {}, false};
+  MatrixRecord r{mesh_.nodes, {}, {}, {}, false};
   r.problem.viscosity = problem.viscosity;
   r.problem.interfacial_tension = problem.interfacial_tension;
   r.problem.pressure_gauge_node = problem.pressure_gauge_node;
@@ -675,7 +672,11 @@ void StokesSystem::record_factorization(const StokesProblem& problem) {
   if (const auto& ve = problem.viscoelastic; ve.active()) {
     r.problem.viscoelastic.models = ve.models;
     r.problem.viscoelastic.dt = ve.dt;
+    r.problem.viscoelastic.bdf = ve.bdf;
+    r.problem.viscoelastic.extrapolation = ve.extrapolation;
     r.conformation = la::owned_values(ve.conformation->vector());
+    if (ve.previous_conformation)
+      r.previous_conformation = la::owned_values(ve.previous_conformation->vector());
     r.devss = ve.velocity_gradient != nullptr;
   }
   // MUMPS's symbolic analysis: the direct method's only.
@@ -795,12 +796,18 @@ void StokesSystem::factor(const MatrixRecord& record) {
   StokesProblem problem = record.problem;
   if (problem.semi_implicit_tension.active())
     problem.semi_implicit_tension.predicted_normal_velocity.assign(mesh_.n_nodes(), 0.0);
-  // The viscoelastic terms' matrix reads c_n and whether DEVSS-G was on
-  // (its theta); the loads (u_m, G_n) do not matter here: zero fields.
-  std::optional<fem::Field> conformation, velocity_gradient;
+  // The viscoelastic terms' matrix reads c_n, c_{n-1} (the prediction's
+  // c*), the BDF step and whether DEVSS-G was on (its theta); the loads
+  // (u_m, G_n, the defect) do not matter here: zero fields.
+  std::optional<fem::Field> conformation, previous_conformation, velocity_gradient;
+  problem.viscoelastic.defect = nullptr;
   if (!record.conformation.empty()) {
     conformation.emplace(conformation_field(record.conformation));
     problem.viscoelastic.conformation = &*conformation;
+    if (!record.previous_conformation.empty()) {
+      previous_conformation.emplace(conformation_field(record.previous_conformation));
+      problem.viscoelastic.previous_conformation = &*previous_conformation;
+    }
     if (record.devss) {
       velocity_gradient.emplace(mesh_, "velocity_gradient", conformation->dofs().field(0).space,
                                 kVelocityGradientComponents);
@@ -856,6 +863,10 @@ void save_matrix_record(StateRecord& out, const std::string& prefix,
   out.set(prefix + "viscoelastic_model", kinds);
   for (auto& [key, v] : values) out.set(prefix + "viscoelastic_values/" + key, std::move(v));
   out.set(prefix + "viscoelastic_dt", problem.viscoelastic.dt);
+  const auto& bdf = problem.viscoelastic.bdf;
+  const auto& e = problem.viscoelastic.extrapolation;
+  out.set(prefix + "viscoelastic_bdf", std::vector<double>{bdf.a0, bdf.a1, bdf.a2});
+  out.set(prefix + "viscoelastic_extrapolation", std::vector<double>{e.current, e.previous});
 }
 
 }  // namespace
@@ -880,6 +891,10 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
             record->conformation.empty()
                 ? std::vector<double>{}
                 : conformation_field(record->conformation).gather());
+    out.set(prefix + name + "previous_conformation",
+            record->previous_conformation.empty()
+                ? std::vector<double>{}
+                : conformation_field(record->previous_conformation).gather());
     out.set(prefix + name + "devss", record->devss);
   }
 }
@@ -902,7 +917,7 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
   // sub-matrices and AMG hierarchy).
   if (in.get_bool(prefix + "has_factors")) {
     auto read = [&](const std::string& p) {
-      MatrixRecord r{in.get_points(p + "nodes"), {}, {}, false};
+      MatrixRecord r{in.get_points(p + "nodes"), {}, {}, {}, false};
       if (static_cast<int>(r.nodes.size()) != mesh_.n_nodes())
         throw InputError(fmt::format("the saved state's {}nodes do not fit the mesh", p));
       r.problem.viscosity = in.get_array(p + "viscosity");
@@ -939,14 +954,25 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
               models[i + 2], models[i + 3], models[i + 4]));
       }
       r.problem.viscoelastic.dt = in.get_double(p + "viscoelastic_dt");
-      const auto& conformation = in.get_array(p + "conformation");
-      if (!conformation.empty()) {
-        fem::Field field = conformation_field({});
-        if (static_cast<int>(conformation.size()) != field.dofs().n_dofs())
-          throw InputError(fmt::format("the saved state's {}conformation does not fit the mesh", p));
-        field.scatter(conformation);
-        r.conformation = la::owned_values(field.vector());
+      // Checkpoints from before the consistent prediction: the Euler step.
+      if (in.contains(p + "viscoelastic_bdf")) {
+        const auto& a = in.get_array(p + "viscoelastic_bdf");
+        const auto& e = in.get_array(p + "viscoelastic_extrapolation");
+        r.problem.viscoelastic.bdf = {a.at(0), a.at(1), a.at(2)};
+        r.problem.viscoelastic.extrapolation = {e.at(0), e.at(1)};
       }
+      auto owned = [&](const std::string& key) {
+        if (!in.contains(p + key)) return std::vector<double>{};
+        const auto& all = in.get_array(p + key);
+        if (all.empty()) return std::vector<double>{};
+        fem::Field field = conformation_field({});
+        if (static_cast<int>(all.size()) != field.dofs().n_dofs())
+          throw InputError(fmt::format("the saved state's {}{} does not fit the mesh", p, key));
+        field.scatter(all);
+        return la::owned_values(field.vector());
+      };
+      r.conformation = owned("conformation");
+      r.previous_conformation = owned("previous_conformation");
       r.devss = in.get_bool(p + "devss");
       return r;
     };
@@ -961,7 +987,16 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
       factor(*analysis_);
       // Each rank holds its own part of the conformation: whether the two
       // differ anywhere is agreed on, so that every rank factors or none.
-      int conformation_differs = factors_->conformation != analysis_->conformation ? 1 : 0;
+      const auto& f = factors_->problem.viscoelastic;
+      const auto& a = analysis_->problem.viscoelastic;
+      int conformation_differs =
+          factors_->conformation != analysis_->conformation ||
+                  factors_->previous_conformation != analysis_->previous_conformation ||
+                  f.bdf.a0 != a.bdf.a0 || f.bdf.a1 != a.bdf.a1 || f.bdf.a2 != a.bdf.a2 ||
+                  f.extrapolation.current != a.extrapolation.current ||
+                  f.extrapolation.previous != a.extrapolation.previous
+              ? 1
+              : 0;
       MPI_Allreduce(MPI_IN_PLACE, &conformation_differs, 1, MPI_INT, MPI_LOR, PETSC_COMM_WORLD);
       if (factors_->nodes != analysis_->nodes ||
           factors_->problem.semi_implicit_tension.theta_dt !=

@@ -133,10 +133,11 @@ class StokesSystem {
   struct MatrixRecord {
     std::vector<mesh::Point> nodes;
     StokesProblem problem;  ///< without loads: body force, boundary values, w unused
-    /// The viscoelastic coupling's conformation c_n (this rank's values of
-    /// the field; empty if inactive) and whether its DEVSS-G term was on:
-    /// the matrix reads both.
-    std::vector<double> conformation;
+    /// The viscoelastic coupling's conformation c_n and c_{n-1} (this rank's
+    /// values of the fields; empty if inactive or not used) and whether its
+    /// DEVSS-G term was on: the matrix reads them, and the BDF step in
+    /// problem.viscoelastic.
+    std::vector<double> conformation, previous_conformation;
     bool devss = false;
   };
   void save_state(StateRecord& record, const std::string& prefix) const;

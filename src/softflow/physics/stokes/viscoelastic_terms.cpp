@@ -22,6 +22,42 @@ double ViscoelasticCoupling::step_viscosity(int region) const {
   return model.solvent_viscosity() + devss_theta(region) + model.modulus() * dt;
 }
 
+PointPrediction predict_at(const ViscoelasticCoupling& coupling, const fem::QuadraturePoint& p) {
+  const auto& model = coupling.models.at(p.region);
+  const auto& bdf = coupling.bdf;
+  const auto& e = coupling.extrapolation;
+  const Eigen::VectorXd c_n = coupling.conformation->value(p);
+  Eigen::VectorXd extrapolated = e.current * c_n;
+  Eigen::VectorXd history = -(bdf.a1 / bdf.a0) * c_n;
+  Eigen::MatrixXd grad_c_components = e.current * coupling.conformation->gradient(p);  // 6 x 3
+  if (coupling.previous_conformation && (bdf.a2 != 0.0 || e.previous != 0.0)) {
+    const Eigen::VectorXd c_previous = coupling.previous_conformation->value(p);
+    extrapolated += e.previous * c_previous;
+    history -= (bdf.a2 / bdf.a0) * c_previous;
+    grad_c_components += e.previous * coupling.previous_conformation->gradient(p);
+  }
+  std::array<ve::Mat3, 3> grad_c;
+  for (int d = 0; d < 3; ++d) grad_c[d] = ve::unpack_symmetric(grad_c_components.col(d));
+  // Only the mesh's own motion stays explicit: u.grad c* is in the matrix.
+  const Eigen::Vector3d um = coupling.mesh_velocity
+                                 ? Eigen::Vector3d(coupling.mesh_velocity->value(p))
+                                 : Eigen::Vector3d::Zero();
+  const ve::Mat3 c = ve::unpack_symmetric(extrapolated);
+  ve::Mat3 h = ve::unpack_symmetric(history);
+  if (coupling.defect)
+    if (const ve::Mat3* d = coupling.defect->find(p.tet, p.q)) h += coupling.defect_scale * *d;
+  return {c, grad_c,
+          ve::ConformationPrediction(model, h, c, ve::convective_derivative(-um, grad_c),
+                                     bdf.theta_dt(coupling.dt))};
+}
+
+ve::Mat3 predicted_conformation(const ViscoelasticCoupling& coupling, const fem::QuadraturePoint& p,
+                                const Eigen::Vector3d& u, const ve::Mat3& velocity_gradient) {
+  const PointPrediction point = predict_at(coupling, p);
+  return point.prediction(velocity_gradient) -
+         coupling.bdf.theta_dt(coupling.dt) * ve::convective_derivative(u, point.gradient);
+}
+
 void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
                                 const std::vector<fem::QuadraturePoint>& points, TetMatrix& matrix,
                                 TetVector& load) {
@@ -34,16 +70,11 @@ void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
     const Eigen::Matrix<double, 10, 3> g =
         element::physical_gradients<10>(p.tab->p2_grad[p.q], p.map);
     const auto& n = p.tab->p2[p.q];
-    const ve::Mat3 c = ve::unpack_symmetric(coupling.conformation->value(p));
-    const Eigen::MatrixXd grad_c_components = coupling.conformation->gradient(p);  // 6 x 3
-    std::array<ve::Mat3, 3> grad_c;
-    for (int d = 0; d < 3; ++d) grad_c[d] = ve::unpack_symmetric(grad_c_components.col(d));
-    // Only the mesh's own motion stays explicit: u.grad c_n is in the matrix.
-    const Eigen::Vector3d um = coupling.mesh_velocity
-                                   ? Eigen::Vector3d(coupling.mesh_velocity->value(p))
-                                   : Eigen::Vector3d::Zero();
-    const ve::ConformationPrediction prediction(model, c, ve::convective_derivative(-um, grad_c),
-                                                dt);
+    const PointPrediction point = predict_at(coupling, p);
+    const ve::Mat3& c = point.extrapolated;
+    const auto& grad_c = point.gradient;
+    const auto& bdf = coupling.bdf;
+    const ve::ConformationPrediction& prediction = point.prediction;
     const double w = p.weight;
     // tau at the prediction, linearised at c_n (exact for a stress affine
     // in c): tau(c_n) + tau'(c_n)[dc], tau'(c_n)[dc] = A dc + tr(dc) B.
@@ -57,7 +88,7 @@ void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
     //   D(v) : B = (B g_k)_a.
     const Eigen::Matrix<double, 10, 3> cg = g * c;  // row l: (c g_l)^T, c symmetric
     const Eigen::Matrix<double, 10, 10> gcg = g * cg.transpose();
-    const double scale = derivative.scale * dt * w;
+    const double scale = derivative.scale * bdf.theta_dt(dt) * w;
     for (int k = 0; k < 10; ++k) {
       Eigen::Matrix3d convection;  // column b: dc/dx_b g_k
       for (int b = 0; b < 3; ++b) convection.col(b) = grad_c[b] * g.row(k).transpose();
@@ -73,7 +104,7 @@ void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
       const Eigen::Matrix<double, 10, 3> bg = g * derivative.trace_part;  // row k: (B g_k)^T
       Eigen::Vector3d trace_gradient;  // tr(dc/dx_b)
       for (int b = 0; b < 3; ++b) trace_gradient(b) = grad_c[b].trace();
-      const double trace_scale = dt * w;
+      const double trace_scale = bdf.theta_dt(dt) * w;
       for (int k = 0; k < 10; ++k)
         for (int l = 0; l < 10; ++l)
           for (int b = 0; b < 3; ++b) {

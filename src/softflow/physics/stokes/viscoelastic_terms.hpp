@@ -47,6 +47,7 @@
 #include "softflow/physics/stokes/stokes_problem.hpp"
 #include "softflow/fem/field.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
+#include "softflow/physics/viscoelastic/conformation_prediction.hpp"
 
 namespace softflow::physics {
 
@@ -59,6 +60,24 @@ namespace softflow::physics {
 /// c* the prediction's part without u. The theta (D(v), 2 D(u)) term is the
 /// caller's (add_stokes_tet_matrix with mu + theta). `points` are the
 /// tetrahedron's quadrature points on the current mesh.
+/// The prediction at one quadrature point, before the velocity is known:
+/// c* and its gradient, and the affine prediction (its constant part holds
+/// the history, the explicit terms and the coupling's defect).
+struct PointPrediction {
+  viscoelastic::Mat3 extrapolated;
+  std::array<viscoelastic::Mat3, 3> gradient;
+  viscoelastic::ConformationPrediction prediction;
+};
+[[nodiscard]] PointPrediction predict_at(const ViscoelasticCoupling& coupling,
+                                         const fem::QuadraturePoint& p);
+
+/// The whole prediction at p for the velocity u and its gradient L there
+/// (the velocity's convection included): what the Stokes step's stress was
+/// evaluated at, once the step is solved.
+[[nodiscard]] viscoelastic::Mat3 predicted_conformation(
+    const ViscoelasticCoupling& coupling, const fem::QuadraturePoint& p, const Eigen::Vector3d& u,
+    const viscoelastic::Mat3& velocity_gradient);
+
 void add_viscoelastic_tet_terms(const ViscoelasticCoupling& coupling,
                                 const std::vector<fem::QuadraturePoint>& points, TetMatrix& matrix,
                                 TetVector& load);

@@ -48,14 +48,24 @@ void AleTransport::set_dirichlet(
   boundary_values_ = std::move(g);
 }
 
-void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity,
-                        const Source& source, double dt, double t_new) {
-  const int order = time::bdf_order(steps_);
+double AleTransport::previous_step(double dt) const {
   // An unknown previous step (a checkpoint from before variable steps,
   // whose runs all had constant steps) is taken equal to this one.
-  const double dt_previous = last_dt_ > 0.0 ? last_dt_ : dt;
-  const auto c = time::bdf(order, dt, dt_previous);
-  extrapolation_ = time::extrapolation(order, dt, dt_previous);
+  return last_dt_ > 0.0 ? last_dt_ : dt;
+}
+
+time::BdfCoefficients AleTransport::next_bdf(double dt) const {
+  return time::bdf(time::bdf_order(steps_), dt, previous_step(dt));
+}
+
+time::Extrapolation AleTransport::next_extrapolation(double dt) const {
+  return time::extrapolation(time::bdf_order(steps_), dt, previous_step(dt));
+}
+
+void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity, const Source& source,
+                        double dt, double t_new) {
+  const auto c = next_bdf(dt);
+  extrapolation_ = next_extrapolation(dt);
   const int n_c = s_.components();
   const int n_k = s_.space().n_element_nodes();
   const bool p2 = s_.space().degree() == 2;

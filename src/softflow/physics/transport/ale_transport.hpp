@@ -77,6 +77,14 @@ class AleTransport {
 
   /// Steps done since the start or the last restart_history() (BDF1 first, then BDF2).
   [[nodiscard]] int steps() const { return steps_; }
+  /// t_n - t_{n-1}: the last step's length (0 before the first).
+  [[nodiscard]] double last_step() const { return last_dt_; }
+  /// The BDF coefficients and the extrapolation to t_{n+1} that the next
+  /// step(dt) will take: for a caller that predicts s_{n+1} before the step
+  /// and must predict it as the step will compute it (the D'Avino-Hulsen
+  /// stress of the Stokes step, physics/stokes/viscoelastic_terms.hpp).
+  [[nodiscard]] time::BdfCoefficients next_bdf(double dt) const;
+  [[nodiscard]] time::Extrapolation next_extrapolation(double dt) const;
   /// The next step is BDF1 again, as the first: after a jump in the
   /// velocity (e.g. walls that stop), where BDF2's stencil would span the
   /// jump and leave an O(dt) error.
@@ -95,6 +103,9 @@ class AleTransport {
   [[nodiscard]] StatePart state_part();
 
  private:
+  /// t_n - t_{n-1}, or dt where no step is known.
+  [[nodiscard]] double previous_step(double dt) const;
+
   fem::Field& s_;
   std::vector<SupgTau> tau_by_region_;
   fem::Field previous_;  // s_{n-1}

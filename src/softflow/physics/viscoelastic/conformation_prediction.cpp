@@ -12,17 +12,23 @@ Mat3 convective_derivative(const Vec3& w, const std::array<Mat3, 3>& grad_c) {
 
 ConformationPrediction::ConformationPrediction(const Constitutive& model, const Mat3& c_n,
                                                const Mat3& convection, double dt)
-    : c_n_(c_n), dt_(dt) {
+    : ConformationPrediction(model, c_n, c_n, convection, dt) {}
+
+ConformationPrediction::ConformationPrediction(const Constitutive& model, const Mat3& history,
+                                               const Mat3& extrapolated, const Mat3& convection,
+                                               double theta_dt)
+    : extrapolated_(extrapolated), theta_dt_(theta_dt) {
   if (!model.has_conformation())
     throw Error("ConformationPrediction: a Newtonian phase has no conformation tensor");
-  if (!(dt > 0.0))
-    throw Error(fmt::format("ConformationPrediction: the time step dt = {} must be positive", dt));
+  if (!(theta_dt > 0.0))
+    throw Error(
+        fmt::format("ConformationPrediction: the time step dt = {} must be positive", theta_dt));
   // conformation_relaxation carries the corrected sign and 1/lambda (SPEC §9).
-  constant_ = c_n + dt * (-convection + conformation_relaxation(model, c_n));
+  constant_ = history + theta_dt * (-convection + conformation_relaxation(model, extrapolated));
 }
 
 Mat3 ConformationPrediction::linear(const Mat3& velocity_gradient) const {
-  return dt_ * upper_convected_terms(velocity_gradient, c_n_);
+  return theta_dt_ * upper_convected_terms(velocity_gradient, extrapolated_);
 }
 
 Mat3 ConformationPrediction::operator()(const Mat3& velocity_gradient) const {

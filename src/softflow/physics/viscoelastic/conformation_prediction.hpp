@@ -25,6 +25,22 @@
 // too: pass -(u_m).grad c_n here if the assembly puts u.grad c_n in the
 // matrix (convective_derivative serves both), or the whole
 // (u - u_m).grad c_n with a lagged u.
+//
+// After the first step the prediction takes the step the transport will take
+// (BDF2, time::bdf), with c extrapolated to t_{n+1} where the Euler step has
+// c_n:
+//
+//   c_{n+1} ~ h + theta dt [ -(u - u_m).grad c* + L c* + c* L^T + r(c*) ],
+//   h = -(a1 c_n + a2 c_{n-1}) / a0,   c* = 2 c_n - c_{n-1} (constant step).
+//
+// Why: the momentum balance holds at the predicted c, the run keeps the
+// transported one. With the Euler prediction the two differ by
+// dt^2 c''/3 at every step; in an elastic solid, whose stress answers a
+// velocity change only through G dt, that mismatch is undone at the next
+// step by a velocity error of O(dt), and a particle's shape and position
+// converged at first order in dt, or worse (docs/viscoelastic.md, "The
+// Stokes step's predicted conformation"). With the BDF2 prediction they
+// differ by O(dt^3).
 #pragma once
 
 #include <array>
@@ -33,6 +49,14 @@
 
 namespace softflow::physics::viscoelastic {
 
+/// The conformation the Stokes step's polymer stress is taken at
+/// (physics/stokes/viscoelastic_terms.hpp, physics/stokes/prediction_defect.hpp):
+///   euler       one explicit Euler step from c_n (eq. 2.37, D'Avino-Hulsen):
+///               first order in dt where the flow is not homogeneous;
+///   consistent  the transport's own BDF step, plus the previous step's
+///               defect against the transported c: second order.
+enum class StressPrediction { euler, consistent };
+
 /// (w . grad) c = sum_k w_k dc/dx_k, with grad_c[k] = dc/dx_k (each symmetric).
 [[nodiscard]] Mat3 convective_derivative(const Vec3& w, const std::array<Mat3, 3>& grad_c);
 
@@ -40,21 +64,27 @@ namespace softflow::physics::viscoelastic {
 /// point, its L-independent part computed once at construction.
 class ConformationPrediction {
  public:
-  /// `convection` = (u - u_m).grad c_n (or the part of it kept explicit);
-  /// c_n symmetric. Throws softflow::Error for a Newtonian phase or dt <= 0.
+  /// The Euler (BDF1) step: `convection` = (u - u_m).grad c_n (or the part
+  /// of it kept explicit); c_n symmetric. Throws softflow::Error for a
+  /// Newtonian phase or dt <= 0.
   ConformationPrediction(const Constitutive& model, const Mat3& c_n, const Mat3& convection,
                          double dt);
+  /// Any BDF step: `history` = -(a1 c_n + a2 c_{n-1}) / a0, `extrapolated`
+  /// = c* (c_n at a BDF1 step), `convection` = (u - u_m).grad c* (or its
+  /// explicit part), `theta_dt` = dt / a0. Throws as above for theta_dt <= 0.
+  ConformationPrediction(const Constitutive& model, const Mat3& history, const Mat3& extrapolated,
+                         const Mat3& convection, double theta_dt);
 
-  /// c_n + dt [ -convection + r(c_n) ], r the model's relaxation.
+  /// history + theta dt [ -convection + r(c*) ], r the model's relaxation.
   [[nodiscard]] const Mat3& constant() const { return constant_; }
-  /// dt (L c_n + c_n L^T): linear in L, the part that goes to the left-hand side.
+  /// theta dt (L c* + c* L^T): linear in L, the part that goes to the left-hand side.
   [[nodiscard]] Mat3 linear(const Mat3& velocity_gradient) const;
   /// constant() + linear(L): the whole prediction.
   [[nodiscard]] Mat3 operator()(const Mat3& velocity_gradient) const;
 
  private:
-  Mat3 c_n_;
-  double dt_;
+  Mat3 extrapolated_;
+  double theta_dt_;
   Mat3 constant_;
 };
 

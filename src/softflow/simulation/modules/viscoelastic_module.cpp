@@ -45,7 +45,8 @@ const io::ReportTable<StressRow>& stress_table() {
 
 ViscoelasticModule::ViscoelasticModule(const ModuleSetup& setup)
     : phases_(setup.mesh, {setup.models.begin(), setup.models.end()}, setup.stokes.interface_slip(),
-              io::conformation_supg_taus(setup.config)) {}
+              io::conformation_supg_taus(setup.config),
+              setup.config.conformation.stress_prediction) {}
 
 bool ViscoelasticModule::wanted(const ModuleSetup& setup) {
   return ViscoelasticPhases::needed({setup.models.begin(), setup.models.end()});
