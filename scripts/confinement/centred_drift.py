@@ -44,6 +44,9 @@ parser.add_argument("--out", default=None)
 args = parser.parse_args()
 os.makedirs(args.work, exist_ok=True)
 
+# The particle's conformation numerics as the drift table was computed
+# (before the keys of [conformation]: scripts/validation/case_runs.py).
+CONFORMATION = {"particle": '[conformation]\nsupg_tau = "steady"\nstress_prediction = "euler"\n'}
 OBJECTS = {
     "drop": "viscosity_ratio = 1.0\ncapillary_number = 0.1\n",
     "particle": "model = \"neo_hookean\"\nelastic_capillary_number = 0.1\n",
@@ -71,7 +74,7 @@ end = {args.end}
 [output]
 fields = false
 directory = "{directory}"
-"""
+{CONFORMATION.get(obj, "")}"""
 
 
 def completed(directory):

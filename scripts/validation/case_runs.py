@@ -20,12 +20,16 @@ import subprocess
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-# The thesis's steady SUPG parameter in every phase's conformation transport.
-# The particle figures were computed with it, before `[conformation] supg_tau`
-# and its default (auto), which limits the parameter by the time step inside
-# solids (docs/viscoelastic.md, "The SUPG parameter and the time step"); their
-# scripts append this table so that they reproduce their documents.
-STEADY_SUPG = '[conformation]\nsupg_tau = "steady"\n'
+# The conformation numerics of the results in docs/ from before the keys of
+# `[conformation]`: the Stokes step's stress at the Euler prediction (eq. 2.37;
+# the default `stress_prediction = "consistent"` is second order in dt:
+# docs/viscoelastic.md, "The predicted stress and the transported one"), and
+# for the particle figures also the thesis's steady SUPG parameter (the
+# default `supg_tau = "auto"` limits it by the time step inside solids: "The
+# SUPG parameter and the time step"). Their scripts append these tables so
+# that they reproduce their documents.
+EULER_PREDICTION = '[conformation]\nstress_prediction = "euler"\n'
+PARTICLE_FIGURES_CONFORMATION = '[conformation]\nsupg_tau = "steady"\nstress_prediction = "euler"\n'
 
 
 def finished(directory):

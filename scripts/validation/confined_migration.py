@@ -27,7 +27,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import STEADY_SUPG, validation_main  # noqa: E402
+from case_runs import PARTICLE_FIGURES_CONFORMATION, validation_main  # noqa: E402
 from migration_runs import (combine, plot_trajectories, read_migration, read_starts, start_table,  # noqa: E402
                             write_series)
 
@@ -82,7 +82,7 @@ end = {T_END}
 quality = 0.2
 [checkpoint]
 interval_minutes = 10.0
-""" + STEADY_SUPG
+""" + PARTICLE_FIGURES_CONFORMATION
 
 
 def jobs():

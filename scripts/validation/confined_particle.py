@@ -38,7 +38,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import STEADY_SUPG, meshed_size, read_run, richardson, validation_main  # noqa: E402
+from case_runs import PARTICLE_FIGURES_CONFORMATION, meshed_size, read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "theory"))
@@ -90,7 +90,7 @@ end = {T_END}
 interval_minutes = 0
 [output]
 fields = true
-""" + STEADY_SUPG
+""" + PARTICLE_FIGURES_CONFORMATION
 
 
 def all_cases():

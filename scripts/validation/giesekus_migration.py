@@ -30,7 +30,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import STEADY_SUPG, validation_main  # noqa: E402
+from case_runs import PARTICLE_FIGURES_CONFORMATION, validation_main  # noqa: E402
 from giesekus_shear import relaxation_time_for_p  # noqa: E402
 from migration_runs import combine, mean_velocity, plot_trajectories, read_starts, start_table, write_series  # noqa: E402
 
@@ -103,7 +103,7 @@ quality = 0.2
 interval_minutes = 10.0
 [output]
 fields = false
-""" + STEADY_SUPG
+""" + PARTICLE_FIGURES_CONFORMATION
 
 
 def jobs():

@@ -25,7 +25,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import STEADY_SUPG, read_run, validation_main  # noqa: E402
+from case_runs import PARTICLE_FIGURES_CONFORMATION, read_run, validation_main  # noqa: E402
 from giesekus_shear import p_from_first_normal_stress  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -71,7 +71,7 @@ end = {T_END}
 interval_minutes = 10.0
 [output]
 fields = false
-""" + STEADY_SUPG
+""" + PARTICLE_FIGURES_CONFORMATION
 
 
 def jobs():

@@ -35,7 +35,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import STEADY_SUPG, meshed_size, read_run, richardson, validation_main  # noqa: E402
+from case_runs import PARTICLE_FIGURES_CONFORMATION, meshed_size, read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -82,7 +82,7 @@ end = {T_END}
 interval_minutes = 0
 [output]
 fields = false
-""" + STEADY_SUPG
+""" + PARTICLE_FIGURES_CONFORMATION
 
 
 def all_cases():

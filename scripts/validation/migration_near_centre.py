@@ -30,7 +30,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import STEADY_SUPG, validation_main  # noqa: E402
+from case_runs import PARTICLE_FIGURES_CONFORMATION, validation_main  # noqa: E402
 from migration_runs import mean_velocity, read_migration  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -84,7 +84,7 @@ end = {T_END}
 interval_minutes = 10.0
 [output]
 fields = false
-""" + STEADY_SUPG
+""" + PARTICLE_FIGURES_CONFORMATION
 
 
 def jobs():

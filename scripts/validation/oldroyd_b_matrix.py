@@ -28,7 +28,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, validation_main  # noqa: E402
+from case_runs import EULER_PREDICTION, read_run, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -68,7 +68,7 @@ end = {T_END}
 interval_minutes = 0
 [output]
 fields = false
-"""
+""" + EULER_PREDICTION
 
 
 def greco_shift(lam, ca, p, p_d):

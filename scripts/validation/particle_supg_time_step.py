@@ -71,6 +71,7 @@ end = {SHORT_END:g}
 fields = false
 [conformation]
 supg_tau = "{kind}"
+stress_prediction = "euler"
 """
 
 
@@ -101,6 +102,7 @@ end = {LONG_END:g}
 fields = false
 [conformation]
 supg_tau = "{kind}"
+stress_prediction = "euler"
 """
 
 

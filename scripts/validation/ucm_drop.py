@@ -23,7 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import read_run, richardson, validation_main  # noqa: E402
+from case_runs import EULER_PREDICTION, read_run, richardson, validation_main  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -120,7 +120,7 @@ end = {end}
 interval_minutes = 0
 [output]
 fields = false
-"""
+""" + EULER_PREDICTION
 
 
 def completed_pair(work, run, twin):
@@ -290,7 +290,7 @@ end = {T_END}
 interval_minutes = 0
 [output]
 fields = false
-"""
+""" + EULER_PREDICTION
 
 
 def name_of(ca, ucm, equator=28, per_relaxation=5):

@@ -24,7 +24,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from case_runs import read_csv, run_case  # noqa: E402
+from case_runs import EULER_PREDICTION, read_csv, run_case  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -89,7 +89,7 @@ end = {T_END}
 interval_minutes = 0
 [output]
 fields = false
-""", rerun=True)
+""" + EULER_PREDICTION, rerun=True)
     rows = read_csv(os.path.join(directory, "stress.csv"))
     return [(float(r["t"]), float(r["tau_xy"]), float(r["N1"])) for r in rows]
 

@@ -33,6 +33,7 @@ void expect_exact_restart(const std::string& phases, const std::string& name) {
   ASSERT_NE(runs.uninterrupted->viscoelastic(), nullptr) << name;
   EXPECT_TRUE(runs.checkpoint.state.contains("fields/log_conformation/values")) << name;
   EXPECT_TRUE(runs.checkpoint.state.contains("viscoelastic/transport/previous")) << name;
+  EXPECT_TRUE(runs.checkpoint.state.contains("viscoelastic/prediction_defect/values")) << name;
   ASSERT_FALSE(runs.last.stresses.empty());
   EXPECT_GT(std::abs(runs.last.stresses.front().mean(0, 1)), 1e-3) << name;  // a stress built up
 
