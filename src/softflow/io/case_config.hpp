@@ -160,6 +160,8 @@ struct ConformationConfig {
   /// (physics::viscoelastic::StressPrediction).
   physics::viscoelastic::StressPrediction stress_prediction =
       physics::viscoelastic::StressPrediction::consistent;
+  /// The DEVSS-G term in every phase with a conformation (thesis eqs. 2.34, 2.36).
+  bool devss_g = true;
 };
 
 /// [emulsion]: many drops at random (thesis ch. 4; docs/emulsions.md): the

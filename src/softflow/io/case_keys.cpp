@@ -485,7 +485,11 @@ Table<CaseConfig> conformation_table() {
                     "one explicit Euler step from c_n (eq. 2.37, as the thesis; first order in "
                     "dt where the flow is not homogeneous)"}},
                   "the conformation the Stokes step's polymer stress is taken at "
-                  "(docs/viscoelastic.md)")}};
+                  "(docs/viscoelastic.md)"),
+           boolean("devss_g", conformation(&ConformationConfig::devss_g), true,
+                   "the DEVSS-G term theta (grad u - G_n) in every phase with a conformation "
+                   "(theta = eta_p in a liquid, G dt in a solid); false: none, for studies of "
+                   "its effect (G_n lags a step: first order in dt in a transient)")}};
 }
 
 Table<CaseConfig> emulsion_table() {

@@ -41,7 +41,8 @@ void for_each_owned_block(fem::Field& field, F&& f) {
 
 ViscoelasticPhases::ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<ve::Constitutive> models,
                                        bool slip_velocity, std::vector<physics::SupgTau> supg_taus,
-                                       physics::viscoelastic::StressPrediction prediction)
+                                       physics::viscoelastic::StressPrediction prediction,
+                                       bool devss_g)
     : mesh_(mesh),
       models_(std::move(models)),
       p1_(std::make_shared<fem::Space>(mesh, 1, fem::Continuity::per_region)),
@@ -61,6 +62,7 @@ ViscoelasticPhases::ViscoelasticPhases(const mesh::Mesh& mesh, std::vector<ve::C
   // c = I everywhere at t = 0 (eq. 2.20): s = 0, tau = 0.
   for_each_owned_block(conformation_, [](int, auto c) { c = ve::pack_symmetric(ve::Mat3::Identity()); });
   supg_taus_ = supg_taus;
+  devss_g_ = devss_g;
   transport_ = std::make_unique<physics::AleTransport>(log_conformation_, std::move(supg_taus));
   source_ = ve::log_conformation_source(models_, velocity_, log_conformation_, *transport_);
   prediction_ = prediction;
@@ -99,7 +101,7 @@ physics::ViscoelasticCoupling ViscoelasticPhases::coupling(
     }
   }
   coupling.mesh_velocity = &mesh_velocity_;
-  coupling.velocity_gradient = gradient_steps_ > 0 ? &gradient_ : nullptr;
+  coupling.velocity_gradient = devss_g_ && gradient_steps_ > 0 ? &gradient_ : nullptr;
   coupling.dt = dt;
   if (defect_) defect_->apply(coupling);
   last_coupling_ = coupling;

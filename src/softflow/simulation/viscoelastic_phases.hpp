@@ -69,7 +69,8 @@ class ViscoelasticPhases {
                      std::vector<physics::viscoelastic::Constitutive> models,
                      bool slip_velocity = false, std::vector<physics::SupgTau> supg_taus = {},
                      physics::viscoelastic::StressPrediction prediction =
-                         physics::viscoelastic::StressPrediction::consistent);
+                         physics::viscoelastic::StressPrediction::consistent,
+                     bool devss_g = true);
   ~ViscoelasticPhases();
   ViscoelasticPhases(const ViscoelasticPhases&) = delete;
   ViscoelasticPhases& operator=(const ViscoelasticPhases&) = delete;
@@ -138,6 +139,7 @@ class ViscoelasticPhases {
   fem::Field velocity_, mesh_velocity_;
   fem::Field gradient_;
   std::vector<physics::SupgTau> supg_taus_;
+  bool devss_g_ = true;
   std::unique_ptr<physics::AleTransport> transport_;
   physics::AleTransport::Source source_;
   int gradient_steps_ = 0;  // projections of G done so far

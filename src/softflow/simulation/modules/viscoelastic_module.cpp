@@ -46,7 +46,7 @@ const io::ReportTable<StressRow>& stress_table() {
 ViscoelasticModule::ViscoelasticModule(const ModuleSetup& setup)
     : phases_(setup.mesh, {setup.models.begin(), setup.models.end()}, setup.stokes.interface_slip(),
               io::conformation_supg_taus(setup.config),
-              setup.config.conformation.stress_prediction) {}
+              setup.config.conformation.stress_prediction, setup.config.conformation.devss_g) {}
 
 bool ViscoelasticModule::wanted(const ModuleSetup& setup) {
   return ViscoelasticPhases::needed({setup.models.begin(), setup.models.end()});
