@@ -8,7 +8,10 @@
 //
 // with tau_{n+1} = tau(c_{n+1}) (G (c_{n+1} - I) for Oldroyd-B, Giesekus and
 // the solids, eq. 2.6) and c_{n+1} the D'Avino-Hulsen prediction
-// (physics/viscoelastic/conformation_prediction.hpp), affine in u:
+// (physics/viscoelastic/conformation_prediction.hpp), affine in u; below its
+// Euler form (StressPrediction::euler); the consistent one takes the
+// transport's BDF step with c* = 2 c_n - c_{n-1} in place of c_n and adds the
+// last step's defect (prediction_defect.hpp):
 //
 //   c_{n+1} = c_n + dt [ -(u - u_m).grad c_n + L c_n + c_n L^T + r(c_n) ],   L = grad u^T,
 //
