@@ -15,6 +15,7 @@ import os
 
 from case_runs import read_csv, richardson, validation_main  # noqa: E402
 from giesekus_migration import HEIGHT  # noqa: E402
+from giesekus_migration_resolution import text as resolution_text  # noqa: E402
 from giesekus_migration_sensitivity import BASE_DT, SOLVENT, WINDOWS, text  # noqa: E402
 from migration_runs import mean_velocity, read_migration  # noqa: E402
 
@@ -22,19 +23,30 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 OUT = os.path.join(ROOT, "docs", "validation")
 # (name, dt, end), the longest first.
 RUNS = [("consistent_dt0.01", 0.01, 2.0), ("consistent_dt0.04", BASE_DT, 6.0), ("consistent_dt0.02", 0.02, 2.0)]
+# The next level of giesekus_migration_resolution.py's mesh study (28 equator
+# nodes asked, the whole mesh refined alike), at the figures' step.
+FINER = ("consistent_N28_dt0.04", 28, 6.0)
 # The Euler prediction's runs of giesekus_migration_sensitivity.py at these steps.
 EULER = {0.04: "base", 0.02: "dt0.02", 0.01: "dt0.01", 0.005: "dt0.005"}
 
 
-def case(name, dt, end):
+def consistent(base):
     euler = 'stress_prediction = "euler"\n'
-    base = text(name, dt, SOLVENT, end, "steady")
     assert euler in base
     return base.replace(euler, 'stress_prediction = "consistent"\n')
 
 
+def case(name, dt, end):
+    return consistent(text(name, dt, SOLVENT, end, "steady"))
+
+
+def finer_case():
+    name, nodes, end = FINER
+    return consistent(resolution_text(name, nodes, "zero_shear", end))
+
+
 def jobs():
-    return [(name, case(name, dt, end)) for name, dt, end in RUNS]
+    return [(FINER[0], finer_case())] + [(name, case(name, dt, end)) for name, dt, end in RUNS]
 
 
 def report(work):
