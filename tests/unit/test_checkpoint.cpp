@@ -188,7 +188,7 @@ TEST(Checkpoint, AParticleRunFromBeforeTheConformationKeysContinuesOnlyWithTheSt
   Checkpoint c = sample();
   std::string old_case = to_toml(parse_case(particle, "case.toml"));
   const std::string section =
-      "\n[conformation]\nsupg_tau = \"auto\"\nstress_prediction = \"consistent\"\n";
+      "\n[conformation]\nsupg_tau = \"auto\"\nstress_prediction = \"consistent\"\ndevss_g = true\n";
   ASSERT_NE(old_case.find(section), std::string::npos) << old_case;
   old_case.erase(old_case.find(section), section.size());
   ASSERT_EQ(old_case.find("supg_tau"), std::string::npos);

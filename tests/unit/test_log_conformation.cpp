@@ -22,6 +22,7 @@
 #include "softflow/physics/viscoelastic/constitutive.hpp"
 #include "softflow/physics/viscoelastic/log_conformation.hpp"
 #include "softflow/physics/viscoelastic/symmetric_tensor.hpp"
+#include "softflow/time/bdf.hpp"
 
 namespace ve = softflow::physics::viscoelastic;
 using ve::Constitutive;
@@ -428,6 +429,39 @@ TEST(ViscoelasticPrediction, AgreesWithTheExactStepToSecondOrderInDt) {
     }
     previous = error;
   }
+}
+
+TEST(ViscoelasticPrediction, TheBdf2StepAgreesWithTheExactStepToThirdOrderInDt) {
+  // The consistent prediction takes the transport's BDF2 step: from c_{n-1}
+  // and c_n on the exact trajectory, h = (4 c_n - c_{n-1}) / 3 plus 2 dt / 3
+  // times the rate at c* = 2 c_n - c_{n-1}: local error O(dt^3), so halving
+  // dt divides it by 8. With a2 = 0 and c* = c_n it is the Euler step.
+  Random random(9);
+  const auto model = Constitutive::giesekus(0.1, 1.0, 0.5, 0.3);
+  const Mat3 c0 = Spectral{random.rotation(), Vec3(0.6, 1.1, 2.5)}.c();
+  const Mat3 l = random.matrix(1.0);
+  const auto exact = [&](double t) {
+    return rk4([&](const Mat3& c) { return ve::conformation_rate(model, l, c); }, c0, t / 400, 400);
+  };
+  const auto bdf = softflow::time::bdf(2);
+  const auto e = softflow::time::extrapolation(2);
+  double previous = 0.0;
+  for (double dt : {2e-2, 1e-2, 5e-3}) {
+    const Mat3 c_previous = c0, c_n = exact(dt);
+    const Mat3 history = -(bdf.a1 * c_n + bdf.a2 * c_previous) / bdf.a0;
+    const Mat3 extrapolated = e.current * c_n + e.previous * c_previous;
+    const ve::ConformationPrediction prediction(model, history, extrapolated, Mat3::Zero(),
+                                                bdf.theta_dt(dt));
+    const double error = max_abs(prediction(l) - exact(2.0 * dt));
+    if (previous > 0.0) {
+      EXPECT_NEAR(previous / error, 8.0, 1.2) << "dt = " << dt;
+    }
+    previous = error;
+  }
+  const Mat3 c_n = c0;
+  const ve::ConformationPrediction euler(model, c_n, Mat3::Zero(), 0.01);
+  const ve::ConformationPrediction bdf1(model, c_n, c_n, Mat3::Zero(), softflow::time::bdf(1).theta_dt(0.01));
+  EXPECT_EQ(euler(l), bdf1(l));
 }
 
 TEST(ViscoelasticPrediction, RelaxationEntersWithMinusSignAndOneOverLambda) {
