@@ -58,14 +58,19 @@ def report(work):
             r = recorded[run]
             rows.append({"prediction": "euler", "dt": dt, "t_last": float(r["t_last"]),
                          **{c: (float(r[c]) if r[c] else None) for c in columns}})
-    for name, dt, end in RUNS:
+    finer = None
+    for name, dt, end in RUNS + [(FINER[0], BASE_DT, FINER[2])]:
         directory = os.path.join(work, name)
         if not os.path.exists(os.path.join(directory, "migration.csv")):
             continue
         r = read_migration(directory, HEIGHT)
         t_last = r["t"][-1] if r["t"] else 0.0
         vs = [mean_velocity(r, a, b) if t_last >= b - 1e-9 else None for a, b in WINDOWS]
-        rows.append({"prediction": "consistent", "dt": dt, "t_last": t_last, **dict(zip(columns, vs))})
+        row = {"prediction": "consistent", "dt": dt, "t_last": t_last, **dict(zip(columns, vs))}
+        if name == FINER[0]:
+            finer = row
+        else:
+            rows.append(row)
     rows.sort(key=lambda x: (x["prediction"] != "euler", -x["dt"]))
     with open(os.path.join(OUT, "giesekus_migration_prediction.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=["prediction", "dt", "t_last"] + columns)
@@ -84,6 +89,19 @@ def report(work):
         lines.append(f"| {x['prediction']} | {x['dt']:g} | " +
                      " | ".join("" if x[c] is None else f"{x[c]:.3e}" for c in columns) + f" | {x['t_last']:g} |")
     lines.append("")
+    if finer is not None:
+        recorded_mesh = {r["run"]: r for r in read_csv(os.path.join(OUT, "giesekus_migration_resolution.csv"))}
+        euler_n28 = recorded_mesh.get("N28")
+        lines += [f"The next mesh level ({FINER[1]} equator nodes asked, the whole mesh refined alike: "
+                  "giesekus_migration_resolution.py's N28), dt = 0.04:", "",
+                  "| stress_prediction | " + " | ".join(f"v_p, t = {a:g}-{b:g}" for a, b in WINDOWS) +
+                  " | t reached |", "|---|" + "---|" * len(WINDOWS) + "---|",
+                  "| consistent | " + " | ".join("" if finer[c] is None else f"{finer[c]:.3e}" for c in columns) +
+                  f" | {finer['t_last']:g} |"]
+        if euler_n28 is not None:
+            lines.append("| euler (giesekus_migration_resolution.csv: t = 2-6 only) | | | | | " +
+                         f"{float(euler_n28['mean_v_p_t2_6']):.3e} | {euler_n28['t_last']} |")
+        lines.append("")
     for prediction in ("euler", "consistent"):
         for c, (a, b) in zip(columns, WINDOWS):
             levels = [(x["dt"], x[c]) for x in rows if x["prediction"] == prediction and x[c] is not None]
