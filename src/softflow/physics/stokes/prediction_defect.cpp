@@ -51,8 +51,8 @@ void PredictionDefect::record_prediction(const ViscoelasticCoupling& coupling,
   without.defect = nullptr;
   for (int t : values_.tets())
     for (const auto& p : fem::quadrature_points(mesh_, stokes_rule(), t))
-      values_.at(t, p.q) =
-          predicted_conformation(without, p, velocity.value(p), velocity.gradient(p));
+      values_.set(t, p.q,
+                  predicted_conformation(without, p, velocity.value(p), velocity.gradient(p)));
   theta_dt_ = coupling.bdf.theta_dt(coupling.dt);
   measured_ = false;
 }
@@ -60,8 +60,7 @@ void PredictionDefect::record_prediction(const ViscoelasticCoupling& coupling,
 void PredictionDefect::measure(const fem::Field& conformation) {
   for (int t : values_.tets())
     for (const auto& p : fem::quadrature_points(mesh_, stokes_rule(), t)) {
-      ve::Mat3& d = values_.at(t, p.q);
-      d = ve::unpack_symmetric(conformation.value(p)) - d;
+      values_.set(t, p.q, ve::unpack_symmetric(conformation.value(p)) - values_.get(t, p.q));
     }
   measured_ = true;
 }
@@ -78,7 +77,7 @@ double PredictionDefect::largest() const {
   double m = 0.0;
   for (int t : values_.tets())
     for (int q = 0; q < values_.points_per_tet(); ++q)
-      m = std::max(m, values_.find(t, q)->cwiseAbs().maxCoeff());
+      m = std::max(m, values_.get(t, q).cwiseAbs().maxCoeff());
   return m;
 }
 
@@ -97,10 +96,10 @@ void PredictionDefect::save(StateRecord& record, const std::string& prefix) cons
       (whole ? static_cast<std::size_t>(mesh_.n_tets()) : tets.size()) * n_q * n_c, 0.0);
   for (std::size_t i = 0; i < tets.size(); ++i) {
     const int t = tets[i];
-    if (!values_.find(t, 0)) continue;
+    if (!values_.holds(t)) continue;
     const std::size_t slot = whole ? static_cast<std::size_t>(t) : i;
     for (int q = 0; q < n_q; ++q) {
-      const Eigen::VectorXd d = ve::pack_symmetric(*values_.find(t, q));
+      const Eigen::VectorXd d = ve::pack_symmetric(values_.get(t, q));
       std::copy(d.data(), d.data() + n_c, values.begin() + (slot * n_q + q) * n_c);
     }
   }
@@ -131,8 +130,8 @@ void PredictionDefect::restore(const StateRecord& record, const std::string& pre
     const std::size_t slot = whole ? static_cast<std::size_t>(t) : i;
     for (int q = 0; q < n_q; ++q) {
       const auto begin = values.begin() + static_cast<std::ptrdiff_t>((slot * n_q + q) * n_c);
-      values_.at(t, q) =
-          ve::unpack_symmetric(Eigen::VectorXd::Map(&*begin, ve::kSymmetricComponents));
+      values_.set(t, q,
+                  ve::unpack_symmetric(Eigen::VectorXd::Map(&*begin, ve::kSymmetricComponents)));
     }
   }
 }
