@@ -33,6 +33,7 @@ struct BdfCoefficients {
   /// theta dt, formed as dt / a0 rather than theta() * dt: one rounding, so
   /// that constant-step BDF2 gives 2 dt / 3 to the last bit.
   [[nodiscard]] double theta_dt(double dt) const { return dt / a0; }
+  friend bool operator==(const BdfCoefficients&, const BdfCoefficients&) = default;
 };
 
 /// BDF coefficients of order 1 or 2 for a constant step.
@@ -46,6 +47,8 @@ struct BdfCoefficients {
 struct Extrapolation {
   double current = 1.0;
   double previous = 0.0;
+
+  friend bool operator==(const Extrapolation&, const Extrapolation&) = default;
 };
 
 /// The predictor of a step of the given BDF order, constant step.

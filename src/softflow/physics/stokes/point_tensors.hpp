@@ -36,7 +36,6 @@ class PointTensors {
   }
   [[nodiscard]] std::span<const int> tets() const { return tets_; }
   [[nodiscard]] int points_per_tet() const { return points_; }
-  [[nodiscard]] int n_tets() const { return static_cast<int>(slot_of_tet_.size()); }
 
  private:
   static constexpr std::size_t kComponents = 6;  // a symmetric tensor, packed

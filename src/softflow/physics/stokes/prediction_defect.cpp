@@ -72,15 +72,6 @@ void PredictionDefect::apply(ViscoelasticCoupling& coupling) const {
   coupling.defect_scale = coupling.bdf.theta_dt(coupling.dt) / theta_dt_;
 }
 
-double PredictionDefect::largest() const {
-  if (!measured_) return 0.0;
-  double m = 0.0;
-  for (int t : values_.tets())
-    for (int q = 0; q < values_.points_per_tet(); ++q)
-      m = std::max(m, values_.get(t, q).cwiseAbs().maxCoeff());
-  return m;
-}
-
 void PredictionDefect::save(StateRecord& record, const std::string& prefix) const {
   record.set(prefix + "measured", measured_);
   record.set(prefix + "theta_dt", theta_dt_);

@@ -60,8 +60,6 @@ class PredictionDefect {
   /// The next step takes no d.
   void reset() { measured_ = false; }
   [[nodiscard]] bool measured() const { return measured_; }
-  /// max |d_ij| over this rank's points (0 before a measure()).
-  [[nodiscard]] double largest() const;
 
   /// As part of a run's state (a checkpoint: every point of the mesh, so
   /// that a restart on any number of ranks continues alike; a rank's own

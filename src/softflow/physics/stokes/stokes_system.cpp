@@ -992,9 +992,7 @@ void StokesSystem::restore_state(const StateRecord& in, const std::string& prefi
       int conformation_differs =
           factors_->conformation != analysis_->conformation ||
                   factors_->previous_conformation != analysis_->previous_conformation ||
-                  f.bdf.a0 != a.bdf.a0 || f.bdf.a1 != a.bdf.a1 || f.bdf.a2 != a.bdf.a2 ||
-                  f.extrapolation.current != a.extrapolation.current ||
-                  f.extrapolation.previous != a.extrapolation.previous
+                  f.bdf != a.bdf || f.extrapolation != a.extrapolation
               ? 1
               : 0;
       MPI_Allreduce(MPI_IN_PLACE, &conformation_differs, 1, MPI_INT, MPI_LOR, PETSC_COMM_WORLD);

@@ -44,9 +44,8 @@ PointPrediction predict_at(const ViscoelasticCoupling& coupling, const fem::Quad
                                  : Eigen::Vector3d::Zero();
   const ve::Mat3 c = ve::unpack_symmetric(extrapolated);
   ve::Mat3 h = ve::unpack_symmetric(history);
-  if (coupling.defect)
-    if (coupling.defect->holds(p.tet))
-      h += coupling.defect_scale * coupling.defect->get(p.tet, p.q);
+  if (coupling.defect && coupling.defect->holds(p.tet))
+    h += coupling.defect_scale * coupling.defect->get(p.tet, p.q);
   return {c, grad_c,
           ve::ConformationPrediction(model, h, c, ve::convective_derivative(-um, grad_c),
                                      bdf.theta_dt(coupling.dt))};

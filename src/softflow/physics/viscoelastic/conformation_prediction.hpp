@@ -34,13 +34,13 @@
 //   h = -(a1 c_n + a2 c_{n-1}) / a0,   c* = 2 c_n - c_{n-1} (constant step).
 //
 // Why: the momentum balance holds at the predicted c, the run keeps the
-// transported one. With the Euler prediction the two differ by
-// dt^2 c''/3 at every step; in an elastic solid, whose stress answers a
-// velocity change only through G dt, that mismatch is undone at the next
-// step by a velocity error of O(dt), and a particle's shape and position
-// converged at first order in dt, or worse (docs/viscoelastic.md, "The
-// Stokes step's predicted conformation"). With the BDF2 prediction they
-// differ by O(dt^3).
+// transported one, which the transport computes by BDF2. The Euler step
+// differs from that in time by O(dt^2) at every step, the BDF2 one by
+// O(dt^3); what is left between them is spatial (the transport's
+// projection), which physics/stokes/prediction_defect.hpp carries to the
+// next step (docs/viscoelastic.md, "The predicted stress and the
+// transported one"). The BDF2 step alone made the drop-in-Giesekus
+// study's changes of D about a third smaller; the defect does the rest.
 #pragma once
 
 #include <array>
