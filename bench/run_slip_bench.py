@@ -8,10 +8,7 @@ mesh (issue 10 target: at most 1.5 times); see step_cost.py for the set-up:
 Writes docs/benchmarks/slip_step.{md,json}.
 
 Usage: bench/run_slip_bench.py [build_dir] [--repeats N] [--work DIR]"""
-import argparse
-import os
-
-from step_cost import ROOT, compare
+from step_cost import compare_main
 
 DROP = "viscosity_ratio = 1.0\ncapillary_number = 0.1\n"
 CASES = {
@@ -22,13 +19,9 @@ CASES = {
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_slip"))
-    args = parser.parse_args()
-    compare(CASES, args.build, args.work, args.repeats, "Cost of a step with interfacial slip (issue 10)",
-            "run_slip_bench.py", "slip_step")
+    compare_main(CASES, "bench_slip",
+                 "Cost of a step with interfacial slip (issue 10)",
+                 "run_slip_bench.py", "slip_step")
 
 
 if __name__ == "__main__":

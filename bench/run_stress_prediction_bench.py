@@ -11,10 +11,7 @@ the solve and the defect there; its time is in the `conformation` stage.
 Writes docs/benchmarks/stress_prediction_step.{md,json}.
 
 Usage: bench/run_stress_prediction_bench.py [build_dir] [--repeats N] [--work DIR]"""
-import argparse
-import os
-
-from step_cost import ROOT, compare
+from step_cost import compare_main
 
 OB = ('[matrix]\nmodel = "oldroyd_b"\nsolvent_viscosity = 0.5\npolymer_viscosity = 0.5\n'
       "relaxation_time = 0.5\n")
@@ -36,14 +33,9 @@ CASES = {
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_stress_prediction"))
-    args = parser.parse_args()
-    compare(CASES, args.build, args.work, args.repeats,
-            "Cost of a step: the consistent predicted stress against the Euler one",
-            "run_stress_prediction_bench.py", "stress_prediction_step")
+    compare_main(CASES, "bench_stress_prediction",
+                 "Cost of a step: the consistent predicted stress against the Euler one",
+                 "run_stress_prediction_bench.py", "stress_prediction_step")
 
 
 if __name__ == "__main__":

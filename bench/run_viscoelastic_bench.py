@@ -8,10 +8,7 @@
 Writes docs/benchmarks/viscoelastic_step.{md,json}.
 
 Usage: bench/run_viscoelastic_bench.py [build_dir] [--repeats N] [--work DIR]"""
-import argparse
-import os
-
-from step_cost import ROOT, compare
+from step_cost import compare_main
 
 CASES = {
     "newtonian": ("", "viscosity_ratio = 1.0\ncapillary_number = 0.1\n"),
@@ -22,13 +19,9 @@ CASES = {
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_viscoelastic"))
-    args = parser.parse_args()
-    compare(CASES, args.build, args.work, args.repeats, "Cost of a viscoelastic step (issue 9)",
-            "run_viscoelastic_bench.py", "viscoelastic_step")
+    compare_main(CASES, "bench_viscoelastic",
+                 "Cost of a viscoelastic step (issue 9)",
+                 "run_viscoelastic_bench.py", "viscoelastic_step")
 
 
 if __name__ == "__main__":

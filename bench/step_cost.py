@@ -7,6 +7,7 @@ One unit object in a 30 x 30 x 30 shear cell meshed with 28 equator nodes
 steps of dt = DT from rest. Each case runs `repeats` times, interleaved so
 that machine load hits every case alike; the medians of the seconds per step
 (whole step and each stage) are reported with their ratios to the first case."""
+import argparse
 import json
 import os
 import statistics
@@ -80,3 +81,14 @@ def compare(cases, build, work, repeats, title, script, out_name):
     with open(os.path.join(OUT, out_name + ".json"), "w") as f:
         json.dump({"medians": med, "runs": results}, f, indent=1)
     print("\n".join(md))
+
+
+def compare_main(cases, work_name, title, script, out_name):
+    """`SCRIPT [build_dir] [--repeats N] [--work DIR]` for a step-cost
+    benchmark: compare() of `cases`, work under output/<work_name> by default."""
+    parser = argparse.ArgumentParser()
+    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--work", default=os.path.join(ROOT, "output", work_name))
+    args = parser.parse_args()
+    compare(cases, args.build, args.work, args.repeats, title, script, out_name)
