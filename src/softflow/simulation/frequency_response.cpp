@@ -78,12 +78,10 @@ void check_response_case(const io::CaseConfig& config, const std::vector<double>
       throw InputError(fmt::format("{}.initial_deformation: the response is about the resting sphere (allowed: "
                                    "\"none\")", key));
     if (!(o.interfacial_tension > 0.0))
-      throw InputError(fmt::format("{}.interfacial_tension = {}: a drop needs a tension > 0 (it is the "
-                                   "emulsion's elasticity)", key, o.interfacial_tension));
-    if (o.slip != 0.0 && config.solver == io::SolverType::iterative)
-      throw InputError(fmt::format("solver.type = \"iterative\": the frequency-domain solver's iterative path has "
-                                   "no slip yet ({}.slip = {}); allowed with slip: \"direct\" or \"auto\"",
-                                   key, o.slip));
+      throw InputError(
+          fmt::format("{}.interfacial_tension = {}: a drop needs a tension > 0 (it is the "
+                      "emulsion's elasticity)",
+                      key, o.interfacial_tension));
   }
   if (frequencies.empty() && !(config.flow.type == io::FlowType::oscillatory && config.flow.frequency > 0.0))
     throw InputError("flow.frequency: no frequency given: set flow.type = \"oscillatory\" with a frequency, or "

@@ -34,6 +34,22 @@ bool dissipation_is_negative(const SlipMeasures& m) {
   return m.dissipation < -1e-9 * m.absolute_power;
 }
 
+SlipNodePreconditioner slip_node_preconditioner(double a_m, double a_d,
+                                                const Eigen::Vector3d& normal, double scale,
+                                                double alpha) {
+  const double penalty = 0.01 * (a_m + a_d);
+  const double compliance = (a_m + a_d) / (a_m * a_d + penalty * (a_m + a_d));
+  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
+  SlipNodePreconditioner p;
+  p.jump_penalty << penalty * identity, -penalty * identity, -penalty * identity,
+      penalty * identity;
+  const double w = std::isinf(alpha) ? 0.0 : 1.0 / (1.0 + alpha);
+  const Eigen::Matrix3d row_weight =
+      normal * normal.transpose() + w * (identity - normal * normal.transpose());
+  p.schur_estimate = (-scale * scale * compliance) * row_weight;
+  return p;
+}
+
 double largest_resolved_slip(int equator_nodes) {
   const double refinement = equator_nodes / 16.0;
   return 100.0 * refinement * refinement * refinement * refinement;

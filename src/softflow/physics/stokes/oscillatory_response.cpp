@@ -1,5 +1,6 @@
 #include "softflow/physics/stokes/oscillatory_response.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include <fmt/format.h>
@@ -22,14 +23,29 @@ constexpr int kQuadratureDegree = 5;  // as StokesSystem's
 
 }  // namespace
 
-Eigen::Matrix<double, 18, 18> linearised_tension_block(const element::TriangleNodes& x,
-                                                       const std::array<Eigen::Vector3d, 6>& normals,
-                                                       double gamma, double radius) {
-  const TriangleStiffness k = gamma * (surface_stiffness(x) - (2.0 / (radius * radius)) * surface_mass(x));
+namespace {
+
+/// N^T k N: a scalar operator k on the normal components at the 6 nodes.
+Eigen::Matrix<double, 18, 18> on_normal_components(const TriangleStiffness& k,
+                                                   const std::array<Eigen::Vector3d, 6>& normals) {
   Eigen::Matrix<double, 18, 18> block;
   for (int a = 0; a < 6; ++a)
     for (int b = 0; b < 6; ++b) block.block<3, 3>(3 * a, 3 * b) = k(a, b) * normals[a] * normals[b].transpose();
   return block;
+}
+
+}  // namespace
+
+Eigen::Matrix<double, 18, 18> linearised_tension_block(
+    const element::TriangleNodes& x, const std::array<Eigen::Vector3d, 6>& normals, double gamma,
+    double radius) {
+  return on_normal_components(
+      gamma * (surface_stiffness(x) - (2.0 / (radius * radius)) * surface_mass(x)), normals);
+}
+
+Eigen::Matrix<double, 18, 18> normal_surface_stiffness_block(
+    const element::TriangleNodes& x, const std::array<Eigen::Vector3d, 6>& normals, double gamma) {
+  return on_normal_components(gamma * surface_stiffness(x), normals);
 }
 
 struct OscillatorySystem::Impl {
@@ -47,6 +63,13 @@ struct OscillatorySystem::Impl {
   std::unique_ptr<la::CsrMatrix> inner, inner_pmat, coupling;
   std::vector<la::CsrMatrix::Block> inner_tet_blocks, inner_face_blocks, pmat_tet_blocks, pmat_face_blocks,
       coupling_blocks;
+  // With slip, per face: (coupling, constraint) in K + B and in its
+  // preconditioning matrix; per owned interface node: the preconditioner's
+  // jump penalty and Schur estimate (slip_node_preconditioner).
+  std::vector<std::array<la::CsrMatrix::Block, 2>> inner_slip_blocks, pmat_slip_blocks;
+  std::vector<std::pair<int, int>> slip_nodes;  // (node, object)
+  std::vector<std::array<la::CsrMatrix::Block, 2>> slip_node_blocks;
+  std::vector<double> node_scale;  // interface_node_scale
   std::vector<la::IndexSet> field_sets;
   la::NullSpace near_nullspace;
   std::unique_ptr<la::SaddlePointSolver> inner_solver;
@@ -128,12 +151,7 @@ OscillatorySystem::OscillatorySystem(const mesh::Mesh& mesh, la::SaddlePointMeth
   node_normal_ = interface_node_normals(surfaces_, mesh_);
   slip_ = interface_slip;
   method_ = method;
-  if (slip_ && method_ == la::SaddlePointMethod::iterative)
-    throw SolverError("the frequency-domain solver's iterative path has no slip yet: solver.type = \"direct\"");
-  if (slip_ && method_ == la::SaddlePointMethod::automatic) {
-    method_ = la::SaddlePointMethod::direct;
-    method_reason_ = "auto: slip (the iterative path has none yet)";
-  } else if (method_ == la::SaddlePointMethod::automatic) {
+  if (method_ == la::SaddlePointMethod::automatic) {
     method_ = n_unknowns() <= la::kDirectSolverLimit ? la::SaddlePointMethod::direct
                                                        : la::SaddlePointMethod::iterative;
     method_reason_ = fmt::format("auto: {} real unknowns, {} the {} an LU factorisation fits in memory for",
@@ -230,13 +248,14 @@ void OscillatorySystem::create_inner_matrices() {
         impl.inner_pmat->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(c)));
   }
   for (int f = 0; f < n_faces(); ++f) {
-    const auto d = interface_face_dofs(dofs_, mesh_, f, kVelocityField, 0);
+    const auto d = interface_face_dofs(dofs_, mesh_, f, kVelocityField, tension_region(f));
     const auto r = own(d);
     impl.inner_face_blocks.push_back(impl.inner->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
     impl.pmat_face_blocks.push_back(
         impl.inner_pmat->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
     impl.coupling_blocks.push_back(impl.coupling->add_block(std::span<const PetscInt>(r), std::span<const PetscInt>(d)));
   }
+  if (slip_) declare_inner_slip_blocks();
   impl.inner->create();
   impl.inner_pmat->create();
   impl.coupling->create();
@@ -255,6 +274,16 @@ void OscillatorySystem::create_inner_matrices() {
   for (int f = 0; f < dofs_.n_fields(); ++f) {
     impl.field_sets.push_back(la::make_index_set(by_field[f], dofs_.field(f).components));
     fields.push_back({dofs_.field(f).name, impl.field_sets.back().get()});
+  }
+  if (slip_) {
+    // As StokesSystem: velocity against the constraints, pressure and
+    // multipliers in one Schur complement.
+    std::vector<PetscInt> constraints = by_field[kPressureField];
+    constraints.insert(constraints.end(), by_field[kMultiplierField].begin(),
+                       by_field[kMultiplierField].end());
+    std::sort(constraints.begin(), constraints.end());
+    impl.field_sets.push_back(la::make_index_set(constraints));
+    fields = {fields[kVelocityField], {"pressure_multiplier", impl.field_sets.back().get()}};
   }
   impl.near_nullspace = la::rigid_body_modes(xyz);
   la::SaddlePointSettings settings;
@@ -279,6 +308,84 @@ void OscillatorySystem::create_inner_matrices() {
   PC pc = nullptr;
   check(KSPGetPC(impl.outer.get(), &pc), "KSPGetPC");
   la::make_shell_preconditioner(pc, &impl, nullptr, apply_presb, nullptr, "PRESB");
+}
+
+void OscillatorySystem::declare_inner_slip_blocks() {
+  auto& impl = *impl_;
+  const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
+  const la::OwnershipRange rows{owned.begin, owned.end};
+  auto own = [&](std::span<const PetscInt> dofs) {
+    std::vector<PetscInt> out(dofs.begin(), dofs.end());
+    for (auto& d : out)
+      if (!rows.owns(d)) d = -1;
+    return out;
+  };
+  auto declare = [](la::CsrMatrix& m, std::span<const PetscInt> r, std::span<const PetscInt> c) {
+    return m.add_block(r, c);
+  };
+  // The blocks of the real form's slip terms (create_matrix), one part's.
+  for (int f = 0; f < n_faces(); ++f) {
+    const int object = mesh_.interface_object[f];
+    const auto outside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, 0);
+    const auto inside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, object);
+    const auto multipliers = interface_face_dofs(dofs_, mesh_, f, kMultiplierField, object);
+    std::vector<PetscInt> velocity(outside.begin(), outside.end());
+    velocity.insert(velocity.end(), inside.begin(), inside.end());
+    std::vector<PetscInt> constrained = velocity;
+    constrained.insert(constrained.end(), multipliers.begin(), multipliers.end());
+    const std::vector<PetscInt> multiplier_columns(multipliers.begin(), multipliers.end());
+    const auto velocity_rows = own(velocity), multiplier_rows = own(multiplier_columns);
+    for (la::CsrMatrix* m : {impl.inner.get(), impl.inner_pmat.get()})
+      (m == impl.inner.get() ? impl.inner_slip_blocks : impl.pmat_slip_blocks)
+          .push_back({declare(*m, velocity_rows, multiplier_columns),
+                      declare(*m, multiplier_rows, constrained)});
+  }
+  // The preconditioner's own blocks at each owned interface node (its
+  // velocity copies are owned with it: dofs are numbered node by node).
+  std::vector<char> seen(mesh_.n_nodes(), 0);
+  for (int f = 0; f < n_faces(); ++f) {
+    const int object = mesh_.interface_object[f];
+    for (int node : mesh_.interface_faces[f]) {
+      if (seen[node] || !rows.owns(dofs_.dof(kMultiplierField, node, object, 0))) continue;
+      seen[node] = 1;
+      std::array<PetscInt, 6> copies;
+      std::array<PetscInt, 3> multipliers;
+      for (int c = 0; c < 3; ++c) {
+        copies[c] = dofs_.dof(kVelocityField, node, 0, c);
+        copies[3 + c] = dofs_.dof(kVelocityField, node, object, c);
+        multipliers[c] = dofs_.dof(kMultiplierField, node, object, c);
+      }
+      impl.slip_nodes.push_back({node, object});
+      impl.slip_node_blocks.push_back({declare(*impl.inner_pmat, copies, copies),
+                                       declare(*impl.inner_pmat, multipliers, multipliers)});
+    }
+  }
+  impl.node_scale = interface_node_scale(mesh_);
+}
+
+void OscillatorySystem::assemble_inner_slip_estimate(const OscillatoryProblem& problem) {
+  // From the diagonal of K + B (assembled), as StokesSystem from A's.
+  auto& impl = *impl_;
+  const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
+  la::Vector diagonal = la::make_vector(owned.end - owned.begin, dofs_.n_dofs());
+  check(MatGetDiagonal(impl.inner->get(), diagonal.get()), "MatGetDiagonal");
+  const PetscScalar* a = nullptr;
+  check(VecGetArrayRead(diagonal.get(), &a), "VecGetArrayRead");
+  for (std::size_t i = 0; i < impl.slip_nodes.size(); ++i) {
+    const auto [node, object] = impl.slip_nodes[i];
+    double a_m = 0.0, a_d = 0.0;  // averaged over the 3 components
+    for (int c = 0; c < 3; ++c) {
+      a_m += a[dofs_.dof(kVelocityField, node, 0, c) - owned.begin] / 3.0;
+      a_d += a[dofs_.dof(kVelocityField, node, object, c) - owned.begin] / 3.0;
+    }
+    const double alpha =
+        object - 1 < static_cast<int>(problem.slip.size()) ? problem.slip[object - 1] : 0.0;
+    const auto p =
+        slip_node_preconditioner(a_m, a_d, node_normal_[node], impl.node_scale[node], alpha);
+    impl.inner_pmat->set_block(impl.slip_node_blocks[i][0], p.jump_penalty);
+    impl.inner_pmat->set_block(impl.slip_node_blocks[i][1], p.schur_estimate);
+  }
+  check(VecRestoreArrayRead(diagonal.get(), &a), "VecRestoreArrayRead");
 }
 
 std::pair<la::Vector, la::Vector> OscillatorySystem::assemble(const OscillatoryProblem& problem) {
@@ -322,16 +429,36 @@ std::pair<la::Vector, la::Vector> OscillatorySystem::assemble(const OscillatoryP
         m.set_block(impl.slip_coupling_blocks[i][part], coupling);
         m.set_block(impl.slip_constraint_blocks[i][part], constraint);
       }
+      if (iterative)
+        for (la::CsrMatrix* inner : {impl.inner.get(), impl.inner_pmat.get()}) {
+          const auto& blocks =
+              inner == impl.inner.get() ? impl.inner_slip_blocks : impl.pmat_slip_blocks;
+          inner->set_block(blocks[i][0], coupling);
+          inner->set_block(blocks[i][1], constraint);
+        }
     }
     if (iterative) {
       impl.inner->set_block(impl.inner_face_blocks[i], b);
-      impl.inner_pmat->set_block(impl.pmat_face_blocks[i], b);
+      // The preconditioning matrix takes B without T's -2/R^2 mass term: with
+      // it, K + B is indefinite at small omega in each drop's uniform
+      // expansion (the l = 0 mode, negative, only the pressure excludes it),
+      // and BoomerAMG built on that broke down in the inner solves (omega =
+      // 0.02, one drop on 14 equator nodes). Without it the block is
+      // positive semidefinite; the operators keep the whole B, so the
+      // solution is unchanged. Measured on that drop: every omega from 0.002
+      // converges; at 0.4 and 4, 9 and 7 FGMRES iterations (148 and 110
+      // inner) against 10 and 8 (166 and 127) with the whole B.
+      impl.inner_pmat->set_block(
+          impl.pmat_face_blocks[i],
+          normal_surface_stiffness_block(x, normals, problem.interfacial_tension[object - 1]) /
+              problem.omega);
       impl.coupling->set_block(impl.coupling_blocks[i], b);
     }
   }
   m.assemble();
   if (iterative) {
     impl.inner->assemble();
+    if (slip_) assemble_inner_slip_estimate(problem);
     impl.inner_pmat->assemble();
     impl.coupling->assemble();
   }
@@ -451,14 +578,25 @@ void OscillatorySystem::attach_pressure_nullspaces() {
   // constant, the same in every region; the tension acts on velocities only,
   // and the continuity rows sum to the walls' net flux (zero: they move
   // tangentially), so the constants span both null spaces of the real form
-  // and, alone, those of K + B.
+  // and, alone, those of K + B. With slip a constant pressure c loads each
+  // interface with -c n on the matrix side and +c n on the drop's, which
+  // the multipliers lambda_a = -c n_a (the matrix's traction) balance
+  // exactly: their traction sum_a N_a (n_a . lambda_a) n is -c n, their
+  // tangential parts are zero, so the constraint rows hold with u = 0.
   auto& impl = *impl_;
   const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
+  auto constant_pressure = [&](int dof) {
+    switch (dofs_.field_of(dof)) {
+      case kPressureField: return 1.0;
+      case kMultiplierField: return -node_normal_[dofs_.node_of(dof)](dofs_.component_of(dof));
+      default: return 0.0;
+    }
+  };
   la::Vector inner_constant = la::make_vector(owned.end - owned.begin, dofs_.n_dofs());
   PetscScalar* u = nullptr;
   check(VecGetArray(inner_constant.get(), &u), "VecGetArray");
   for (PetscInt d = owned.begin; d < owned.end; ++d)
-    u[d - owned.begin] = dofs_.field_of(static_cast<int>(d)) == kPressureField ? 1.0 : 0.0;
+    u[d - owned.begin] = constant_pressure(static_cast<int>(d));
   check(VecRestoreArray(inner_constant.get(), &u), "VecRestoreArray");
   for (int part : {0, 1}) {
     impl.pressure_constant[part] = la::make_vector(range_.size(), n_unknowns());
@@ -467,7 +605,7 @@ void OscillatorySystem::attach_pressure_nullspaces() {
     for (PetscInt d = owned.begin; d < owned.end; ++d) {
       a[index(d, 0) - range_.begin] = 0.0;
       a[index(d, 1) - range_.begin] = 0.0;
-      if (dofs_.field_of(static_cast<int>(d)) == kPressureField) a[index(d, part) - range_.begin] = 1.0;
+      a[index(d, part) - range_.begin] = constant_pressure(static_cast<int>(d));
     }
     check(VecRestoreArray(impl.pressure_constant[part].get(), &a), "VecRestoreArray");
   }

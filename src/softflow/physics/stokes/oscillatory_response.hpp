@@ -108,8 +108,9 @@ class OscillatorySystem {
   /// `method`: direct (MUMPS LU of the real form), iterative (PRESB) or
   /// automatic: direct up to la::kDirectSolverLimit real unknowns.
   /// `interface_slip`: a velocity copy per region coupled by the slip
-  /// multipliers (physics/stokes/interface_slip.hpp), in both parts; the
-  /// direct method only (SolverError otherwise).
+  /// multipliers (physics/stokes/interface_slip.hpp), in both parts, on
+  /// either path (the iterative one preconditions the multipliers as
+  /// StokesSystem does, slip_node_preconditioner).
   explicit OscillatorySystem(const mesh::Mesh& mesh,
                              la::SaddlePointMethod method = la::SaddlePointMethod::automatic,
                              bool interface_slip = false);
@@ -151,6 +152,13 @@ class OscillatorySystem {
   /// The iterative path's real N-size matrices: K + B, its preconditioning
   /// matrix (pressure block -M/eta) and B alone; the inner solver.
   void create_inner_matrices();
+  /// With slip, the iterative path's slip blocks in K + B and its
+  /// preconditioning matrix, and the preconditioner's blocks at each
+  /// interface node (slip_node_preconditioner).
+  void declare_inner_slip_blocks();
+  /// Their values: the jump penalty and the multipliers' Schur estimate from
+  /// the diagonal of the assembled K + B.
+  void assemble_inner_slip_estimate(const OscillatoryProblem& problem);
   /// The iterative path's gauge: the constant pressures as the null spaces
   /// of the real form and of K + B (the direct path pins the gauge instead).
   void attach_pressure_nullspaces();
@@ -188,5 +196,10 @@ class OscillatorySystem {
 Eigen::Matrix<double, 18, 18> linearised_tension_block(const element::TriangleNodes& x,
                                                        const std::array<Eigen::Vector3d, 6>& normals,
                                                        double gamma, double radius);
+
+/// Gamma N^T S N: the same without the -2/R^2 mass term, positive
+/// semidefinite (the iterative path's preconditioning matrix takes it).
+Eigen::Matrix<double, 18, 18> normal_surface_stiffness_block(
+    const element::TriangleNodes& x, const std::array<Eigen::Vector3d, 6>& normals, double gamma);
 
 }  // namespace softflow::physics

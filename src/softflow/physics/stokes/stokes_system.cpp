@@ -722,25 +722,10 @@ void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem
 
 void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
                                                 const SlipNodes& nodes) {
-  // With separate copies, an object's velocity block alone is a pure
-  // traction problem: singular (rigid motions), so the Schur factorisation
-  // needs help. The preconditioning matrix adds a penalty on the jump at
-  // each interface node, gamma_i [I, -I; -I, I] on (u_m,i, u_d,i) with
-  // gamma_i = 0.01 (a_m + a_d) (A's diagonal there: an augmented-Lagrangian
-  // idea), which makes its velocity block regular. Measured (unit drop, N
-  // 16, alpha 1, rtol 1e-10; the no-slip system takes 70 iterations):
-  // factor 0.01 -> 114 / 133 iterations at lambda 0.1 / 10, 0.001 -> 122 /
-  // 127, 0.1 -> 154 at lambda 0.1, 0.5 -> stalls near 1e-9, 4 and 20 stall
-  // near 1e-5 and 1e-3: the penalty should only just lift the rigid modes. The multipliers' Schur
-  // complement -D A^-1 B^T is then estimated node by node: with D and B^T
-  // both s_i [I, -I] on the node (the mass lumped to its diagonal s_i) and
-  // the 2 x 2 model [a_m + g, -g; -g, a_d + g] of the penalised block,
-  // -s_i^2 c I with c = (a_m + a_d) / (a_m a_d + g (a_m + a_d)), added to
-  // the constraint's own -alpha (tangential mass) from assemble_slip. Like
-  // the pressure's -M/eta it is negative definite; Jacobi on it completes
-  // the preconditioner. The velocity copies of an owned node are owned by
-  // the same rank (dofs are numbered node by node), so the diagonal is read
-  // locally.
+  // The jump penalty and the multipliers' Schur estimate of
+  // slip_node_preconditioner, from A's diagonal. The velocity copies of an
+  // owned node are owned by the same rank (dofs are numbered node by node),
+  // so the diagonal is read locally.
   la::Vector diagonal = la::make_vector(range_.size(), dofs_.n_dofs());
   check(MatGetDiagonal(a_->get(), diagonal.get()), "MatGetDiagonal");
   const PetscScalar* a = nullptr;
@@ -753,20 +738,10 @@ void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
       a_m += a[dofs_.dof(kVelocityField, node, 0, c) - range_.begin] / 3.0;
       a_d += a[dofs_.dof(kVelocityField, node, object, c) - range_.begin] / 3.0;
     }
-    const double penalty = 0.01 * (a_m + a_d);
-    const double compliance = (a_m + a_d) / (a_m * a_d + penalty * (a_m + a_d));
-    Eigen::Matrix<double, 6, 6> jump_penalty;
-    jump_penalty << penalty * Eigen::Matrix3d::Identity(), -penalty * Eigen::Matrix3d::Identity(),
-        -penalty * Eigen::Matrix3d::Identity(), penalty * Eigen::Matrix3d::Identity();
-    pmat_->set_block(slip_penalty_blocks_[i], jump_penalty);
-    // The constraint rows carry the weights of slip_constraint_block.
-    const double alpha = problem.slip.of(object);
-    const double w = std::isinf(alpha) ? 0.0 : 1.0 / (1.0 + alpha);
-    const Eigen::Matrix3d row_weight =
-        nodes.normal[node] * nodes.normal[node].transpose() + w * nodes.tangential(node);
-    const double s = nodes.scale[node];
-    const Eigen::Matrix3d estimate = (-s * s * compliance) * row_weight;
-    pmat_->set_block(slip_compliance_blocks_[i], estimate);
+    const auto p = slip_node_preconditioner(a_m, a_d, nodes.normal[node], nodes.scale[node],
+                                            problem.slip.of(object));
+    pmat_->set_block(slip_penalty_blocks_[i], p.jump_penalty);
+    pmat_->set_block(slip_compliance_blocks_[i], p.schur_estimate);
   }
   check(VecRestoreArrayRead(diagonal.get(), &a), "VecRestoreArrayRead");
 }
