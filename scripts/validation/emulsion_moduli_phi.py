@@ -177,6 +177,15 @@ def mean_std(values):
     return statistics.mean(values), (statistics.stdev(values) if len(values) > 1 else 0.0)
 
 
+def write_record(path, keys, rows):
+    """Each configuration's row (run name, then `keys`), as recorded() reads them back."""
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(("run",) + keys)
+        for row in rows:
+            w.writerow([row["run"]] + [row[key] for key in keys])
+
+
 def read_point(work, lam, phi, record, nodes=14):
     """The configurations of one point: each run's response.csv, else its recorded row."""
     rows = []
@@ -282,11 +291,7 @@ def report(work):
               "above the theory beyond the dilute regime by up to 25 % (phi = 0.28), G'' 5 % above there; lambda = 100, "
               "G' qualitatively like the theory only, with wide error bars."]
     os.makedirs(OUT, exist_ok=True)
-    with open(RECORD, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(("run",) + KEYS)
-        for row in kept:
-            w.writerow([row["run"]] + [row[key] for key in KEYS])
+    write_record(RECORD, KEYS, kept)
     with open(os.path.join(OUT, "emulsion_moduli_phi.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     with open(os.path.join(OUT, "emulsion_moduli_phi.csv"), "w", newline="") as f:

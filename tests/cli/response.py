@@ -13,7 +13,8 @@ A drop (R = 1, lambda = 1, Gamma = 1) in a 24 x 16 x 24 cell on 20 equator nodes
 2. The same on two ranks (with a launcher): c equal to 1e-8; the iterative path
    (solver.type = "iterative": FGMRES with PRESB) on two ranks at omega = 2: c
    equal to 1e-6, in at most 12 FGMRES iterations; with slip (alpha = 1) the
-   iterative path on two ranks against the LU on one, the same to 1e-6.
+   iterative path on two ranks against the LU on one (14 equator nodes), the
+   same to 1e-6.
 3. Bad input: exit 1, one message naming the key or option, no output:
    an elastic particle, steady flow without --frequency, --frequency 0, a bad
    --log-range.
@@ -125,7 +126,8 @@ def main(softflow, work, *launcher):
         print("iterative path on two ranks: the same c")
         # With slip: the iterative path on two ranks (the multipliers in its
         # inner Schur complement, the gauge pinned) against the LU on one.
-        slip = CASE.replace("interfacial_tension = 1.0\n", "interfacial_tension = 1.0\nslip = 1.0\n")
+        slip = CASE.replace("interfacial_tension = 1.0\n", "interfacial_tension = 1.0\nslip = 1.0\n").replace(
+            "equator_nodes = 20", "equator_nodes = 14")  # coarser: two more solves, with twice the unknowns
         c_slip = {}
         for solver, words in (("direct", ()), ("iterative", launcher)):
             slip_case = os.path.join(work, f"slip_{solver}.toml")
@@ -139,7 +141,7 @@ def main(softflow, work, *launcher):
                 fail(f"iterative with slip: {r['iterations']} FGMRES iterations")
         if abs(c_slip["iterative"] - c_slip["direct"]) > 1e-6 * abs(c_slip["direct"]):
             fail(f"slip: iterative on two ranks c = {c_slip['iterative']} against the LU's {c_slip['direct']}")
-        if abs(c_slip["direct"] - c[1]) < 1e-3 * abs(c[1]):
+        if abs(c_slip["direct"] - c[1]) < 0.1 * abs(c[1]):
             fail(f"slip = 1 gives the no-slip c {c[1]}: the slip did not reach the solver")
         print(f"slip on both paths: c = {c_slip['direct']:.5f} (LU) and {c_slip['iterative']:.5f} (PRESB, two ranks)")
 

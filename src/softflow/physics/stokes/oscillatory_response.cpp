@@ -200,16 +200,7 @@ void OscillatorySystem::create_matrix() {
     impl_->lower_blocks.push_back(
         m.add_block(std::span<const PetscInt>(imaginary_rows), std::span<const PetscInt>(real_columns)));
     if (!slip_) continue;
-    // As StokesSystem's: velocity rows of both copies x the face's
-    // multipliers, and the multipliers' rows x (u_m, u_d, lambda).
-    const int object = mesh_.interface_object[f];
-    const auto outside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, 0);
-    const auto inside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, object);
-    const auto multipliers = interface_face_dofs(dofs_, mesh_, f, kMultiplierField, object);
-    std::vector<PetscInt> velocity(outside.begin(), outside.end());
-    velocity.insert(velocity.end(), inside.begin(), inside.end());
-    std::vector<PetscInt> constrained = velocity;
-    constrained.insert(constrained.end(), multipliers.begin(), multipliers.end());
+    const auto [velocity, multipliers, constrained] = slip_face_dofs(f);
     std::array<la::CsrMatrix::Block, 2> coupling{}, constraint{};
     for (int part : {0, 1}) {
       const auto rows = part_of(velocity, part, true), columns = part_of(multipliers, part, false);
@@ -310,6 +301,20 @@ void OscillatorySystem::create_inner_matrices() {
   la::make_shell_preconditioner(pc, &impl, nullptr, apply_presb, nullptr, "PRESB");
 }
 
+OscillatorySystem::SlipFaceDofs OscillatorySystem::slip_face_dofs(int face) const {
+  const int object = mesh_.interface_object[face];
+  const auto outside = interface_face_dofs(dofs_, mesh_, face, kVelocityField, 0);
+  const auto inside = interface_face_dofs(dofs_, mesh_, face, kVelocityField, object);
+  const auto multipliers = interface_face_dofs(dofs_, mesh_, face, kMultiplierField, object);
+  SlipFaceDofs d;
+  d.velocity.assign(outside.begin(), outside.end());
+  d.velocity.insert(d.velocity.end(), inside.begin(), inside.end());
+  d.multipliers.assign(multipliers.begin(), multipliers.end());
+  d.constrained = d.velocity;
+  d.constrained.insert(d.constrained.end(), multipliers.begin(), multipliers.end());
+  return d;
+}
+
 void OscillatorySystem::declare_inner_slip_blocks() {
   auto& impl = *impl_;
   const auto owned = dofs_.ownership(la::mpi_rank(), la::mpi_size());
@@ -325,20 +330,12 @@ void OscillatorySystem::declare_inner_slip_blocks() {
   };
   // The blocks of the real form's slip terms (create_matrix), one part's.
   for (int f = 0; f < n_faces(); ++f) {
-    const int object = mesh_.interface_object[f];
-    const auto outside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, 0);
-    const auto inside = interface_face_dofs(dofs_, mesh_, f, kVelocityField, object);
-    const auto multipliers = interface_face_dofs(dofs_, mesh_, f, kMultiplierField, object);
-    std::vector<PetscInt> velocity(outside.begin(), outside.end());
-    velocity.insert(velocity.end(), inside.begin(), inside.end());
-    std::vector<PetscInt> constrained = velocity;
-    constrained.insert(constrained.end(), multipliers.begin(), multipliers.end());
-    const std::vector<PetscInt> multiplier_columns(multipliers.begin(), multipliers.end());
-    const auto velocity_rows = own(velocity), multiplier_rows = own(multiplier_columns);
+    const auto [velocity, multipliers, constrained] = slip_face_dofs(f);
+    const auto velocity_rows = own(velocity), multiplier_rows = own(multipliers);
     for (la::CsrMatrix* m : {impl.inner.get(), impl.inner_pmat.get()})
       (m == impl.inner.get() ? impl.inner_slip_blocks : impl.pmat_slip_blocks)
-          .push_back({declare(*m, velocity_rows, multiplier_columns),
-                      declare(*m, multiplier_rows, constrained)});
+          .push_back(
+              {declare(*m, velocity_rows, multipliers), declare(*m, multiplier_rows, constrained)});
   }
   // The preconditioner's own blocks at each owned interface node (its
   // velocity copies are owned with it: dofs are numbered node by node).

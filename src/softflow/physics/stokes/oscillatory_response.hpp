@@ -152,6 +152,13 @@ class OscillatorySystem {
   /// The iterative path's real N-size matrices: K + B, its preconditioning
   /// matrix (pressure block -M/eta) and B alone; the inner solver.
   void create_inner_matrices();
+  /// A slip face's dofs as StokesSystem couples them: the velocity rows of
+  /// both copies (u_m, u_d) x its multipliers, the multipliers' rows x (u_m,
+  /// u_d, lambda).
+  struct SlipFaceDofs {
+    std::vector<PetscInt> velocity, multipliers, constrained;
+  };
+  [[nodiscard]] SlipFaceDofs slip_face_dofs(int face) const;
   /// With slip, the iterative path's slip blocks in K + B and its
   /// preconditioning matrix, and the preconditioner's blocks at each
   /// interface node (slip_node_preconditioner).
