@@ -331,6 +331,13 @@ int main(int argc, char** argv) {
   response->add_option("--log-range", response_log_range,
                        "FROM TO COUNT: COUNT angular frequencies evenly spaced in log between FROM and TO")
       ->expected(3);
+  std::vector<double> response_cube_sides;
+  response
+      ->add_option(
+          "--cube-sides", response_cube_sides,
+          "sides of centred cubes to average the moduli over as well (cubes.csv: phi, G', G'' per "
+          "side and frequency), comma-separated: which cube is the bulk (thesis Figs. 4.4-4.5)")
+      ->delimiter(',');
   response->add_option("-o,--output", output_dir, "output directory (overrides [output] directory)");
   response->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
@@ -732,6 +739,7 @@ int main(int argc, char** argv) {
       } else if (*response) {
         softflow::simulation::ResponseOptions response_options;
         response_options.frequencies = response_frequencies;
+        response_options.cube_sides = response_cube_sides;
         response_options.output_directory = options.output_directory;
         response_options.quiet = quiet;
         softflow::simulation::run_frequency_response(config, response_options);

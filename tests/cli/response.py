@@ -15,9 +15,11 @@ A drop (R = 1, lambda = 1, Gamma = 1) in a 24 x 16 x 24 cell on 20 equator nodes
    equal to 1e-6, in at most 12 FGMRES iterations; with slip (alpha = 1) the
    iterative path on two ranks against the LU on one (14 equator nodes), the
    same to 1e-6.
-3. Bad input: exit 1, one message naming the key or option, no output:
+3. --cube-sides 4,6,16 with bulk_stress.box_side = 4: cubes.csv's side-4 row
+   is response.csv's cube, and phi side^3 is the drop's volume in every cube.
+4. Bad input: exit 1, one message naming the key or option, no output:
    an elastic particle, steady flow without --frequency, --frequency 0, a bad
-   --log-range.
+   --log-range, a cube that does not fit in the cell.
 """
 import math
 import os
@@ -103,6 +105,27 @@ def main(softflow, work, *launcher):
     if [e for e in os.listdir(work) if ".partial-" in e]:
         fail(f"a staging directory was left: {os.listdir(work)}")
 
+    # A cube-side study (--cube-sides): the cube of bulk_stress.box_side gives
+    # response.csv's cube columns again; every cube holding the drop has
+    # the same drop volume, phi side^3.
+    cubes_case = os.path.join(work, "cubes.toml")
+    with open(cubes_case, "w") as f:
+        f.write(CASE.replace("equator_nodes = 20", "equator_nodes = 14") + "[bulk_stress]\nbox_side = 4.0\n")
+    cubes_out = os.path.join(work, "cubes")
+    run([softflow, "response", cubes_case, "-o", cubes_out, "-q", "-f", "0.4", "--cube-sides", "4,6,16"])
+    box, cubes = rows(cubes_out, "response.csv")[0], rows(cubes_out, "cubes.csv")
+    if [float(c["side"]) for c in cubes] != [4.0, 6.0, 16.0]:
+        fail(f"cubes.csv sides: {[c['side'] for c in cubes]}")
+    for key in ("phi", "G_storage_R_over_Gamma", "G_loss_over_eta_m_omega", "oldroyd_G_storage"):
+        column = "box_" + key if key in ("phi", "G_storage_R_over_Gamma", "G_loss_over_eta_m_omega") else \
+            "oldroyd_box_G_storage"
+        if cubes[0][key] != box[column]:
+            fail(f"the cube of side 4: {key} {cubes[0][key]} against response.csv's {box[column]}")
+    volumes = [float(c["phi"]) * float(c["side"]) ** 3 for c in cubes]
+    if max(volumes) - min(volumes) > 1e-9 * volumes[0] or int(cubes[2]["drops"]) != 1:
+        fail(f"the drop's volume in the cubes: {volumes}")
+    print(f"cube sides 4, 6, 16: G' R/Gamma {[c['G_storage_R_over_Gamma'] for c in cubes]}")
+
     if launcher:
         parallel = os.path.join(work, "parallel")
         run([softflow, "response", case, "-o", parallel, "-q", "--log-range", "0.4", "10", "3"], launcher=launcher)
@@ -152,6 +175,7 @@ def main(softflow, work, *launcher):
     refused(softflow, work, "steady", steady, [], "flow.frequency")
     refused(softflow, work, "zero_frequency", CASE, ["--frequency", "0"], "--frequency 0")
     refused(softflow, work, "bad_range", CASE, ["--log-range", "1", "0.5", "3"], "--log-range 1 0.5 3")
+    refused(softflow, work, "big_cube", CASE, ["--cube-sides", "4,17"], "--cube-sides 17")
     print("response: all checks passed")
 
 

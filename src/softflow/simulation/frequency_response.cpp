@@ -59,7 +59,8 @@ std::string optional_number(const std::optional<double>& x, int digits = 6) {
 
 }  // namespace
 
-void check_response_case(const io::CaseConfig& config, const std::vector<double>& frequencies) {
+void check_response_case(const io::CaseConfig& config, const std::vector<double>& frequencies,
+                         const std::vector<double>& cube_sides) {
   using physics::viscoelastic::ConstitutiveModel;
   if (config.matrix_model != ConstitutiveModel::newtonian)
     throw InputError("matrix.model: the frequency-domain response takes a Newtonian matrix (allowed: "
@@ -83,6 +84,13 @@ void check_response_case(const io::CaseConfig& config, const std::vector<double>
                       "emulsion's elasticity)",
                       key, o.interfacial_tension));
   }
+  const double smallest = std::min({config.box.length, config.box.height, config.box.width});
+  for (double side : cube_sides)
+    if (!(side > 0.0) || side > smallest)
+      throw InputError(
+          fmt::format("--cube-sides {}: a centred cube's side must be > 0 and fit in the cell "
+                      "(at most {:g}, its smallest dimension)",
+                      side, smallest));
   if (frequencies.empty() && !(config.flow.type == io::FlowType::oscillatory && config.flow.frequency > 0.0))
     throw InputError("flow.frequency: no frequency given: set flow.type = \"oscillatory\" with a frequency, or "
                      "pass --frequency");
@@ -109,40 +117,81 @@ physics::OscillatoryProblem oscillatory_problem(const io::CaseConfig& config, co
   return problem;
 }
 
-/// Where the moduli are averaged: the whole cell (every drop) and, with
-/// bulk_stress.box_side, the centred cube (the drops whose centre lies in it,
-/// and the matrix clipped to it, as the time domain's bulk-stress module).
-struct Averaging {
-  double cell_volume = 0.0;
-  double drops_volume = 0.0;
-  std::optional<analysis::Box> box;
+/// A centred cube as the time domain's bulk-stress module averages over it:
+/// the drops whose centre lies in it counted whole, the matrix clipped to it.
+struct CubeAverage {
+  analysis::Box box;
   std::vector<bool> counted;  // per region: a drop the cube counts
   double counted_volume = 0.0;
   int counted_drops = 0;
   /// Each element of the cube's volume term with its pieces in reference coordinates.
-  std::vector<std::pair<int, std::vector<analysis::Tetrahedron>>> box_pieces;
+  std::vector<std::pair<int, std::vector<analysis::Tetrahedron>>> pieces;
 
-  Averaging(const io::CaseConfig& config, const mesh::Mesh& mesh) : counted(mesh.n_objects + 1, false) {
-    cell_volume = mesh.box.length * mesh.box.height * mesh.box.width;
-    if (config.bulk_stress.box_side > 0.0) box = analysis::centred_cube(config.bulk_stress.box_side);
+  CubeAverage(const mesh::Mesh& mesh, double side,
+              const std::vector<physics::SurfaceIntegrals>& drops)
+      : box(analysis::centred_cube(side)), counted(mesh.n_objects + 1, false) {
     for (int k = 1; k <= mesh.n_objects; ++k) {
-      const auto surface = physics::extract_interface(mesh, k);
-      const auto integrals = physics::surface_integrals(surface, physics::interface_positions(surface, mesh));
-      drops_volume += integrals.volume;
-      counted[k] = box && box->contains(integrals.centre_of_volume());
+      counted[k] = box.contains(drops[k - 1].centre_of_volume());
       if (counted[k]) {
-        counted_volume += integrals.volume;
+        counted_volume += drops[k - 1].volume;
         ++counted_drops;
       }
     }
-    if (!box) return;
     for (int t = 0; t < mesh.n_tets(); ++t) {
       const int region = mesh.tet_region[t];
       if (region > 0 && !counted[region]) continue;
-      auto pieces = region > 0 ? std::vector<analysis::Tetrahedron>{analysis::reference_tetrahedron()}
-                               : analysis::reference_pieces_in_box(fem::tet_nodes(mesh, t), *box);
-      if (!pieces.empty()) box_pieces.emplace_back(t, std::move(pieces));
+      auto in_box = region > 0
+                        ? std::vector<analysis::Tetrahedron>{analysis::reference_tetrahedron()}
+                        : analysis::reference_pieces_in_box(fem::tet_nodes(mesh, t), box);
+      if (!in_box.empty()) pieces.emplace_back(t, std::move(in_box));
     }
+  }
+
+  /// phi, drops, the moduli and Oldroyd's at this cube's phi, from the
+  /// drops' stresslets S_xy (index k - 1): eta* = <sigma_xy> / <2 D_xy>, with
+  /// <sigma_xy> V = eta_m <2 D_xy> V + the counted stresslets.
+  [[nodiscard]] CubeModuli moduli(const io::CaseConfig& config, const mesh::Mesh& mesh,
+                                  const fem::DofMap& dofs, const physics::OscillatoryResponse& r,
+                                  const std::vector<Complex>& stresslets, double omega_star) const {
+    Complex shear(0.0, 0.0), counted_stresslets(0.0, 0.0);
+    for (const auto& [t, in_box] : pieces) shear += shear_rate_integral(mesh, dofs, r, t, in_box);
+    for (int k = 1; k <= mesh.n_objects; ++k)
+      if (counted[k]) counted_stresslets += stresslets[k - 1];
+    CubeModuli m;
+    m.side = box.hi.x() - box.lo.x();
+    std::tie(m.storage, m.loss) =
+        scaled_moduli(1.0 + counted_stresslets / (config.matrix_viscosity * shear), omega_star);
+    m.phi = counted_volume / box.volume();
+    m.drops = counted_drops;
+    const io::ObjectConfig& first = config.objects.front();
+    const auto theory =
+        analysis::theory::oldroyd_moduli(first.viscosity_ratio, m.phi, omega_star, first.slip);
+    m.oldroyd_storage = theory.storage;
+    m.oldroyd_loss = theory.loss;
+    return m;
+  }
+};
+
+/// Where the moduli are averaged: the whole cell (every drop), the centred
+/// cube of bulk_stress.box_side if any, and the cubes of a side study.
+struct Averaging {
+  double cell_volume = 0.0;
+  double drops_volume = 0.0;
+  std::optional<CubeAverage> box;
+  std::vector<CubeAverage> study;
+
+  Averaging(const io::CaseConfig& config, const mesh::Mesh& mesh,
+            const std::vector<double>& cube_sides) {
+    cell_volume = mesh.box.length * mesh.box.height * mesh.box.width;
+    std::vector<physics::SurfaceIntegrals> drops;
+    for (int k = 1; k <= mesh.n_objects; ++k) {
+      const auto surface = physics::extract_interface(mesh, k);
+      drops.push_back(
+          physics::surface_integrals(surface, physics::interface_positions(surface, mesh)));
+      drops_volume += drops.back().volume;
+    }
+    if (config.bulk_stress.box_side > 0.0) box.emplace(mesh, config.bulk_stress.box_side, drops);
+    for (double side : cube_sides) study.emplace_back(mesh, side, drops);
   }
 };
 
@@ -159,12 +208,10 @@ ResponsePoint measure(const io::CaseConfig& config, const mesh::Mesh& mesh, cons
   p.iterations = r.solve.iterations;
   p.inner_solves = r.inner_solves;
   p.inner_iterations = r.inner_iterations;
-  Complex stresslets(0.0, 0.0), counted_stresslets(0.0, 0.0);
-  for (int k = 1; k <= mesh.n_objects; ++k) {
-    const Complex s = system.stresslet(problem, r, k)(0, 1);
-    stresslets += s;
-    if (where.counted[k]) counted_stresslets += s;
-  }
+  std::vector<Complex> each(mesh.n_objects);
+  Complex stresslets(0.0, 0.0);
+  for (int k = 1; k <= mesh.n_objects; ++k)
+    stresslets += each[k - 1] = system.stresslet(problem, r, k)(0, 1);
   p.intrinsic_viscosity = stresslets / (eta_m * where.drops_volume);
   p.cell_phi = where.drops_volume / where.cell_volume;
   std::tie(p.cell_storage, p.cell_loss) = scaled_moduli(1.0 + stresslets / (eta_m * where.cell_volume), p.omega_star);
@@ -175,19 +222,16 @@ ResponsePoint measure(const io::CaseConfig& config, const mesh::Mesh& mesh, cons
   p.oldroyd_cell_storage = cell_theory.storage;
   p.oldroyd_cell_loss = cell_theory.loss;
   if (where.box) {
-    // <2 D_xy> V over the cube; <sigma_xy> V = eta_m <2 D_xy> V + the counted stresslets.
-    Complex shear(0.0, 0.0);
-    for (const auto& [t, pieces] : where.box_pieces) shear += shear_rate_integral(mesh, system.dofs(), r, t, pieces);
-    const auto [storage, loss] = scaled_moduli(1.0 + counted_stresslets / (eta_m * shear), p.omega_star);
-    p.box_storage = storage;
-    p.box_loss = loss;
-    p.box_phi = where.counted_volume / where.box->volume();
-    p.box_drops = where.counted_drops;
-    const auto box_theory =
-        analysis::theory::oldroyd_moduli(first.viscosity_ratio, *p.box_phi, p.omega_star, first.slip);
-    p.oldroyd_box_storage = box_theory.storage;
-    p.oldroyd_box_loss = box_theory.loss;
+    const CubeModuli m = where.box->moduli(config, mesh, system.dofs(), r, each, p.omega_star);
+    p.box_storage = m.storage;
+    p.box_loss = m.loss;
+    p.box_phi = m.phi;
+    p.box_drops = m.drops;
+    p.oldroyd_box_storage = m.oldroyd_storage;
+    p.oldroyd_box_loss = m.oldroyd_loss;
   }
+  for (const auto& cube : where.study)
+    p.cubes.push_back(cube.moduli(config, mesh, system.dofs(), r, each, p.omega_star));
   return p;
 }
 
@@ -212,6 +256,21 @@ std::string response_csv(const std::vector<ResponsePoint>& points) {
         optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
         optional_number(p.oldroyd_box_loss, 10), io::table_number(p.seconds, 4), p.iterations,
         p.inner_solves, p.inner_iterations);
+  return csv;
+}
+
+std::string cubes_csv(const std::vector<ResponsePoint>& points) {
+  std::string csv =
+      "omega,omega_star,side,phi,drops,G_storage_R_over_Gamma,G_loss_over_eta_m_omega,oldroyd_G_"
+      "storage,"
+      "oldroyd_G_loss\n";
+  for (const auto& p : points)
+    for (const auto& c : p.cubes)
+      csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", io::table_number(p.omega, 10),
+                         io::table_number(p.omega_star, 10), io::table_number(c.side, 10),
+                         io::table_number(c.phi, 10), c.drops, io::table_number(c.storage, 10),
+                         io::table_number(c.loss, 10), io::table_number(c.oldroyd_storage, 10),
+                         io::table_number(c.oldroyd_loss, 10));
   return csv;
 }
 
@@ -253,7 +312,7 @@ std::string response_markdown(const io::CaseConfig& config, int drops, int unkno
 std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, const ResponseOptions& options) {
   const auto start = Clock::now();
   std::vector<double> frequencies = options.frequencies;
-  check_response_case(config, frequencies);
+  check_response_case(config, frequencies, options.cube_sides);
   if (frequencies.empty()) frequencies = {config.flow.frequency};
   const bool root = is_root();
   const fs::path directory = options.output_directory.value_or(fs::path(config.output_directory));
@@ -272,7 +331,7 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
                "imaginary parts); solver {} ({})\n",
                mesh.n_nodes(), mesh.n_tets(), mesh.n_objects, system.n_unknowns(),
                iterative ? "iterative: FGMRES with PRESB" : "direct: MUMPS LU", system.method_reason());
-  const Averaging where(config, mesh);
+  const Averaging where(config, mesh, options.cube_sides);
 
   std::vector<ResponsePoint> points;
   for (double omega : frequencies) {
@@ -302,8 +361,10 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
       {"mesh", meshed.report},
       {"drops", mesh.n_objects},
       {"unknowns", system.n_unknowns()},
-      {"solver", {{"method", iterative ? "iterative" : "direct"}, {"reason", system.method_reason()}}},
+      {"solver",
+       {{"method", iterative ? "iterative" : "direct"}, {"reason", system.method_reason()}}},
       {"frequencies", frequencies},
+      {"cube_sides", options.cube_sides},
       {"cell_volume_fraction", points.front().cell_phi},
   };
   nlohmann::json rows = nlohmann::json::array();
@@ -323,6 +384,7 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
   on_root_sharing_failure([&] {
     output->write_text("case.toml", io::to_toml(config));
     output->write_text("response.csv", response_csv(points));
+    if (!options.cube_sides.empty()) output->write_text("cubes.csv", cubes_csv(points));
     output->write_text("response.md", response_markdown(config, mesh.n_objects, system.n_unknowns(), points));
     output->write_text("summary.json", summary.dump(2) + "\n");
     output->commit();

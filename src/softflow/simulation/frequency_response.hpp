@@ -14,6 +14,14 @@
 
 namespace softflow::simulation {
 
+/// A centred cube's moduli (as ResponsePoint's box_*): its side, phi, the
+/// drops counted, G' R / Gamma, G'' / (eta_m omega) and Oldroyd's at its phi.
+struct CubeModuli {
+  double side = 0.0, phi = 0.0;
+  int drops = 0;
+  double storage = 0.0, loss = 0.0, oldroyd_storage = 0.0, oldroyd_loss = 0.0;
+};
+
 /// The moduli of one frequency. eta* = G* / (i omega) is complex, eta* =
 /// eta' - i eta'' with G'' = omega eta', G' = omega eta''; scaled as the
 /// thesis scales them: G' R / Gamma and G'' / (eta_m omega), with R and
@@ -39,6 +47,8 @@ struct ResponsePoint {
   std::complex<double> oldroyd_intrinsic_viscosity;
   double oldroyd_cell_storage = 0.0, oldroyd_cell_loss = 0.0;
   std::optional<double> oldroyd_box_storage, oldroyd_box_loss;
+  /// The cubes of ResponseOptions::cube_sides (thesis Figs. 4.4-4.5's study).
+  std::vector<CubeModuli> cubes;
   double seconds = 0.0;  ///< assembly and solve
   /// The solve: 1 for LU; FGMRES iterations and the inner Stokes solves of the iterative path.
   int iterations = 0, inner_solves = 0, inner_iterations = 0;
@@ -48,14 +58,19 @@ struct ResponseOptions {
   /// Angular frequencies; empty: the case's flow.frequency.
   std::vector<double> frequencies;
   std::optional<std::filesystem::path> output_directory;  ///< overrides [output] directory
+  /// Sides of centred cubes to average the moduli over besides
+  /// bulk_stress.box_side (cubes.csv): whether a cube is the bulk.
+  std::vector<double> cube_sides;
   bool quiet = false;
 };
 
 /// InputError (naming the key) for a case the linearisation about resting
 /// spheres does not describe: no drops, a drop that is not a Newtonian
 /// sphere with interfacial tension at rest, slip, a viscoelastic matrix, a
-/// frequency that is not positive.
-void check_response_case(const io::CaseConfig& config, const std::vector<double>& frequencies);
+/// frequency that is not positive, a cube side that is not positive or does
+/// not fit in the cell.
+void check_response_case(const io::CaseConfig& config, const std::vector<double>& frequencies,
+                         const std::vector<double>& cube_sides = {});
 
 /// Meshes the case, solves every frequency, writes response.csv,
 /// response.md, summary.json, case.toml (and response.png) atomically into
