@@ -56,10 +56,11 @@ def run_case(build, work, name, text, rerun=False):
     return directory
 
 
-def run_response(build, work, name, text, frequencies=None):
+def run_response(build, work, name, text, frequencies=None, extra=()):
     """`softflow response` on the case `text` into work/NAME, unless its
     response.csv is there (the command writes its outputs only at its end);
-    at `frequencies` (-f), or the case's own frequency when None."""
+    at `frequencies` (-f), or the case's own frequency when None; `extra`:
+    more arguments (e.g. --cube-sides)."""
     directory = os.path.join(work, name)
     if os.path.exists(os.path.join(directory, "response.csv")):
         return directory
@@ -70,7 +71,7 @@ def run_response(build, work, name, text, frequencies=None):
     command = [os.path.join(build, "softflow"), "response", path, "-q", "-o", directory]
     if frequencies:
         command += ["-f", ",".join(f"{w:g}" for w in frequencies)]
-    subprocess.run(command, check=False)
+    subprocess.run(command + list(extra), check=False)
     return directory
 
 
