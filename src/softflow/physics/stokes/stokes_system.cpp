@@ -202,7 +202,7 @@ std::vector<la::SparseVector> StokesSystem::rigid_motions(const mesh::Mesh& geom
 StokesSystem::~StokesSystem() = default;
 
 bool StokesSystem::gauge_after_solve() const {
-  return settings_.method == la::SaddlePointMethod::iterative && !slip_;
+  return settings_.method == la::SaddlePointMethod::iterative;
 }
 
 void StokesSystem::attach_pressure_nullspace() {
@@ -216,6 +216,28 @@ void StokesSystem::attach_pressure_nullspace() {
   check(VecRestoreArray(pressure_constant_.get(), &a), "VecRestoreArray");
   // The operator is symmetric: the constant is in both null spaces, and
   // KSPSolve projects it out of the right-hand side (round-off only).
+  const Vec basis = pressure_constant_.get();
+  la::attach_null_space(operator_matrix(), std::span<const Vec>(&basis, 1));
+}
+
+void StokesSystem::attach_slip_pressure_nullspace(const SlipNodes& nodes) {
+  // With slip a constant pressure c loads each interface with -c n on the
+  // matrix side and +c n on the object's, which the multipliers lambda_a =
+  // -c n_a (the matrix's traction) balance exactly, their tangential parts
+  // zero: the null vector carries them, at this geometry's nodal normals.
+  // Measured (unit drop, N 16, alpha 1, rtol 1e-10): 136 / 150 iterations
+  // at lambda 0.1 / 10 with the gauge pinned, 112 / 126 with this null space
+  // (InterfaceSlip.IterativeSolverAgreesWithTheDirectOne; the frequency
+  // domain measured 46-72 against 20-35 inner iterations per solve).
+  for (int node : owned_interface_nodes_) {
+    const int object = interface_object_of(node);
+    for (int c = 0; c < 3; ++c)
+      check(VecSetValue(pressure_constant_.get(), dofs_.dof(kMultiplierField, node, object, c),
+                        -nodes.normal[node](c), INSERT_VALUES),
+            "VecSetValue");
+  }
+  check(VecAssemblyBegin(pressure_constant_.get()), "VecAssemblyBegin");
+  check(VecAssemblyEnd(pressure_constant_.get()), "VecAssemblyEnd");
   const Vec basis = pressure_constant_.get();
   la::attach_null_space(operator_matrix(), std::span<const Vec>(&basis, 1));
 }
@@ -548,6 +570,7 @@ void StokesSystem::assemble(const mesh::Mesh& geometry, const StokesProblem& pro
                           interface_node_scale(geometry)};
     assemble_slip(geometry, problem, nodes);
     a_->assemble();
+    if (gauge_after_solve()) attach_slip_pressure_nullspace(nodes);
     if (pmat_) assemble_slip_schur_estimate(problem, nodes);
   } else if (nested_) {
     nested_->assemble();

@@ -251,6 +251,9 @@ class StokesSystem {
   /// multipliers' Schur complement estimate in their constraint block (after
   /// a_ is assembled: it reads a_'s diagonal).
   void assemble_slip_schur_estimate(const StokesProblem& problem, const SlipNodes& nodes);
+  /// The iterative method with slip: the null vector's multipliers (-n_a)
+  /// at this geometry, attached to the operator again.
+  void attach_slip_pressure_nullspace(const SlipNodes& nodes);
 
   const mesh::Mesh& mesh_;
   la::SaddlePointSettings settings_;
