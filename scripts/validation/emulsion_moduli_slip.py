@@ -120,8 +120,9 @@ def report(work):
                         f"{p['storage'][1]:.3g}", f"{p['oldroyd'][0]:.6g}", f"{p['loss'][0]:.6g}",
                         f"{p['loss'][1]:.3g}", f"{p['oldroyd'][1]:.6g}"])
     print("\n".join(lines))
-    fig, ax = plt.subplots(2, 2, figsize=(11, 8))
-    for row, lam in enumerate(sorted({p["lam"] for p in table})):
+    lambdas = sorted({p["lam"] for p in table})
+    fig, ax = plt.subplots(len(lambdas), 2, figsize=(11, 4 * len(lambdas)), squeeze=False)
+    for row, lam in enumerate(lambdas):
         for k, alpha in enumerate(sorted({p["alpha"] for p in table if p["lam"] == lam})):
             ps = [p for p in table if p["lam"] == lam and p["alpha"] == alpha]
             x = [p["box_phi"][0] for p in ps]
