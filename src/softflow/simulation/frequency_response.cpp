@@ -53,10 +53,6 @@ std::pair<double, double> scaled_moduli(Complex relative_viscosity, double omega
   return {-omega_star * relative_viscosity.imag(), relative_viscosity.real()};
 }
 
-std::string optional_number(const std::optional<double>& x, int digits = 6) {
-  return x ? io::table_number(*x, digits) : std::string();
-}
-
 }  // namespace
 
 void check_response_case(const io::CaseConfig& config, const std::vector<double>& frequencies,
@@ -110,7 +106,7 @@ physics::OscillatoryProblem oscillatory_problem(const io::CaseConfig& config, co
     problem.viscosity.push_back(o.viscosity_ratio * config.matrix_viscosity);
     problem.interfacial_tension.push_back(o.interfacial_tension);
     problem.radius.push_back(io::mean_radius(o.geometry));
-    problem.slip.push_back(io::navier_slip_coefficient(config, o));
+    problem.slip.coefficient.push_back(io::navier_slip_coefficient(config, o));
   }
   problem.boundary_velocity = [](const Eigen::Vector3d& x) { return Eigen::Vector3d(x.y(), 0.0, 0.0); };
   problem.pressure_gauge_node = physics::default_pressure_gauge_node(mesh);
@@ -221,15 +217,7 @@ ResponsePoint measure(const io::CaseConfig& config, const mesh::Mesh& mesh, cons
       analysis::theory::oldroyd_moduli(first.viscosity_ratio, p.cell_phi, p.omega_star, first.slip);
   p.oldroyd_cell_storage = cell_theory.storage;
   p.oldroyd_cell_loss = cell_theory.loss;
-  if (where.box) {
-    const CubeModuli m = where.box->moduli(config, mesh, system.dofs(), r, each, p.omega_star);
-    p.box_storage = m.storage;
-    p.box_loss = m.loss;
-    p.box_phi = m.phi;
-    p.box_drops = m.drops;
-    p.oldroyd_box_storage = m.oldroyd_storage;
-    p.oldroyd_box_loss = m.oldroyd_loss;
-  }
+  if (where.box) p.box = where.box->moduli(config, mesh, system.dofs(), r, each, p.omega_star);
   for (const auto& cube : where.study)
     p.cubes.push_back(cube.moduli(config, mesh, system.dofs(), r, each, p.omega_star));
   return p;
@@ -241,29 +229,33 @@ std::string response_csv(const std::vector<ResponsePoint>& points) {
       "cell_G_loss_over_eta_m_omega,oldroyd_cell_G_storage,oldroyd_cell_G_loss,box_phi,box_drops,"
       "box_G_storage_R_over_Gamma,box_G_loss_over_eta_m_omega,oldroyd_box_G_storage,oldroyd_box_G_loss,seconds,"
       "iterations,inner_solves,inner_iterations\n";
-  for (const auto& p : points)
-    csv += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-        io::table_number(p.omega, 10), io::table_number(p.omega_star, 10),
-        io::table_number(p.intrinsic_viscosity.real(), 10),
-        io::table_number(p.intrinsic_viscosity.imag(), 10),
-        io::table_number(p.oldroyd_intrinsic_viscosity.real(), 10),
-        io::table_number(p.oldroyd_intrinsic_viscosity.imag(), 10),
-        io::table_number(p.cell_phi, 10), io::table_number(p.cell_storage, 10),
-        io::table_number(p.cell_loss, 10), io::table_number(p.oldroyd_cell_storage, 10),
-        io::table_number(p.oldroyd_cell_loss, 10), optional_number(p.box_phi, 10),
-        p.box_phi ? std::to_string(p.box_drops) : std::string(), optional_number(p.box_storage, 10),
-        optional_number(p.box_loss, 10), optional_number(p.oldroyd_box_storage, 10),
-        optional_number(p.oldroyd_box_loss, 10), io::table_number(p.seconds, 4), p.iterations,
-        p.inner_solves, p.inner_iterations);
+  for (const auto& p : points) {
+    const auto& b = p.box;  // its six columns empty without a cube
+    const auto box_number = [&](double CubeModuli::*member) {
+      return b ? io::table_number((*b).*member, 10) : std::string();
+    };
+    csv +=
+        fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                    io::table_number(p.omega, 10), io::table_number(p.omega_star, 10),
+                    io::table_number(p.intrinsic_viscosity.real(), 10),
+                    io::table_number(p.intrinsic_viscosity.imag(), 10),
+                    io::table_number(p.oldroyd_intrinsic_viscosity.real(), 10),
+                    io::table_number(p.oldroyd_intrinsic_viscosity.imag(), 10),
+                    io::table_number(p.cell_phi, 10), io::table_number(p.cell_storage, 10),
+                    io::table_number(p.cell_loss, 10), io::table_number(p.oldroyd_cell_storage, 10),
+                    io::table_number(p.oldroyd_cell_loss, 10), box_number(&CubeModuli::phi),
+                    b ? std::to_string(b->drops) : std::string(), box_number(&CubeModuli::storage),
+                    box_number(&CubeModuli::loss), box_number(&CubeModuli::oldroyd_storage),
+                    box_number(&CubeModuli::oldroyd_loss), io::table_number(p.seconds, 4),
+                    p.iterations, p.inner_solves, p.inner_iterations);
+  }
   return csv;
 }
 
 std::string cubes_csv(const std::vector<ResponsePoint>& points) {
   std::string csv =
-      "omega,omega_star,side,phi,drops,G_storage_R_over_Gamma,G_loss_over_eta_m_omega,oldroyd_G_"
-      "storage,"
-      "oldroyd_G_loss\n";
+      "omega,omega_star,side,phi,drops,G_storage_R_over_Gamma,G_loss_over_eta_m_omega,"
+      "oldroyd_G_storage,oldroyd_G_loss\n";
   for (const auto& p : points)
     for (const auto& c : p.cubes)
       csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", io::table_number(p.omega, 10),
@@ -276,7 +268,7 @@ std::string cubes_csv(const std::vector<ResponsePoint>& points) {
 
 std::string response_markdown(const io::CaseConfig& config, int drops, int unknowns,
                               const std::vector<ResponsePoint>& points) {
-  const bool has_box = points.front().box_phi.has_value();
+  const bool has_box = points.front().box.has_value();
   std::string md = fmt::format(
       "# Frequency response of {}\n\n"
       "One complex Stokes solve per frequency about the resting spherical drops (softflow response; "
@@ -298,10 +290,10 @@ std::string response_markdown(const io::CaseConfig& config, int drops, int unkno
                       io::table_number(p.cell_storage, 5),
                       io::table_number(p.oldroyd_cell_storage, 5), io::table_number(p.cell_loss, 5),
                       io::table_number(p.oldroyd_cell_loss, 5));
-    if (has_box)
-      md += fmt::format(" {} | {} | {} | {} | {} |", optional_number(p.box_phi, 4), optional_number(p.box_storage, 5),
-                        optional_number(p.oldroyd_box_storage, 5), optional_number(p.box_loss, 5),
-                        optional_number(p.oldroyd_box_loss, 5));
+    if (const auto& b = p.box)
+      md += fmt::format(" {} | {} | {} | {} | {} |", io::table_number(b->phi, 4),
+                        io::table_number(b->storage, 5), io::table_number(b->oldroyd_storage, 5),
+                        io::table_number(b->loss, 5), io::table_number(b->oldroyd_loss, 5));
     md += "\n";
   }
   return md;

@@ -40,13 +40,11 @@ struct ResponsePoint {
   /// The centred cube of bulk_stress.box_side, as `softflow moduli` averages
   /// (thesis eq. 4.1): eta* = <sigma_xy> / <2 D_xy> with the drops whose
   /// centre lies in it counted whole; empty without a cube.
-  std::optional<double> box_phi, box_storage, box_loss;
-  int box_drops = 0;
+  std::optional<CubeModuli> box;
   /// Oldroyd's emulsion (appendix A) at objects[1]'s lambda: c's dilute
-  /// limit, and the moduli at cell_phi (and box_phi).
+  /// limit, and the moduli at cell_phi.
   std::complex<double> oldroyd_intrinsic_viscosity;
   double oldroyd_cell_storage = 0.0, oldroyd_cell_loss = 0.0;
-  std::optional<double> oldroyd_box_storage, oldroyd_box_loss;
   /// The cubes of ResponseOptions::cube_sides (thesis Figs. 4.4-4.5's study).
   std::vector<CubeModuli> cubes;
   double seconds = 0.0;  ///< assembly and solve

@@ -34,9 +34,15 @@ bool dissipation_is_negative(const SlipMeasures& m) {
   return m.dissipation < -1e-9 * m.absolute_power;
 }
 
-SlipNodePreconditioner slip_node_preconditioner(double a_m, double a_d,
+SlipNodePreconditioner slip_node_preconditioner(const fem::DofMap& dofs, const double* diagonal,
+                                                int first_row, int node, int object,
                                                 const Eigen::Vector3d& normal, double scale,
                                                 double alpha) {
+  double a_m = 0.0, a_d = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    a_m += diagonal[dofs.dof(kVelocityField, node, 0, c) - first_row] / 3.0;
+    a_d += diagonal[dofs.dof(kVelocityField, node, object, c) - first_row] / 3.0;
+  }
   const double penalty = 0.01 * (a_m + a_d);
   const double compliance = (a_m + a_d) / (a_m * a_d + penalty * (a_m + a_d));
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();

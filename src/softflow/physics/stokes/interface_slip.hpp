@@ -114,11 +114,17 @@ Eigen::Matrix<double, 18, 54> slip_constraint_block(const Eigen::Matrix<double, 
 ///    constraint's own -alpha tangential mass is in the operator). Like the
 ///    pressure's -M/eta it is negative definite; Jacobi on it completes the
 ///    preconditioner.
+/// Of interface node `node` of `object` with nodal normal `normal`, scale
+/// s and slip alpha; `diagonal` is the operator's diagonal over this rank's
+/// rows, the first being dof `first_row`, and a_m, a_d its means over the
+/// three components of the node's two velocity copies (owned with the
+/// node: dofs are numbered node by node).
 struct SlipNodePreconditioner {
   Eigen::Matrix<double, 6, 6> jump_penalty;
   Eigen::Matrix3d schur_estimate;
 };
-SlipNodePreconditioner slip_node_preconditioner(double a_m, double a_d,
+SlipNodePreconditioner slip_node_preconditioner(const fem::DofMap& dofs, const double* diagonal,
+                                                int first_row, int node, int object,
                                                 const Eigen::Vector3d& normal, double scale,
                                                 double alpha);
 

@@ -370,15 +370,9 @@ void OscillatorySystem::assemble_inner_slip_estimate(const OscillatoryProblem& p
   check(VecGetArrayRead(diagonal.get(), &a), "VecGetArrayRead");
   for (std::size_t i = 0; i < impl.slip_nodes.size(); ++i) {
     const auto [node, object] = impl.slip_nodes[i];
-    double a_m = 0.0, a_d = 0.0;  // averaged over the 3 components
-    for (int c = 0; c < 3; ++c) {
-      a_m += a[dofs_.dof(kVelocityField, node, 0, c) - owned.begin] / 3.0;
-      a_d += a[dofs_.dof(kVelocityField, node, object, c) - owned.begin] / 3.0;
-    }
-    const double alpha =
-        object - 1 < static_cast<int>(problem.slip.size()) ? problem.slip[object - 1] : 0.0;
-    const auto p =
-        slip_node_preconditioner(a_m, a_d, node_normal_[node], impl.node_scale[node], alpha);
+    const auto p = slip_node_preconditioner(dofs_, a, static_cast<int>(owned.begin), node, object,
+                                            node_normal_[node], impl.node_scale[node],
+                                            problem.slip.of(object));
     impl.inner_pmat->set_block(impl.slip_node_blocks[i][0], p.jump_penalty);
     impl.inner_pmat->set_block(impl.slip_node_blocks[i][1], p.schur_estimate);
   }
@@ -420,8 +414,8 @@ std::pair<la::Vector, la::Vector> OscillatorySystem::assemble(const OscillatoryP
       const auto c = slip_coupling_matrix(x, normals);
       Eigen::Matrix<double, 36, 18> coupling;
       coupling << c, -c;  // + integral lambda_h . v_m, - integral lambda_h . v_d
-      const double alpha = object - 1 < static_cast<int>(problem.slip.size()) ? problem.slip[object - 1] : 0.0;
-      const auto constraint = slip_constraint_block(c, surface_mass(x), normals, alpha);
+      const auto constraint =
+          slip_constraint_block(c, surface_mass(x), normals, problem.slip.of(object));
       for (int part : {0, 1}) {
         m.set_block(impl.slip_coupling_blocks[i][part], coupling);
         m.set_block(impl.slip_constraint_blocks[i][part], constraint);

@@ -18,6 +18,7 @@
 #include "softflow/la/saddle_point_solver.hpp"
 #include "softflow/mesh/mesh.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
+#include "softflow/physics/stokes/stokes_problem.hpp"
 
 namespace softflow::physics {
 
@@ -34,10 +35,9 @@ struct OscillatoryProblem {
   std::vector<double> interfacial_tension;
   /// The resting radius of object k at index k - 1 (the drops are spheres at rest).
   std::vector<double> radius;
-  /// Navier slip alpha_k (dimensional, as InterfaceSlip's) of object k at
-  /// index k - 1; missing entries are 0. Needs a system built with
-  /// interface_slip.
-  std::vector<double> slip;
+  /// Navier slip of each object (InterfaceSlip: dimensional, missing
+  /// entries 0). Needs a system built with interface_slip.
+  InterfaceSlip slip;
   /// Velocity amplitude on every outer boundary face.
   std::function<Eigen::Vector3d(const Eigen::Vector3d&)> boundary_velocity;
   double omega = 0.0;  ///< angular frequency, > 0

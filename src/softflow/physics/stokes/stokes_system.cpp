@@ -746,9 +746,7 @@ void StokesSystem::assemble_slip(const mesh::Mesh& geometry, const StokesProblem
 void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
                                                 const SlipNodes& nodes) {
   // The jump penalty and the multipliers' Schur estimate of
-  // slip_node_preconditioner, from A's diagonal. The velocity copies of an
-  // owned node are owned by the same rank (dofs are numbered node by node),
-  // so the diagonal is read locally.
+  // slip_node_preconditioner, from A's diagonal.
   la::Vector diagonal = la::make_vector(range_.size(), dofs_.n_dofs());
   check(MatGetDiagonal(a_->get(), diagonal.get()), "MatGetDiagonal");
   const PetscScalar* a = nullptr;
@@ -756,13 +754,9 @@ void StokesSystem::assemble_slip_schur_estimate(const StokesProblem& problem,
   for (std::size_t i = 0; i < owned_interface_nodes_.size(); ++i) {
     const int node = owned_interface_nodes_[i];
     const int object = interface_object_of(node);
-    double a_m = 0.0, a_d = 0.0;  // averaged over the 3 components
-    for (int c = 0; c < 3; ++c) {
-      a_m += a[dofs_.dof(kVelocityField, node, 0, c) - range_.begin] / 3.0;
-      a_d += a[dofs_.dof(kVelocityField, node, object, c) - range_.begin] / 3.0;
-    }
-    const auto p = slip_node_preconditioner(a_m, a_d, nodes.normal[node], nodes.scale[node],
-                                            problem.slip.of(object));
+    const auto p =
+        slip_node_preconditioner(dofs_, a, static_cast<int>(range_.begin), node, object,
+                                 nodes.normal[node], nodes.scale[node], problem.slip.of(object));
     pmat_->set_block(slip_penalty_blocks_[i], p.jump_penalty);
     pmat_->set_block(slip_compliance_blocks_[i], p.schur_estimate);
   }

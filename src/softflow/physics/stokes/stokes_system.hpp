@@ -223,9 +223,6 @@ class StokesSystem {
   struct SlipNodes {
     std::vector<Eigen::Vector3d> normal;  ///< interface_node_normals
     std::vector<double> scale;            ///< s_i, interface_node_scale
-    [[nodiscard]] Eigen::Matrix3d tangential(int node) const {
-      return Eigen::Matrix3d::Identity() - normal[node] * normal[node].transpose();
-    }
     [[nodiscard]] TriangleNormals of(const std::array<int, 6>& tri) const;
   };
   /// The N `dofs` with those of other ranks replaced by -1 (dropped): the
