@@ -16,7 +16,6 @@ discretisations part in space, not in time. A run at half the strain
 Writes docs/validation/moduli_time_step.{md,csv,png}.
 Usage: scripts/validation/moduli_time_step.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import csv
-import json
 import math
 import os
 
@@ -69,18 +68,6 @@ def runner(build, work, name, text):
     return run_case(build, work, name, text)
 
 
-def read_td(work, name):
-    path = os.path.join(work, name, "summary.json")
-    if not os.path.exists(path):
-        return None
-    s = json.load(open(path))
-    m = s.get("moduli", {})
-    if "stresslet_coefficient" not in m:
-        return None
-    return {"c": complex(*m["stresslet_coefficient"]), "residual": m["fit_residual_stresslet"],
-            "wall": s["wall_seconds"], "steps": s["steps"], "nodes": s["mesh"]["equator_nodes"]}
-
-
 def read_fd(work, n):
     path = os.path.join(work, fd_name(n), "response.csv")
     if not os.path.exists(path):
@@ -117,11 +104,11 @@ def report(work):
     plot = {}
     for n in STEPS:
         fd = read_fd(work, n)
-        runs = [(s, read_td(work, td_name(n, s))) for s in STEPS[n]]
+        runs = [(s, time_domain.read(work, td_name(n, s))) for s in STEPS[n]]
         runs = [(s, r) for s, r in runs if r]
         if not runs:
             continue
-        meshed = runs[0][1]["nodes"]
+        meshed = round(1.0 / runs[0][1]["size"])
         lines += [f"## {n} equator nodes asked ({meshed} meshed)", "",
                   "| steps per period | dt | c | change | change ratio | c - c_frequency | fit residual | wall s |",
                   "|---|---|---|---|---|---|---|---|"]
@@ -152,8 +139,8 @@ def report(work):
                 lines.append(f"- {name}, the finest three: observed order {order:.2f}, dt -> 0 limit {value:.5f}{gap}.")
         lines.append("")
         plot[n] = ([period / s for s, _ in runs], [r["c"] for _, r in runs], fd)
-    half = read_td(work, td_name(*HALF_STRAIN))
-    full = read_td(work, td_name(HALF_STRAIN[0], HALF_STRAIN[1]))
+    half = time_domain.read(work, td_name(*HALF_STRAIN))
+    full = time_domain.read(work, td_name(HALF_STRAIN[0], HALF_STRAIN[1]))
     if half and full:
         lines += ["## The nonlinear part", "",
                   f"{HALF_STRAIN[0]} nodes, {HALF_STRAIN[1]} steps per period: c at strain {HALF_STRAIN[2]:g} is "
