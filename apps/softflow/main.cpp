@@ -52,6 +52,7 @@
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/run_lock.hpp"
 #include "softflow/io/sweep_case.hpp"
+#include "softflow/parallel/singleton_start.hpp"
 #include "softflow/simulation/drop_run.hpp"
 #include "softflow/simulation/frequency_response.hpp"
 #include "softflow/simulation/migration_curves.hpp"
@@ -96,11 +97,7 @@ class PetscSession {
 /// Before MPI starts (command-line errors): whether this process is the
 /// launcher's rank 0, so that under mpirun a message is printed once, not
 /// once per rank. Outside a launcher every process is.
-bool launcher_rank_zero() {
-  for (const char* variable : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
-    if (const char* rank = std::getenv(variable)) return std::string(rank) == "0";
-  return true;
-}
+bool launcher_rank_zero() { return softflow::parallel::launcher_rank().value_or(0) == 0; }
 
 /// std::cerr on the launcher's rank 0, a sink elsewhere.
 std::ostream& error_stream() {
@@ -264,6 +261,7 @@ int report(const char* kind, const std::exception& e, int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  softflow::parallel::start_singleton_without_daemon();
   use_reproducible_occ_memory_manager(argc, argv);
   // Split the command line at "--": ours before, PETSc's after.
   std::vector<char*> ours{argv[0]}, petsc{argv[0]};

@@ -15,7 +15,10 @@ def fail(message):
 
 def run(args, expect=0, launcher=()):
     """Runs `args` (after `launcher`), failing unless it exits with `expect`."""
+    start = time.time()
     result = subprocess.run(list(launcher) + list(args), capture_output=True, text=True)
+    if os.environ.get("SOFTFLOW_TEST_TIMES"):  # where a test's time goes
+        print(f"[{time.time() - start:6.1f} s] {' '.join(list(launcher)[:3] + list(args)[:3])}", file=sys.stderr)
     if result.returncode != expect:
         fail(f"{' '.join(args)}: exit code {result.returncode}, expected {expect}\n"
              f"{result.stdout}\n{result.stderr}")

@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
+#include "softflow/parallel/singleton_start.hpp"
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
+  softflow::parallel::start_singleton_without_daemon();
   if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) return 2;
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);

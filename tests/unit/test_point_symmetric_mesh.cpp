@@ -166,7 +166,7 @@ TEST(PointSymmetricMesh, ObjectsTheHalfTurnDoesNotMapOntoThemselvesAreRefused) {
 }
 
 TEST(PointSymmetricMesh, NodeRelocationKeepsTheSymmetry) {
-  // Every element below 0.9 is repaired (most of them): the search moves
+  // Every element below 0.6 is repaired: the search moves
   // many free nodes, each mirror pair to mirror positions, to the bit.
   // Searched independently, the pairs end up apart (the compass search
   // tries its directions in an order the half turn does not keep).
@@ -174,8 +174,8 @@ TEST(PointSymmetricMesh, NodeRelocationKeepsTheSymmetry) {
   const auto image = partial_half_turn_images(m);
   const mesh::NodeRelocation relocation(m);
   auto nodes = m.nodes;
-  const auto report = relocation.improve(nodes, 0.9, 1);
-  EXPECT_GT(report.nodes_moved, 20);
+  const auto report = relocation.improve(nodes, 0.6, 1);
+  EXPECT_GT(report.nodes_moved, 500);  // 926 on this mesh;
   int moved = 0;
   for (int i = 0; i < m.n_nodes(); ++i) {
     moved += nodes[i] != m.nodes[i];

@@ -267,6 +267,7 @@ nlohmann::json peak_memory_summary() {
 
 void draw_plot(const std::string& script, const std::filesystem::path& directory,
                const std::string& picture, bool quiet) {
+  if (const char* plots = std::getenv("SOFTFLOW_PLOTS"); plots && std::string(plots) == "0") return;
   const std::filesystem::path path = std::filesystem::path(SOFTFLOW_SOURCE_DIR) / "scripts" / script;
   if (!std::filesystem::exists(path)) return;
   const std::string command = fmt::format("/usr/bin/python3 '{}' '{}' > /dev/null 2>&1",

@@ -63,6 +63,9 @@ nlohmann::json peak_memory_summary();
 /// Draws `picture` (e.g. "deformation.png") in `directory` with the
 /// repository's scripts/<script> (matplotlib): a missing Python or
 /// matplotlib costs the picture, with a warning unless `quiet`, not the run.
+/// SOFTFLOW_PLOTS=0 in the environment skips every picture: starting
+/// Python and matplotlib takes ~1 s, most of a short run's time (the test
+/// suite sets it, but for the tests that check the pictures).
 void draw_plot(const std::string& script, const std::filesystem::path& directory,
                const std::string& picture, bool quiet);
 
