@@ -14,10 +14,13 @@ PETSc option words PETSc would skip, extreme semi-axes and angles, relaxation
 times shorter than the step, oscillation frequencies the step cannot resolve,
 duplicated sweep values, slip coefficients beyond what the mesh resolves).
 `softflow check`
-must, for each: end within 20 s, by itself (no signal), with exit code 0 or
-1, and on 1 print a message naming the file and a key (table.key, or
-objects[k].key) or a line (file:N:). The first failures are listed with
-their files kept in WORK_DIR.
+must, for each: end within 20 s, by itself (no signal), valid or refused
+with a message naming the file and a key (table.key, or objects[k].key) or
+a line (file:N:), the process's exit code 1 if any file was refused. The
+files go BATCH to a process (`softflow check A B ...`, one verdict per
+file); a batch that crashes, hangs or leaves a file without a verdict is
+checked again one process per file, which names the file. The first
+failures are listed with their files kept in WORK_DIR.
 """
 import os
 import random
@@ -179,31 +182,76 @@ NAMED = re.compile(r"([a-z_]+(\[\d+\])?\.[a-z_0-9]+|:\d+:|unknown key|unknown ta
                    r"|\.toml( \[sweep case [^\]]*\])?: [a-z_]+ = )")
 
 
+BATCH = 30  # files per `softflow check` process (one process per file: 0.25 s each of start-up)
+
+
+def verdicts(softflow, paths):
+    """(exit code, {path: (code, message)}) of one `softflow check` of `paths`,
+    or None when the process ran out of time or ended by a signal. A refused
+    file's message is the stderr chunk from a "softflow: " line naming it."""
+    try:
+        r = subprocess.run([softflow, "check"] + paths, capture_output=True, timeout=20 * len(paths))
+    except subprocess.TimeoutExpired:
+        return None
+    if r.returncode < 0:
+        return None
+    found = {}
+    for line in r.stdout.decode(errors="replace").splitlines():
+        for p in paths:
+            if line == f"{p}: valid" or line.startswith(f"{p}: valid, a sweep"):
+                found[p] = (0, "")
+    chunks = re.split(r"(?m)^(?=softflow: )", r.stderr.decode(errors="replace"))
+    for chunk in filter(None, chunks):
+        first = chunk.split("\n", 1)[0]
+        named = [p for p in paths if os.path.basename(p) + ":" in first or
+                 os.path.basename(p) + " [sweep case" in first]
+        for p in named:
+            found[p] = (1, chunk)
+    return r.returncode, found
+
+
+def judge(path, code, message):
+    """The failure of one file's verdict, or None."""
+    if code not in (0, 1):
+        return f"{path}: exit code {code}: {message[:300]}"
+    if code == 1 and not NAMED.search(message):
+        return f"{path}: the message names no key or line: {message[:300]}"
+    return None
+
+
 def main(softflow, work, count=300, seed=1):
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     rng = random.Random(seed)
-    failures, codes = [], {}
+    paths = []
     for i in range(count):
-        path = os.path.join(work, f"fuzz_{i}.toml")
-        with open(path, "wb") as f:
+        paths.append(os.path.join(work, f"fuzz_{i}.toml"))
+        with open(paths[-1], "wb") as f:
             f.write(mutate(rng))
-        try:
-            r = subprocess.run([softflow, "check", path], capture_output=True, timeout=20)
-        except subprocess.TimeoutExpired:
-            failures.append(f"{path}: no answer within 20 s")
-            continue
-        codes[r.returncode] = codes.get(r.returncode, 0) + 1
-        err = r.stderr.decode(errors="replace")
-        if r.returncode < 0:
-            failures.append(f"{path}: killed by signal {-r.returncode}")
-        elif r.returncode not in (0, 1):
-            failures.append(f"{path}: exit code {r.returncode}: {err[:300]}")
-        elif r.returncode == 1 and (f"fuzz_{i}.toml" not in err or not NAMED.search(err)):
-            failures.append(f"{path}: the message names no key or line: {err[:300]}")
-        else:
-            os.remove(path)
-    print(f"{count} files (seed {seed}): exit codes {dict(sorted(codes.items()))}")
+    failures, codes = [], {}
+    for first in range(0, count, BATCH):
+        batch = paths[first:first + BATCH]
+        result = verdicts(softflow, batch)
+        if result is None or any(p not in result[1] for p in batch) or \
+                result[0] != max(c for c, _ in result[1].values()):
+            # One process per file: which file kills, hangs, or goes unanswered.
+            result = (None, {})
+            for p in batch:
+                one = verdicts(softflow, [p])
+                if one is None:
+                    failures.append(f"{p}: killed, or no answer within 20 s")
+                elif p not in one[1]:
+                    failures.append(f"{p}: exit code {one[0]}, but no verdict naming the file")
+                else:
+                    result[1][p] = one[1][p]
+        for p, (code, message) in result[1].items():
+            codes[code] = codes.get(code, 0) + 1
+            failure = judge(p, code, message)
+            if failure:
+                failures.append(failure)
+            else:
+                os.remove(p)
+    print(f"{count} files (seed {seed}, {BATCH} per process): exit codes {dict(sorted(codes.items()))}")
     if failures:
         print(f"FAIL: {len(failures)} files")
         for line in failures[:15]:
