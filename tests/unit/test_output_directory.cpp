@@ -103,6 +103,27 @@ TEST_F(OutputDirectoryTest, CommitReplacesAnOlderRun) {
   EXPECT_EQ(entries(root_), std::vector<std::string>{"drop"});  // no ".old-" left
 }
 
+TEST_F(OutputDirectoryTest, StagingLeftByKilledRunsIsRemovedAndOnlyItsOwn) {
+  // A run killed before its commit (SIGKILL, a second SIGTERM) leaves its
+  // staging directory; the next run into the same directory removes it,
+  // and touches neither another directory's staging nor moved-aside results.
+  const fs::path dir = root_ / "drop";
+  for (const char* left : {"drop.partial-12345", "drop.partial-7"}) {
+    fs::create_directories(root_ / left);
+    std::ofstream(root_ / left / "summary.json") << "half";
+  }
+  fs::create_directories(root_ / "drops.partial-12345");
+  fs::create_directories(root_ / "drop.old-12345");
+  {
+    OutputDirectory out(dir, true);
+    out.write_text("summary.json", "new");
+    out.commit();
+  }
+  EXPECT_EQ(entries(root_),
+            (std::vector<std::string>{"drop", "drop.old-12345", "drops.partial-12345"}));
+  EXPECT_EQ(read(dir / "summary.json"), "new");
+}
+
 TEST_F(OutputDirectoryTest, TrailingSeparatorNamesTheSameDirectory) {
   {
     OutputDirectory out((root_ / "drop").string() + "/", true);

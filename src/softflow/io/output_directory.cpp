@@ -111,9 +111,18 @@ OutputDirectory::OutputDirectory(fs::path directory, bool is_writer)
     fs::create_directories(directory_.parent_path(), ec);
     if (ec) fail("create the directory", directory_.parent_path(), ec);
   }
-  // A leftover of a crashed run that had the same process id.
-  fs::remove_all(staging_, ec);
-  if (ec) fail("remove the stale directory", staging_, ec);
+  // Leftovers of runs into this directory that were killed before their
+  // commit (SIGKILL, a second stop request): never results, and the caller
+  // holds the directory's lock, so no live run is writing any of them.
+  const std::string prefix = directory_.filename().string() + ".partial-";
+  const fs::path parent = directory_.has_parent_path() ? directory_.parent_path() : fs::path(".");
+  for (const auto& entry : fs::directory_iterator(parent, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    fs::remove_all(entry.path(), ec);
+    if (ec) fail("remove the stale directory", entry.path(), ec);
+  }
+  if (ec) fail("list", parent, ec);
   fs::create_directory(staging_, ec);
   if (ec) fail("create the output directory", staging_, ec);
 }

@@ -10,9 +10,11 @@ namespace softflow::io {
 /// A run's output directory that is either complete or absent.
 ///
 /// The constructor creates the staging directory `<dir>.partial-<pid>` (and
-/// the parents of `<dir>`); the run writes its files there (staging_path(),
-/// write_text()). commit() renames the staging directory to `<dir>`; an
-/// existing `<dir>` from an earlier run is first moved aside to
+/// the parents of `<dir>`), after removing every `<dir>.partial-*` left by
+/// runs killed before their commit: the caller must hold `<dir>`'s
+/// io::RunLock, so that none of them is being written; the run writes its files there
+/// (staging_path(), write_text()). commit() renames the staging directory to `<dir>`; an existing
+/// `<dir>` from an earlier run is first moved aside to
 /// `<dir>.old-<pid>`, then deleted, so a crash at any moment leaves either
 /// the old or the new results, never a mixture. If the object is destroyed
 /// without commit() (an exception unwinding the run), the staging directory
