@@ -1737,6 +1737,35 @@ TEST(CaseConfigEmulsion, WhatCannotBePackedOrMeshedIsRefusedNamingTheKey) {
   std::string dense = base;
   dense.replace(dense.find("volume_fraction = 0.05"), 22, "volume_fraction = 0.4");
   EXPECT_ERROR(dense, "emulsion.volume_fraction = 0.4: random packing: after");
+  EXPECT_ERROR(base + "core_layout = \"centres\"\n",
+               "emulsion.core_layout = \"centres\": the centres' layout of a core cube needs "
+               "emulsion.core_side > 0");
+}
+
+TEST(CaseConfigEmulsion, TheCoreCubeHoldsItsDropsWhollyOrByTheirCentres) {
+  // phi = 0.26 of a core of side 8 in a 12^3 cell, gaps 0.1 R: wholly inside
+  // the core the drops jam; by their centres (the thesis's frame layout) the
+  // 32 drops pack, crossing the core's faces, one interface element from
+  // the cell's.
+  const std::string dense =
+      "[cell]\nlength = 12.0\nheight = 12.0\nwidth = 12.0\n[mesh]\nequator_nodes = 14\n"
+      "[[objects]]\nradius = 1.0\ncapillary_number = 0.2\n"
+      "[emulsion]\nvolume_fraction = 0.26\nseed = 1\nmin_gap = 0.1\ncore_side = 8.0\n";
+  EXPECT_ERROR(dense, "emulsion.volume_fraction = 0.26: random packing: after");
+  const CaseConfig c = parse_case(dense + "core_layout = \"centres\"\n", "c.toml");
+  ASSERT_EQ(c.objects.size(), 32U);
+  EXPECT_EQ(c.emulsion.core_layout, EmulsionConfig::CoreLayout::centres);
+  int crossing = 0;
+  for (const auto& o : c.objects) {
+    EXPECT_LE(o.geometry.centre.cwiseAbs().maxCoeff(), 4.0);
+    EXPECT_LE(o.geometry.centre.cwiseAbs().maxCoeff() + 1.0, 6.0);
+    crossing += o.geometry.centre.cwiseAbs().maxCoeff() + 1.0 > 4.0 ? 1 : 0;
+  }
+  EXPECT_GT(crossing, 0);
+  // Printed and read back: the same layout, the same drops.
+  const CaseConfig again = parse_case(to_toml(c), "again.toml");
+  ASSERT_EQ(again.objects.size(), c.objects.size());
+  EXPECT_EQ(again.objects.back().geometry.centre, c.objects.back().geometry.centre);
 }
 
 }  // namespace

@@ -77,3 +77,37 @@ TEST(RandomPacking, AJammedOrTooSmallRegionIsRefusedWithWhatWasReached) {
   small.region = Eigen::Vector3d(2.5, 10.0, 10.0);  // 2 (R + gap) = 3 > 2.5
   EXPECT_THROW((void)random_sequential_addition(small), InputError);
 }
+
+// The thesis's frame layout: the centres in a core cube, the spheres crossing
+// its faces but kept whole in the cell. At phi = 0.26 in a core of side 8 R
+// the spheres that must lie wholly inside jam (their centres have only a
+// 5.8 R cube); counted by their centres they pack.
+TEST(RandomPacking, WithAContainerTheRegionBoundsOnlyTheCentres) {
+  RandomPacking p;
+  p.region = Eigen::Vector3d::Constant(8.0);
+  p.radius = 1.0;
+  p.volume_fraction = 0.26;
+  p.min_gap = 0.1;
+  p.attempts_per_sphere = 20000;
+  EXPECT_THROW((void)random_sequential_addition(p), InputError);
+
+  p.container = Eigen::Vector3d::Constant(12.0);
+  p.face_gap = 0.3;
+  const auto centres = random_sequential_addition(p);
+  ASSERT_EQ(static_cast<int>(centres.size()), sphere_count(p));  // 32: still phi of the region
+  ASSERT_EQ(sphere_count(p), 32);
+  int crossing = 0;
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_LE(std::abs(centres[i][d]), 4.0) << i;                      // centre in the core
+      EXPECT_LE(std::abs(centres[i][d]) + 1.0 + 0.3, 6.0 + 1e-12) << i;  // whole in the cell
+    }
+    crossing += (centres[i].cwiseAbs().array() + 1.0 > 4.0).any() ? 1 : 0;
+    for (std::size_t j = 0; j < i; ++j) EXPECT_GE((centres[i] - centres[j]).norm(), 2.1);
+  }
+  EXPECT_GT(crossing, 8);  // many cross the core's faces, as the layout allows
+
+  // A container that leaves a sphere no room is refused as a small region is.
+  p.container = Eigen::Vector3d(2.5, 12.0, 12.0);
+  EXPECT_THROW((void)random_sequential_addition(p), InputError);
+}

@@ -175,6 +175,11 @@ struct EmulsionConfig {
   double min_gap = 0.0;
   /// Side of the centred cube the drops fill (the "frame" layout); 0: the cell.
   double core_side = 0.0;
+  /// Which drops fill the core cube: those wholly inside it, or those whose
+  /// centres lie in it, crossing its faces (the thesis's frame layout,
+  /// ch. 4: the drops of a whole-cell packing with centres outside removed).
+  enum class CoreLayout { inside, centres };
+  CoreLayout core_layout = CoreLayout::inside;
 };
 
 /// [remesh]: meshing the deformed domain again during a run (issue 31).

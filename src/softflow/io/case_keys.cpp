@@ -494,24 +494,35 @@ Table<CaseConfig> conformation_table() {
 
 Table<CaseConfig> emulsion_table() {
   const auto emulsion = [](auto member) { return field(&CaseConfig::emulsion, member); };
-  return {"emulsion",
-          "Many drops at random (docs/emulsions.md): the one [[objects]] entry, a sphere centred "
-          "at the origin, is copied at centres placed by random sequential addition, no drop "
-          "closer than min_gap to another or to a wall or periodic face.",
-          false,
-          {number("volume_fraction", emulsion(&EmulsionConfig::volume_fraction), 0.0,
-                  Range::right_open(0, 0.5),
-                  "volume fraction of the drops in the region they fill (0: no emulsion)"),
-           integer("seed", emulsion(&EmulsionConfig::seed), 1, Range::at_least(0),
-                   "seed of the random placement: the same seed, the same drops"),
-           number("min_gap", emulsion(&EmulsionConfig::min_gap), 0.0, Range::at_least(0),
-                  "smallest gap between drops and to the region's faces, in drop radii (0: one "
-                  "interface element); gaps below one interface element are refined by the mesh "
-                  "(mesh.gap_elements across, down to gap_elements / 64 interface elements); the "
-                  "cell's faces keep at least one interface element"),
-           number("core_side", emulsion(&EmulsionConfig::core_side), 0.0, Range::at_least(0),
-                  "side of the centred cube the drops fill, the thesis's frame layout (0: the "
-                  "whole cell)")}};
+  return {
+      "emulsion",
+      "Many drops at random (docs/emulsions.md): the one [[objects]] entry, a sphere centred "
+      "at the origin, is copied at centres placed by random sequential addition, no drop "
+      "closer than min_gap to another or to a wall or periodic face.",
+      false,
+      {number("volume_fraction", emulsion(&EmulsionConfig::volume_fraction), 0.0,
+              Range::right_open(0, 0.5),
+              "volume fraction of the drops in the region they fill (0: no emulsion)"),
+       integer("seed", emulsion(&EmulsionConfig::seed), 1, Range::at_least(0),
+               "seed of the random placement: the same seed, the same drops"),
+       number("min_gap", emulsion(&EmulsionConfig::min_gap), 0.0, Range::at_least(0),
+              "smallest gap between drops and to the region's faces, in drop radii (0: one "
+              "interface element); gaps below one interface element are refined by the mesh "
+              "(mesh.gap_elements across, down to gap_elements / 64 interface elements); the "
+              "cell's faces keep at least one interface element"),
+       number("core_side", emulsion(&EmulsionConfig::core_side), 0.0, Range::at_least(0),
+              "side of the centred cube the drops fill, the thesis's frame layout (0: the "
+              "whole cell)"),
+       choice("core_layout", emulsion(&EmulsionConfig::core_layout),
+              EmulsionConfig::CoreLayout::inside,
+              {{"inside", EmulsionConfig::CoreLayout::inside,
+                "every drop wholly inside the core cube, min_gap from its faces (jams near phi = "
+                "0.24 in a cube of side 8 R)"},
+               {"centres", EmulsionConfig::CoreLayout::centres,
+                "the drops' centres in the core cube, the drops crossing its faces, min_gap from "
+                "the cell's (the thesis's: a whole-cell packing without the drops whose centres "
+                "lie outside); phi counts the drops by their centre"}},
+              "which drops fill the core cube (core_side > 0)")}};
 }
 
 Table<CaseConfig> remesh_table() {
