@@ -25,15 +25,12 @@
 // A run in time that stops with 2, 3, 5 or 6 keeps its output so far, its
 // last checkpoint, and a summary.json saying why.
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <optional>
-#include <sstream>
 #include <set>
 #include <string>
 #include <vector>
@@ -43,12 +40,13 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <petscksp.h>
 #include <petscsys.h>
 
+#include "case_files.hpp"
+#include "check_command.hpp"
+#include "command_support.hpp"
 #include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/common/error.hpp"
-#include "softflow/geometry/shear_cell.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/io/run_lock.hpp"
 #include "softflow/io/sweep_case.hpp"
@@ -64,108 +62,10 @@
 #include "softflow/simulation/convergence.hpp"
 #include "softflow/simulation/sweep.hpp"
 
+// The commands' shared pieces (command_support, case_files, check_command).
+using namespace softflow::app;
+
 namespace {
-
-enum ExitCode {
-  kOk = 0,
-  kInputError = 1,
-  kMeshError = 2,
-  kSolverError = 3,
-  kOtherError = 4,
-  kInterrupted = 5,
-  kAccuracyError = 6,
-};
-
-// PETSc lifetime for the whole program; options after "--" go to PETSc only.
-class PetscSession {
- public:
-  explicit PetscSession(std::vector<char*> petsc_args) : args_(std::move(petsc_args)) {
-    int argc = static_cast<int>(args_.size());
-    args_.push_back(nullptr);  // argv[argc] == NULL, as MPI_Init walks argv to it
-    char** argv = args_.data();
-    if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0)
-      throw softflow::Error("PETSc failed to initialise");
-  }
-  ~PetscSession() { PetscFinalize(); }
-  PetscSession(const PetscSession&) = delete;
-  PetscSession& operator=(const PetscSession&) = delete;
-
- private:
-  std::vector<char*> args_;
-};
-
-/// Before MPI starts (command-line errors): whether this process is the
-/// launcher's rank 0, so that under mpirun a message is printed once, not
-/// once per rank. Outside a launcher every process is.
-bool launcher_rank_zero() { return softflow::parallel::launcher_rank().value_or(0) == 0; }
-
-/// std::cerr on the launcher's rank 0, a sink elsewhere.
-std::ostream& error_stream() {
-  static std::ostream sink(nullptr);
-  return launcher_rank_zero() ? std::cerr : sink;
-}
-
-bool is_root() {
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  return rank == 0;
-}
-
-void insert_case_petsc_options(const softflow::io::CaseConfig& config) {
-  if (!config.petsc_options.empty() &&
-      PetscOptionsInsertString(nullptr, config.petsc_options.c_str()) != 0)
-    throw softflow::InputError(fmt::format("solver.petsc_options = \"{}\": PETSc rejected it",
-                                           config.petsc_options));
-}
-
-/// The Stokes solver's PETSc options (prefix stokes_, from the case's
-/// petsc_options or after "--") are read once here, on a scratch solver,
-/// with PETSc's own error printing off: a wrong value (e.g. an unknown
-/// -stokes_ksp_type) is bad input, exit 1 with one line, not a PETSc error
-/// dump at the first solve.
-void check_petsc_options(const softflow::io::CaseConfig& config) {
-  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-  KSP ksp = nullptr;
-  PetscErrorCode code = KSPCreate(PETSC_COMM_WORLD, &ksp);
-  if (!code) code = KSPSetOptionsPrefix(ksp, "stokes_");
-  if (!code) code = KSPSetFromOptions(ksp);
-  if (ksp) KSPDestroy(&ksp);
-  PetscPopErrorHandler();
-  if (!code) return;
-  const char* text = nullptr;
-  char* specific = nullptr;
-  PetscErrorMessage(code, &text, &specific);
-  throw softflow::InputError(fmt::format(
-      "PETSc options{}: PETSc rejected them: {}",
-      config.petsc_options.empty() ? " after \"--\""
-                                   : fmt::format(" (solver.petsc_options = \"{}\" or after \"--\")",
-                                                 config.petsc_options),
-      specific && *specific ? specific : (text ? text : "unknown error")));
-}
-
-/// The options the user gave (solver.petsc_options and after "--") that
-/// nothing read by the end: most likely misspelt. PETSc would run on
-/// silently; say so, as its -options_left does.
-void warn_unused_petsc_options(const softflow::io::CaseConfig& config,
-                               const std::vector<char*>& command_line) {
-  std::vector<std::string> names;
-  auto collect = [&](const std::string& token) {
-    if (token.size() > 1 && token[0] == '-' && std::isalpha(static_cast<unsigned char>(token[1])))
-      names.push_back(token);
-  };
-  std::istringstream words(config.petsc_options);
-  for (std::string w; words >> w;) collect(w);
-  for (std::size_t i = 1; i < command_line.size(); ++i) collect(command_line[i]);
-  std::vector<std::string> unused;
-  for (const auto& name : names) {
-    PetscBool used = PETSC_TRUE;
-    PetscOptionsUsed(nullptr, name.c_str() + 1, &used);  // stored without the "-"
-    if (!used) unused.push_back(name);
-  }
-  if (!unused.empty() && is_root())
-    std::cerr << fmt::format("softflow: warning: PETSc never read these options (misspelt?): {}\n",
-                             fmt::join(unused, " "));
-}
 
 /// "3600", "90s", "45m", "2h", "1.5h" -> seconds.
 std::string parse_duration(const std::string& text, double& seconds) {
@@ -183,122 +83,6 @@ std::string parse_duration(const std::string& text, double& seconds) {
                        text);
   seconds = value * scale;
   return "";
-}
-
-bool is_sweep_file(const std::filesystem::path& path) {
-  try {
-    std::ifstream in(path);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return !softflow::io::sweep_parameters(text.str(), path.string()).empty();
-  } catch (const std::exception&) {
-    return false;  // the case reader reports the problem
-  }
-}
-
-/// A case file with lists is a sweep: say so rather than "must be a number".
-softflow::io::CaseConfig read_case(const std::filesystem::path& path) {
-  try {
-    return softflow::io::read_case_file(path);
-  } catch (const softflow::InputError&) {
-    std::vector<softflow::io::SweepParameter> varied;
-    try {
-      std::ifstream in(path);
-      std::ostringstream text;
-      text << in.rdbuf();
-      varied = softflow::io::sweep_parameters(text.str(), path.string());
-    } catch (const std::exception&) {
-    }
-    if (varied.empty()) throw;
-    std::string names;
-    for (const auto& p : varied) names += (names.empty() ? "" : ", ") + p.path;
-    throw softflow::InputError(fmt::format(
-        "{}: {} {} a list of values, which makes the file a parameter sweep: run it with "
-        "`softflow sweep {}` (or give one value for a single run)",
-        path.string(), names, varied.size() == 1 ? "is" : "are", path.string()));
-  }
-}
-
-/// The case file, every key checked, then its geometry (overlaps, walls);
-/// geometry errors name the file as key errors do.
-softflow::io::CaseConfig read_valid_case(const std::filesystem::path& path) {
-  const auto config = read_case(path);
-  try {
-    softflow::geometry::validate(config.shear_cell_spec());
-  } catch (const softflow::InputError& e) {
-    throw softflow::InputError(fmt::format("{}: {}", path.string(), e.what()));
-  }
-  return config;
-}
-
-/// A sweep file expanded, every combination's keys and geometry checked;
-/// geometry errors name the file and the combination, as key errors do.
-softflow::io::Sweep valid_sweep(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  auto expanded = softflow::io::expand_sweep(text.str(), path);
-  for (const auto& c : expanded.cases) {
-    try {
-      softflow::geometry::validate(c.config.shear_cell_spec());
-    } catch (const softflow::InputError& e) {
-      throw softflow::InputError(fmt::format("{} [sweep case {}]: {}", path, c.label, e.what()));
-    }
-  }
-  return expanded;
-}
-
-/// `softflow check A.toml B.toml ...`: each file validated as `check`
-/// validates one, in one process (a process's start-up, ~0.25 s, is most
-/// of a check's time), with one line per file: "FILE: valid" on stdout, or
-/// the message on stderr. The cases with PETSc options (and the options
-/// after "--") are checked last, in one PETSc session, each in an options
-/// database of its own. Exit 1 if any file was refused.
-int check_several(const std::vector<std::string>& files, const std::vector<char*>& petsc) {
-  int code = kOk;
-  auto refuse = [&](const std::string& message, int why) {
-    error_stream() << "softflow: " << message << "\n";
-    code = std::max(code, why);
-  };
-  std::vector<std::pair<std::string, softflow::io::CaseConfig>> with_petsc;
-  for (const auto& file : files) {
-    try {
-      if (is_sweep_file(file)) {
-        const auto expanded = valid_sweep(file);
-        std::cout << fmt::format("{}: valid, a sweep of {} cases\n", file, expanded.cases.size());
-        continue;
-      }
-      auto config = read_valid_case(file);
-      if (config.petsc_options.empty() && petsc.size() == 1)
-        std::cout << fmt::format("{}: valid\n", file);
-      else
-        with_petsc.emplace_back(file, std::move(config));
-    } catch (const softflow::InputError& e) {
-      refuse(e.what(), kInputError);
-    } catch (const std::exception& e) {
-      refuse(fmt::format("{}: error: {}", file, e.what()), kOtherError);
-    }
-  }
-  if (with_petsc.empty()) return code;
-  std::string command_line;  // the options after "--", given to every case
-  for (std::size_t i = 1; i < petsc.size(); ++i) command_line += std::string(" ") + petsc[i];
-  PetscSession session({petsc.front()});
-  for (const auto& [file, config] : with_petsc) {
-    PetscOptions options = nullptr;
-    PetscOptionsCreate(&options);
-    PetscOptionsInsertString(options, command_line.c_str());
-    PetscOptionsPush(options);
-    try {
-      insert_case_petsc_options(config);
-      check_petsc_options(config);
-      std::cout << fmt::format("{}: valid\n", file);
-    } catch (const softflow::InputError& e) {
-      refuse(fmt::format("{}: {}", file, e.what()), kInputError);
-    }
-    PetscOptionsPop();
-    PetscOptionsDestroy(&options);
-  }
-  return code;
 }
 
 /// gmsh's geometry kernel, OpenCASCADE, picks its memory manager from

@@ -1,0 +1,72 @@
+#include "case_files.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "softflow/common/error.hpp"
+#include "softflow/geometry/shear_cell.hpp"
+
+namespace softflow::app {
+
+bool is_sweep_file(const std::filesystem::path& path) {
+  try {
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return !io::sweep_parameters(text.str(), path.string()).empty();
+  } catch (const std::exception&) {
+    return false;  // the case reader reports the problem
+  }
+}
+
+io::CaseConfig read_case(const std::filesystem::path& path) {
+  try {
+    return io::read_case_file(path);
+  } catch (const InputError&) {
+    std::vector<io::SweepParameter> varied;
+    try {
+      std::ifstream in(path);
+      std::ostringstream text;
+      text << in.rdbuf();
+      varied = io::sweep_parameters(text.str(), path.string());
+    } catch (const std::exception&) {
+    }
+    if (varied.empty()) throw;
+    std::string names;
+    for (const auto& p : varied) names += (names.empty() ? "" : ", ") + p.path;
+    throw InputError(fmt::format(
+        "{}: {} {} a list of values, which makes the file a parameter sweep: run it with "
+        "`softflow sweep {}` (or give one value for a single run)",
+        path.string(), names, varied.size() == 1 ? "is" : "are", path.string()));
+  }
+}
+
+io::CaseConfig read_valid_case(const std::filesystem::path& path) {
+  const auto config = read_case(path);
+  try {
+    geometry::validate(config.shear_cell_spec());
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", path.string(), e.what()));
+  }
+  return config;
+}
+
+io::Sweep valid_sweep(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  auto expanded = io::expand_sweep(text.str(), path);
+  for (const auto& c : expanded.cases) {
+    try {
+      geometry::validate(c.config.shear_cell_spec());
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{} [sweep case {}]: {}", path, c.label, e.what()));
+    }
+  }
+  return expanded;
+}
+
+}  // namespace softflow::app
