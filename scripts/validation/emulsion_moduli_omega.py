@@ -12,9 +12,10 @@ so the omega* = 0.4 column repeats Figs. 4.11-4.15's point. Mean and sample
 standard deviation over the seeds, beside Oldroyd's emulsion (appendix A) at
 the cube's phi of each configuration, averaged.
 
-The thesis's phi = 0.26 is out of reach of the core-cube layout (it jams near
-0.24 at these gaps); POINTS lists the (lambda, phi) run, in the order they
-run. Each configuration's rows are also kept in the repository
+The thesis's phi = 0.26 is out of reach of that layout (the drops wholly
+inside the core jam near 0.24 at these gaps): it runs in the thesis's own
+frame layout, the drops' centres in the core ([emulsion] core_layout =
+"centres"). POINTS lists the (lambda, phi) run, in the order they run. Each configuration's rows are also kept in the repository
 (docs/validation/emulsion_moduli_omega_configurations.csv): a configuration
 found there is not run again, so a call on another machine goes on where the
 last one stopped. Writes docs/validation/emulsion_moduli_omega{.md,.csv,.png,_configurations.csv}.
@@ -36,7 +37,8 @@ OUT = os.path.join(ROOT, "docs", "validation")
 # (PRESB converges there since its preconditioning matrix takes the tension
 # block without its mass term, docs/emulsions.md), and the longer solves.
 FREQUENCIES = {"": [0.2, 0.4, 1.0, 3.0, 10.0], "_low": [0.02, 0.06]}
-POINTS = [(1.0, 0.10), (5.0, 0.10), (0.1, 0.10)]  # (lambda, phi asked), in the order they run
+# (lambda, phi asked), in the order they run; phi = 0.26 in the centres' layout (layout()).
+POINTS = [(1.0, 0.10), (5.0, 0.10), (0.1, 0.10), (1.0, 0.20), (1.0, 0.26), (5.0, 0.20)]
 LOW_POINTS = [(1.0, 0.10)]  # the points with the low frequencies too
 # The same configurations with finer drops (FINER_NODES equator nodes; the
 # rest of the mesh as above) at a few frequencies: how much of the low
@@ -58,10 +60,16 @@ def runs_of(lam, phi, seed):
     return [name(lam, phi, seed, g) for g in groups]
 
 
+def layout(phi):
+    """The core cube's layout: the drops wholly inside it, as emulsion_moduli_phi.py's figures, where
+    that packs; the thesis's own (their centres in it) at phi = 0.26, where it jams."""
+    return "centres" if phi > 0.24 else "inside"
+
+
 def case_text(lam, phi, seed, group=""):
     nodes = FINER_NODES if group == FINER else 14
-    text = phi_study.case_text(lam, phi, seed, nodes)
-    old = f'name = "{phi_study.name(lam, phi, seed, nodes)}"'
+    text = phi_study.case_text(lam, phi, seed, nodes, layout(phi))
+    old = f'name = "{phi_study.name(lam, phi, seed, nodes, layout(phi))}"'
     assert old in text
     return text.replace(old, f'name = "{name(lam, phi, seed, group)}"')
 
