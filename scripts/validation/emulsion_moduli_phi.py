@@ -62,6 +62,8 @@ FINER = [(100.0, 0.05, 20), (1.0, 0.05, 20), (5.0, 0.05, 20)]
 # (lambda, phi asked), in the order they run; phi = 0.20 again beside the
 # "inside" layout's point, for what the layout itself changes.
 CENTRES = [(1.0, 0.28), (1.0, 0.20), (5.0, 0.28), (1.0, 0.26)]
+# ... and with finer drops, the same configurations: (lambda, phi asked, equator nodes).
+CENTRES_FINER = [(1.0, 0.28, 20)]
 
 
 def name(lam, phi, seed, nodes=14, layout="inside"):
@@ -178,6 +180,8 @@ def jobs():
              if name(lam, phi, s, n) not in done]
     centres = [(name(lam, phi, s, layout="centres"), case_text(lam, phi, s, layout="centres"))
                for lam, phi in CENTRES for s in SEEDS if name(lam, phi, s, layout="centres") not in done]
+    centres += [(name(lam, phi, s, n, "centres"), case_text(lam, phi, s, n, "centres"))
+                for lam, phi, n in CENTRES_FINER for s in SEEDS if name(lam, phi, s, n, "centres") not in done]
     return emulsions + finer + [(one_drop_name(n), one_drop_text(n)) for n in ONE_DROP_NODES
                                 if one_drop_name(n) not in one_drop_done] + centres
 
@@ -276,23 +280,24 @@ def report(work):
                   "| lambda | phi asked | equator nodes | configurations | G' R/Gamma | Oldroyd | G''/(eta_m omega) | "
                   "Oldroyd | ratio | s per configuration |", "|---|---|---|---|---|---|---|---|---|---|"] + finer_lines
     centres_points = []
-    for lam, phi in CENTRES:
-        rows = read_point(work, lam, phi, record, layout="centres")
+    for lam, phi, n in [(lam, phi, 14) for lam, phi in CENTRES] + CENTRES_FINER:
+        rows = read_point(work, lam, phi, record, n, "centres")
         kept += rows
         if rows:
-            centres_points.append(point(lam, phi, rows))
+            centres_points.append(dict(point(lam, phi, rows), nodes=n))
     if centres_points:
         lines += ["", "## The thesis's frame layout: drops counted by their centre", "",
                   "`[emulsion] core_layout = \"centres\"`: the drops whose centres lie in the core cube (side 8), "
                   "crossing its faces, one interface element from the cell's (the thesis, ch. 4: a whole-cell "
                   "packing without the drops whose centres lie outside the cube where the moduli are computed); "
                   "phi counts the drops by their centre. It packs phi = 0.26 and 0.28, where the layout above "
-                  "jams; phi = 0.20 is the layouts' comparison. The rest as above.", "",
-                  "| Fig. | lambda | phi asked | configurations | phi (cube) | G' R/Gamma | Oldroyd | ratio | "
+                  "jams; phi = 0.20 is the layouts' comparison. The rest as above (14 equator nodes asked, "
+                  "unless the row says 20: the same configurations with finer drops).", "",
+                  "| Fig. | lambda | phi asked | equator nodes | configurations | phi (cube) | G' R/Gamma | Oldroyd | ratio | "
                   "G''/(eta_m omega) | Oldroyd | ratio | s per configuration (median) | FGMRES iterations (most) |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in centres_points:
-            lines.append(f"| {FIGURE[p['lam']]} | {p['lam']:g} | {p['phi']:.2f} | {p['n']} | {p['box_phi'][0]:.4f} | "
+            lines.append(f"| {FIGURE[p['lam']]} | {p['lam']:g} | {p['phi']:.2f} | {p['nodes']} | {p['n']} | {p['box_phi'][0]:.4f} | "
                          f"{modulus(p['storage'][0])} ± {modulus(p['storage'][1])} | {modulus(p['oldroyd'][0])} | "
                          f"{p['storage'][0] / p['oldroyd'][0]:.3f} | {p['loss'][0]:.4f} ± {p['loss'][1]:.4f} | "
                          f"{p['oldroyd'][1]:.4f} | {p['loss'][0] / p['oldroyd'][1]:.3f} | {p['seconds']:.0f} | "
@@ -342,7 +347,7 @@ def report(work):
                        label=f"lambda = {lam:g} (Fig. {FIGURE[lam]})")
             a.plot(x, [p["oldroyd"][theory] for p in ps], "--", color=f"C{k}", lw=0.9)
     colour = {lam: f"C{k}" for k, lam in enumerate(points)}
-    for p in centres_points:
+    for p in (p for p in centres_points if p["nodes"] == 14):
         for a, key in ((ax[0], "storage"), (ax[1], "loss")):
             a.errorbar([p["box_phi"][0]], [p[key][0]], yerr=[p[key][1]], fmt="s", mfc="none", capsize=3,
                        color=colour.get(p["lam"], "k"))
