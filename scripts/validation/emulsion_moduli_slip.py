@@ -33,7 +33,7 @@ OMEGA = 1.0
 # configuration at phi = 0.05 takes ~6 min on one core: 292k real unknowns,
 # 23 FGMRES iterations of two inner solves of ~49 iterations).
 POINTS = [(1.0, alpha, phi) for phi in (0.05, 0.10) for alpha in (1.0, 0.1)] + \
-         [(5.0, alpha, 0.05) for alpha in (1.0, 0.1)]
+         [(5.0, alpha, phi) for phi in (0.05, 0.10) for alpha in (1.0, 0.1)]
 FIGURE = {1.0: "4.19", 5.0: "4.20"}
 SEEDS = phi_study.SEEDS
 RECORD = os.path.join(OUT, "emulsion_moduli_slip_configurations.csv")
