@@ -8,6 +8,7 @@
 
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/simulation/sweep.hpp"
 
 namespace softflow::app {
 
@@ -55,17 +56,8 @@ io::CaseConfig read_valid_case(const std::filesystem::path& path) {
 }
 
 io::Sweep valid_sweep(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  auto expanded = io::expand_sweep(text.str(), path);
-  for (const auto& c : expanded.cases) {
-    try {
-      geometry::validate(c.config.shear_cell_spec());
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{} [sweep case {}]: {}", path, c.label, e.what()));
-    }
-  }
+  auto expanded = io::expand_sweep(simulation::read_case_text(path), path);
+  simulation::check_cases(expanded, path, simulation::SweepOptions{});
   return expanded;
 }
 

@@ -22,8 +22,9 @@ io::CaseConfig read_case(const std::filesystem::path& path);
 /// file as key errors do.
 io::CaseConfig read_valid_case(const std::filesystem::path& path);
 
-/// A sweep file expanded, every combination's keys and geometry checked;
-/// geometry errors name the file and the combination, as key errors do.
+/// A sweep file expanded, every combination checked as `softflow sweep`
+/// checks it (keys, geometry, time.end > 0: simulation::check_cases);
+/// errors name the file and the combination.
 io::Sweep valid_sweep(const std::string& path);
 
 }  // namespace softflow::app

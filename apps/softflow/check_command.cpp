@@ -14,6 +14,42 @@
 
 namespace softflow::app {
 
+namespace {
+
+/// A PETSc options database of its own, the default while it lives: one
+/// case's options cannot leak into the next case's check.
+class ScopedOptions {
+ public:
+  /// With the options after "--" (`petsc` from argv[0] on). InputError if
+  /// PETSc cannot take them.
+  explicit ScopedOptions(const std::vector<char*>& petsc) {
+    std::vector<char*> words(petsc.begin() + 1, petsc.end());
+    if (PetscOptionsCreate(&options_) != 0 ||
+        PetscOptionsInsertArgs(options_, static_cast<int>(words.size()), words.data()) != 0) {
+      PetscOptionsDestroy(&options_);
+      throw InputError("the PETSc options after \"--\": PETSc could not read them");
+    }
+    PetscOptionsPush(options_);
+  }
+  ~ScopedOptions() {
+    PetscOptionsPop();
+    PetscOptionsDestroy(&options_);
+  }
+  ScopedOptions(const ScopedOptions&) = delete;
+  ScopedOptions& operator=(const ScopedOptions&) = delete;
+
+ private:
+  PetscOptions options_ = nullptr;
+};
+
+/// Standard output on the launcher's rank 0, a sink elsewhere (as error_stream).
+std::ostream& output_stream() {
+  static std::ostream sink(nullptr);
+  return launcher_rank_zero() ? std::cout : sink;
+}
+
+}  // namespace
+
 int check_several(const std::vector<std::string>& files, const std::vector<char*>& petsc) {
   int code = kOk;
   auto refuse = [&](const std::string& message, int why) {
@@ -25,12 +61,13 @@ int check_several(const std::vector<std::string>& files, const std::vector<char*
     try {
       if (is_sweep_file(file)) {
         const auto expanded = valid_sweep(file);
-        std::cout << fmt::format("{}: valid, a sweep of {} cases\n", file, expanded.cases.size());
+        output_stream() << fmt::format("{}: valid, a sweep of {} cases\n", file,
+                                       expanded.cases.size());
         continue;
       }
       auto config = read_valid_case(file);
       if (config.petsc_options.empty() && petsc.size() == 1)
-        std::cout << fmt::format("{}: valid\n", file);
+        output_stream() << fmt::format("{}: valid\n", file);
       else
         with_petsc.emplace_back(file, std::move(config));
     } catch (const InputError& e) {
@@ -40,23 +77,20 @@ int check_several(const std::vector<std::string>& files, const std::vector<char*
     }
   }
   if (with_petsc.empty()) return code;
-  std::string command_line;  // the options after "--", given to every case
-  for (std::size_t i = 1; i < petsc.size(); ++i) command_line += std::string(" ") + petsc[i];
-  PetscSession session({petsc.front()});
-  for (const auto& [file, config] : with_petsc) {
-    PetscOptions options = nullptr;
-    PetscOptionsCreate(&options);
-    PetscOptionsInsertString(options, command_line.c_str());
-    PetscOptionsPush(options);
-    try {
-      insert_case_petsc_options(config);
-      check_petsc_options(config);
-      std::cout << fmt::format("{}: valid\n", file);
-    } catch (const InputError& e) {
-      refuse(fmt::format("{}: {}", file, e.what()), kInputError);
+  try {
+    PetscSession session({petsc.front()});
+    for (const auto& [file, config] : with_petsc) {
+      try {
+        const ScopedOptions options(petsc);
+        insert_case_petsc_options(config);
+        check_petsc_options(config);
+        output_stream() << fmt::format("{}: valid\n", file);
+      } catch (const InputError& e) {
+        refuse(fmt::format("{}: {}", file, e.what()), kInputError);
+      }
     }
-    PetscOptionsPop();
-    PetscOptionsDestroy(&options);
+  } catch (const std::exception& e) {
+    refuse(fmt::format("error: {}", e.what()), kOtherError);
   }
   return code;
 }

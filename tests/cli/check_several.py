@@ -21,7 +21,7 @@ FILES = {
     "unknown_key": "[mesh]\nequator_node = 20\n",
     "petsc_ok": "[solver]\npetsc_options = \"-stokes_ksp_type gmres\"\n",
     "petsc_bad": "[solver]\npetsc_options = \"-stokes_ksp_type nonsense\"\n",
-    "sweep": "[[objects]]\ncapillary_number = [0.1, 0.2, 0.3]\n",
+    "sweep": "[[objects]]\ncapillary_number = [0.1, 0.2, 0.3]\n[time]\nend = 1.0\n",
 }
 
 

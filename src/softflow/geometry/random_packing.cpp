@@ -35,13 +35,14 @@ std::vector<Eigen::Vector3d> random_sequential_addition(const RandomPacking& p) 
   // Centres lie where their sphere keeps face_gap from every face of the
   // box it must lie in (and, with a container, inside the region).
   const Eigen::Vector3d whole = p.container.value_or(p.region);
-  const Eigen::Vector3d kept = whole / 2.0 - Eigen::Vector3d::Constant(p.radius + face_gap);
-  const Eigen::Vector3d half = p.container ? kept.cwiseMin(p.region / 2.0) : kept;
-  if ((kept.array() < 0.0).any())
-    throw InputError(
-        fmt::format("random packing: a sphere of radius {} with gap {} to the faces does not fit "
-                    "in a region of {} x {} x {}",
-                    p.radius, face_gap, whole.x(), whole.y(), whole.z()));
+  // |centre| <= fits along each axis keeps the sphere in the whole box.
+  const Eigen::Vector3d fits = whole / 2.0 - Eigen::Vector3d::Constant(p.radius + face_gap);
+  const Eigen::Vector3d half = p.container ? fits.cwiseMin(p.region / 2.0) : fits;
+  if ((fits.array() < 0.0).any())
+    throw InputError(fmt::format(
+        "random packing: a sphere of radius {} with gap {} to the faces does not fit "
+        "in a {} of {} x {} x {}",
+        p.radius, face_gap, p.container ? "container" : "region", whole.x(), whole.y(), whole.z()));
   const int count = sphere_count(p);
   const double separation = 2.0 * p.radius + p.min_gap;
   std::mt19937_64 rng(p.seed);
