@@ -128,7 +128,9 @@ def report(work):
              "on emulsion_moduli_phi.py's random configurations (drops of R = 1, Gamma = 1, eta_m = 1, so omega* = "
              "omega; a core cube of side 8 of a 12^3 cell, gaps >= 0.1 R, 14 equator nodes asked), the moduli over the "
              "core cube, mean ± sample standard deviation over the configurations, Oldroyd's emulsion (appendix A) at "
-             "each configuration's cube phi, averaged. Ratio: softflow's mean over Oldroyd's.", "",
+             "each configuration's cube phi, averaged. Ratio: softflow's mean over Oldroyd's. The drops lie wholly "
+             "inside the core cube, but at phi asked > 0.24 (where that jams): there their centres lie in it "
+             "(`[emulsion] core_layout = \"centres\"`, the thesis's frame layout).", "",
              "| Fig. | lambda | phi asked | omega* | configurations | phi (cube) | G' R/Gamma | Oldroyd | ratio | "
              "G''/(eta_m omega) | Oldroyd | ratio | s per solve (median) | FGMRES iterations (most) |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
