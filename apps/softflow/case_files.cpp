@@ -1,7 +1,5 @@
 #include "case_files.hpp"
 
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include <fmt/format.h>
@@ -14,10 +12,7 @@ namespace softflow::app {
 
 bool is_sweep_file(const std::filesystem::path& path) {
   try {
-    std::ifstream in(path);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return !io::sweep_parameters(text.str(), path.string()).empty();
+    return !io::sweep_parameters(simulation::read_case_text(path), path.string()).empty();
   } catch (const std::exception&) {
     return false;  // the case reader reports the problem
   }
@@ -29,10 +24,7 @@ io::CaseConfig read_case(const std::filesystem::path& path) {
   } catch (const InputError&) {
     std::vector<io::SweepParameter> varied;
     try {
-      std::ifstream in(path);
-      std::ostringstream text;
-      text << in.rdbuf();
-      varied = io::sweep_parameters(text.str(), path.string());
+      varied = io::sweep_parameters(simulation::read_case_text(path), path.string());
     } catch (const std::exception&) {
     }
     if (varied.empty()) throw;

@@ -42,12 +42,6 @@ class ScopedOptions {
   PetscOptions options_ = nullptr;
 };
 
-/// Standard output on the launcher's rank 0, a sink elsewhere (as error_stream).
-std::ostream& output_stream() {
-  static std::ostream sink(nullptr);
-  return launcher_rank_zero() ? std::cout : sink;
-}
-
 }  // namespace
 
 int check_several(const std::vector<std::string>& files, const std::vector<char*>& petsc) {

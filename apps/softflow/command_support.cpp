@@ -27,10 +27,19 @@ PetscSession::~PetscSession() { PetscFinalize(); }
 
 bool launcher_rank_zero() { return parallel::launcher_rank().value_or(0) == 0; }
 
-std::ostream& error_stream() {
-  static std::ostream sink(nullptr);
-  return launcher_rank_zero() ? std::cerr : sink;
+namespace {
+
+/// Where nothing is printed: the ranks other than the launcher's 0.
+std::ostream& sink() {
+  static std::ostream nowhere(nullptr);
+  return nowhere;
 }
+
+}  // namespace
+
+std::ostream& error_stream() { return launcher_rank_zero() ? std::cerr : sink(); }
+
+std::ostream& output_stream() { return launcher_rank_zero() ? std::cout : sink(); }
 
 bool is_root() {
   int rank = 0;

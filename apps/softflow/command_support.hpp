@@ -39,6 +39,8 @@ bool launcher_rank_zero();
 
 /// std::cerr on the launcher's rank 0, a sink elsewhere.
 std::ostream& error_stream();
+/// std::cout on the launcher's rank 0, a sink elsewhere.
+std::ostream& output_stream();
 
 /// Rank 0 of PETSC_COMM_WORLD (PETSc running).
 bool is_root();

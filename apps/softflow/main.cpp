@@ -501,7 +501,7 @@ int main(int argc, char** argv) {
     try {
       const auto config = read_valid_case(case_file);
       if (config.petsc_options.empty()) {
-        if (launcher_rank_zero()) std::cout << softflow::io::to_toml(config);
+        output_stream() << softflow::io::to_toml(config);
         return kOk;
       }
     } catch (const softflow::InputError& e) {

@@ -613,19 +613,17 @@ void expand_emulsion(const TableRead& emulsion, CaseConfig& c, Diagnostics& diag
                            geometry::kMaxGapRefinement, c.sizing.equator_nodes, narrowest / packing.radius));
     return;
   }
-  const bool centres_in_core =
-      c.emulsion.core_side > 0.0 && c.emulsion.core_layout == EmulsionConfig::CoreLayout::centres;
-  if (centres_in_core) packing.container = Eigen::Vector3d(c.box.length, c.box.height, c.box.width);
-  if (!(c.emulsion.core_side > 0.0) || centres_in_core)
-    packing.face_gap = std::max(packing.min_gap, element);  // the cell's faces
-  if (c.emulsion.core_layout == EmulsionConfig::CoreLayout::centres &&
-      !(c.emulsion.core_side > 0.0)) {
+  const bool centres_in_core = c.emulsion.core_layout == EmulsionConfig::CoreLayout::centres;
+  if (centres_in_core && !(c.emulsion.core_side > 0.0)) {
     diag.error(
         emulsion.path("core_layout"), *emulsion.value("core_layout"),
         "the centres' layout of a core cube needs emulsion.core_side > 0 (without it the drops "
         "fill the whole cell)");
     return;
   }
+  if (centres_in_core) packing.container = Eigen::Vector3d(c.box.length, c.box.height, c.box.width);
+  if (!(c.emulsion.core_side > 0.0) || centres_in_core)
+    packing.face_gap = std::max(packing.min_gap, element);  // the cell's faces
   if (c.emulsion.core_side > std::min({c.box.length, c.box.height, c.box.width})) {
     diag.error(emulsion.path("core_side"), *emulsion.value("core_side"),
                "the core cube must fit in the cell: at most its length, height and width");

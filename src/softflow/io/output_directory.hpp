@@ -12,10 +12,10 @@ namespace softflow::io {
 /// The constructor creates the staging directory `<dir>.partial-<pid>` (and
 /// the parents of `<dir>`), after removing every `<dir>.partial-*` left by
 /// runs killed before their commit: the caller must hold `<dir>`'s
-/// io::RunLock, so that none of them is being written; the run writes its files there
-/// (staging_path(), write_text()). commit() renames the staging directory to `<dir>`; an existing
-/// `<dir>` from an earlier run is first moved aside to
-/// `<dir>.old-<pid>`, then deleted, so a crash at any moment leaves either
+/// io::RunLock, so that none of them is being written. The run writes its
+/// files there (staging_path(), write_text()). commit() renames the staging
+/// directory to `<dir>`; an existing `<dir>` from an earlier run is first
+/// moved aside to `<dir>.old-<pid>`, then deleted, so a crash at any moment leaves either
 /// the old or the new results, never a mixture. If the object is destroyed
 /// without commit() (an exception unwinding the run), the staging directory
 /// is removed: nothing half-written is left behind.
