@@ -101,7 +101,8 @@ def report(work):
              " | ".join(f"v_p, t = {a:g}-{b:g}" for a, b in WINDOWS) + " | t reached | wall s |",
              "|---|---|---|---|---|" + "---|" * len(WINDOWS) + "---|---|"]
     for x in rows:
-        lines.append(f"| {x['ca_e']:g} | {x['matrix']} | {x['equator_nodes']} | {'' if x['p'] is None else format(x['p'], '.3g')} | "
+        p = "" if x["p"] is None else format(x["p"], ".3g")
+        lines.append(f"| {x['ca_e']:g} | {x['matrix']} | {x['equator_nodes']} | {p} | "
                      f"{'' if x['D_end'] is None else format(x['D_end'], '.4f')} | " +
                      " | ".join("" if x[c] is None else f"{x[c]:.3e}" for c in columns) +
                      f" | {x['t_last']:g} | {x['wall_seconds'] or 0:.0f} |")

@@ -50,7 +50,8 @@ def report(work):
         # The first-order second-order-fluid angle as derived here (docs/viscoelastic.md, "Eq. 2.60 re-derived").
         derived = wi * slope_per_wi((19 * LAMBDA ** 2 + 32 * LAMBDA + 16) / (2 * (1 + LAMBDA) * (19 * LAMBDA + 16)))
         twin = float(steady["theta_newtonian_deg"])
-        rows.append({"Ca": ca, "Wi": wi, "equator_nodes": equator, "greco_shift_deg": greco, "derived_shift_deg": derived,
+        rows.append({"Ca": ca, "Wi": wi, "equator_nodes": equator, "greco_shift_deg": greco,
+                     "derived_shift_deg": derived,
                      "shift_steady_deg": float(steady["shift_deg"]), "shift_transient_deg": run["theta_steady"] - twin,
                      "D_steady": float(steady["D_oldroyd_b"]), "D_transient": run["D_steady"],
                      "D_newtonian": float(steady["D_newtonian"])})
