@@ -33,16 +33,19 @@ BASE_CA_E = 0.1
 MATRICES = ["giesekus", "newtonian"]
 # The rigid end on the next mesh level (28 equator nodes asked, the whole mesh
 # refined by 20/28, as giesekus_migration_resolution.py's N28), where the
-# p = 4.5 start's v_p moved by -3.6e-4 gamma_dot H from the 20-node mesh.
-FINER = (0.02, "giesekus", 28)
+# p = 4.5 start's v_p moved by -3.6e-4 gamma_dot H from the 20-node mesh, and
+# on the 20-node mesh with the step-limited SUPG parameter, which gave the
+# finer mesh's v_p at p = 4.5 (giesekus_migration_supg.py).
+# (Ca_e, matrix, equator nodes, supg_tau)
+EXTRA = [(0.02, "giesekus", 28, "steady"), (0.02, "giesekus", 20, "transient")]
 
 
-def run_name(ca, matrix, nodes=20):
-    return f"{matrix}_ca{ca:g}" + ("" if nodes == 20 else f"_N{nodes}")
+def run_name(ca, matrix, nodes=20, tau="steady"):
+    return f"{matrix}_ca{ca:g}" + ("" if nodes == 20 else f"_N{nodes}") + ("" if tau == "steady" else f"_{tau}")
 
 
-def text(ca, matrix, nodes=20):
-    base = supg_text(nodes, "steady").replace(f'name = "N{nodes}_steady"', f'name = "{run_name(ca, matrix, nodes)}"')
+def text(ca, matrix, nodes=20, tau="steady"):
+    base = supg_text(nodes, tau).replace(f'name = "N{nodes}_{tau}"', f'name = "{run_name(ca, matrix, nodes, tau)}"')
     old_ca = f"elastic_capillary_number = {BASE_CA_E}\n"
     assert old_ca in base
     base = base.replace(old_ca, f"elastic_capillary_number = {ca}\n")
@@ -54,7 +57,7 @@ def text(ca, matrix, nodes=20):
 
 def jobs():
     runs = [(run_name(ca, m), text(ca, m)) for ca in CA_E for m in MATRICES]
-    return runs[:2] + [(run_name(*FINER), text(*FINER))] + runs[2:]
+    return runs[:2] + [(run_name(*x), text(*x)) for x in EXTRA] + runs[2:]
 
 
 def p_of(ca):
@@ -65,8 +68,8 @@ def p_of(ca):
 def report(work):
     columns = [f"mean_v_p_t{a:g}_{b:g}" for a, b in WINDOWS]
     rows = []
-    for ca, m, nodes in [(ca, m, 20) for ca in sorted(CA_E, reverse=True) for m in MATRICES] + [FINER]:
-        directory = os.path.join(work, run_name(ca, m, nodes))
+    for ca, m, nodes, tau in [(ca, m, 20, "steady") for ca in sorted(CA_E, reverse=True) for m in MATRICES] + EXTRA:
+        directory = os.path.join(work, run_name(ca, m, nodes, tau))
         if not os.path.exists(os.path.join(directory, "migration.csv")):
             continue
         r = read_migration(directory, HEIGHT)
@@ -75,13 +78,14 @@ def report(work):
         s = json.load(open(path)) if os.path.exists(path) else {}
         groups = {g["symbol"]: g["value"] for g in s.get("dimensionless_groups", []) if g.get("object") == 1}
         final = {f["object"]: f for f in s.get("final", [])}.get(1, {})
-        rows.append({"ca_e": ca, "matrix": m, "equator_nodes": nodes, "p": groups.get("p"), "D_end": final.get("D"),
+        rows.append({"ca_e": ca, "matrix": m, "equator_nodes": nodes, "supg_tau": tau, "p": groups.get("p"),
+                     "D_end": final.get("D"),
                      "t_last": t_last, "wall_seconds": s.get("wall_seconds"),
                      **{c: (mean_velocity(r, a, b) if t_last >= b - 1e-9 else None)
                         for c, (a, b) in zip(columns, WINDOWS)}})
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "giesekus_migration_stiff.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["ca_e", "matrix", "equator_nodes", "p", "D_end", "t_last",
+        w = csv.DictWriter(f, fieldnames=["ca_e", "matrix", "equator_nodes", "supg_tau", "p", "D_end", "t_last",
                                           "wall_seconds"] + columns)
         w.writeheader()
         for x in rows:
@@ -97,19 +101,19 @@ def report(work):
              "steady SUPG parameter, 20 equator nodes. v_p: slope of y_p(t), in gamma_dot H (negative: towards the "
              "centre plane). The thesis (§3.2.4, Fig. 3.14): beyond p ~ 10 every start migrates towards the wall; "
              "a rigid sphere in a Giesekus fluid does for any elasticity (its ref. [25]).", "",
-             "| Ca_e | matrix | equator nodes | p | D at end | " +
+             "| Ca_e | matrix | equator nodes | supg_tau | p | D at end | " +
              " | ".join(f"v_p, t = {a:g}-{b:g}" for a, b in WINDOWS) + " | t reached | wall s |",
-             "|---|---|---|---|---|" + "---|" * len(WINDOWS) + "---|---|"]
+             "|---|---|---|---|---|---|" + "---|" * len(WINDOWS) + "---|---|"]
     for x in rows:
         p = "" if x["p"] is None else format(x["p"], ".3g")
-        lines.append(f"| {x['ca_e']:g} | {x['matrix']} | {x['equator_nodes']} | {p} | "
+        lines.append(f"| {x['ca_e']:g} | {x['matrix']} | {x['equator_nodes']} | {x['supg_tau']} | {p} | "
                      f"{'' if x['D_end'] is None else format(x['D_end'], '.4f')} | " +
                      " | ".join("" if x[c] is None else f"{x[c]:.3e}" for c in columns) +
                      f" | {x['t_last']:g} | {x['wall_seconds'] or 0:.0f} |")
     lines += ["", f"The matrix's elastic part, v_p(Giesekus) - v_p(Newtonian) over t = {a:g}-{b:g}, beside eq. 3.8's "
               "Newtonian law at 0.20 H:", "", "| Ca_e | p | v_p Giesekus | v_p Newtonian | elastic part | eq. 3.8 |",
               "|---|---|---|---|---|---|"]
-    by = {(x["ca_e"], x["matrix"]): x for x in rows if x["equator_nodes"] == 20}
+    by = {(x["ca_e"], x["matrix"]): x for x in rows if x["equator_nodes"] == 20 and x["supg_tau"] == "steady"}
     for ca in sorted(CA_E, reverse=True):
         g, n = by.get((ca, "giesekus")), by.get((ca, "newtonian"))
         if g is None or n is None or g[last] is None or n[last] is None:
