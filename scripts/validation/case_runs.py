@@ -101,6 +101,17 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def write_csv(path, fieldnames, rows):
+    """Rows (dicts keyed by fieldnames) to a csv at path, creating its folder:
+    floats to 6 significant digits, None as an empty cell."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fieldnames)
+        w.writeheader()
+        for x in rows:
+            w.writerow({k: ("" if v is None else (f"{v:.6g}" if isinstance(v, float) else v)) for k, v in x.items()})
+
+
 def read_run(directory, window):
     """None if the run has no summary; else its series and steady values (D, theta)."""
     summary_path = os.path.join(directory, "summary.json")

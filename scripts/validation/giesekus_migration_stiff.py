@@ -16,11 +16,10 @@ the steady SUPG parameter, 20 equator nodes. The difference of the two v_p
 is the part of the migration the matrix's elasticity makes.
 Writes docs/validation/giesekus_migration_stiff.{md,csv}.
 Usage: scripts/validation/giesekus_migration_stiff.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import csv
 import json
 import os
 
-from case_runs import validation_main  # noqa: E402
+from case_runs import validation_main, write_csv  # noqa: E402
 from giesekus_migration import BETA, HEIGHT, P, POLYMER, SOLVENT, Y_MAX  # noqa: E402
 from giesekus_migration_supg import text as supg_text  # noqa: E402
 from giesekus_migration_sensitivity import WINDOWS  # noqa: E402
@@ -83,13 +82,8 @@ def report(work):
                      "t_last": t_last, "wall_seconds": s.get("wall_seconds"),
                      **{c: (mean_velocity(r, a, b) if t_last >= b - 1e-9 else None)
                         for c, (a, b) in zip(columns, WINDOWS)}})
-    os.makedirs(OUT, exist_ok=True)
-    with open(os.path.join(OUT, "giesekus_migration_stiff.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["ca_e", "matrix", "equator_nodes", "supg_tau", "p", "D_end", "t_last",
-                                          "wall_seconds"] + columns)
-        w.writeheader()
-        for x in rows:
-            w.writerow({k: ("" if v is None else (f"{v:.6g}" if isinstance(v, float) else v)) for k, v in x.items()})
+    write_csv(os.path.join(OUT, "giesekus_migration_stiff.csv"),
+              ["ca_e", "matrix", "equator_nodes", "supg_tau", "p", "D_end", "t_last", "wall_seconds"] + columns, rows)
     last = columns[-1]
     a, b = WINDOWS[-1]
     law = -2.0 * BETA ** 3 * 0.20 / Y_MAX  # eq. 3.8 per unit Ca_e at y_p0 = 0.20 H
