@@ -101,6 +101,12 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def summary_of(directory):
+    """The run's summary.json, or {} while it has none."""
+    path = os.path.join(directory, "summary.json")
+    return json.load(open(path)) if os.path.exists(path) else {}
+
+
 def write_csv(path, fieldnames, rows):
     """Rows (dicts keyed by fieldnames) to a csv at path, creating its folder:
     floats to 6 significant digits, None as an empty cell."""

@@ -17,7 +17,7 @@ from case_runs import read_csv, richardson, validation_main  # noqa: E402
 from giesekus_migration import HEIGHT  # noqa: E402
 from giesekus_migration_resolution import text as resolution_text  # noqa: E402
 from giesekus_migration_sensitivity import BASE_DT, SOLVENT, WINDOWS, text  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from migration_runs import read_migration, window_velocities  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -65,7 +65,7 @@ def report(work):
             continue
         r = read_migration(directory, HEIGHT)
         t_last = r["t"][-1] if r["t"] else 0.0
-        vs = [mean_velocity(r, a, b) if t_last >= b - 1e-9 else None for a, b in WINDOWS]
+        vs = window_velocities(r, WINDOWS)
         row = {"prediction": "consistent", "dt": dt, "t_last": t_last, **dict(zip(columns, vs))}
         if name == FINER[0]:
             finer = row

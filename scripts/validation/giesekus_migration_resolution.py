@@ -14,11 +14,10 @@ figures' mesh, so v_p is a small difference of two large effects: the sign
 is what the thesis's Fig. 3.12 and softflow disagree on.
 Usage: scripts/validation/giesekus_migration_resolution.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import csv
-import json
 import os
 
-from case_runs import validation_main  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from case_runs import summary_of, validation_main  # noqa: E402
+from migration_runs import read_migration, window_velocities  # noqa: E402
 from giesekus_migration import HEIGHT, case_name, case_text  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -52,9 +51,8 @@ def report(work):
             continue
         r = read_migration(directory, HEIGHT)
         t_last = r["t"][-1] if r["t"] else 0.0
-        made = json.load(open(os.path.join(directory, "summary.json")))["mesh"]["equator_nodes"] \
-            if os.path.exists(os.path.join(directory, "summary.json")) else n
-        rows.append((name, made, d, [mean_velocity(r, a, b) if t_last >= b - 1e-9 else None for a, b in WINDOWS],
+        made = summary_of(directory).get("mesh", {}).get("equator_nodes", n)
+        rows.append((name, made, d, window_velocities(r, WINDOWS),
                      t_last))
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "giesekus_migration_resolution.csv"), "w", newline="") as f:

@@ -15,12 +15,11 @@ halves, the time-step study's observed order and extrapolated v_p (three
 levels), to docs/validation/giesekus_migration_sensitivity.{md,csv}.
 Usage: scripts/validation/giesekus_migration_sensitivity.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import csv
-import json
 import os
 
-from case_runs import richardson, validation_main  # noqa: E402
+from case_runs import richardson, summary_of, validation_main  # noqa: E402
 from giesekus_migration import CA_E, HEIGHT, P, SOLVENT, case_name, case_text  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from migration_runs import read_migration, window_velocities  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -57,11 +56,6 @@ def jobs():
     return [(name, text(name, dt, solvent, end, supg)) for name, dt, solvent, end, supg in RUNS]
 
 
-def summary_of(directory):
-    path = os.path.join(directory, "summary.json")
-    return json.load(open(path)) if os.path.exists(path) else {}
-
-
 def report(work):
     rows = []
     for name, dt, solvent, _, supg in RUNS:
@@ -72,7 +66,7 @@ def report(work):
         t_last = r["t"][-1] if r["t"] else 0.0
         s = summary_of(directory)
         groups = {g["symbol"]: g["value"] for g in s.get("dimensionless_groups", []) if g.get("object") == 1}
-        vs = [mean_velocity(r, a, b) if t_last >= b - 1e-9 else None for a, b in WINDOWS]
+        vs = window_velocities(r, WINDOWS)
         rows.append(dict(name=name, dt=dt, solvent=solvent, supg=supg, lam=P * CA_E / (1.0 - solvent), p=groups.get("p"),
                          p_n1=groups.get("p_N1"), vs=vs, t_last=t_last, wall=s.get("wall_seconds"),
                          unknowns=s.get("unknowns")))

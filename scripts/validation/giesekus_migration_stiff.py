@@ -16,14 +16,13 @@ the steady SUPG parameter, 20 equator nodes. The difference of the two v_p
 is the part of the migration the matrix's elasticity makes.
 Writes docs/validation/giesekus_migration_stiff.{md,csv}.
 Usage: scripts/validation/giesekus_migration_stiff.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import json
 import os
 
-from case_runs import validation_main, write_csv  # noqa: E402
+from case_runs import summary_of, validation_main, write_csv  # noqa: E402
 from giesekus_migration import BETA, HEIGHT, P, POLYMER, SOLVENT, Y_MAX  # noqa: E402
 from giesekus_migration_supg import text as supg_text  # noqa: E402
 from giesekus_migration_sensitivity import WINDOWS  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from migration_runs import read_migration, window_velocities  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -73,15 +72,13 @@ def report(work):
             continue
         r = read_migration(directory, HEIGHT)
         t_last = r["t"][-1] if r["t"] else 0.0
-        path = os.path.join(directory, "summary.json")
-        s = json.load(open(path)) if os.path.exists(path) else {}
+        s = summary_of(directory)
         groups = {g["symbol"]: g["value"] for g in s.get("dimensionless_groups", []) if g.get("object") == 1}
         final = {f["object"]: f for f in s.get("final", [])}.get(1, {})
         rows.append({"ca_e": ca, "matrix": m, "equator_nodes": nodes, "supg_tau": tau, "p": groups.get("p"),
                      "D_end": final.get("D"),
                      "t_last": t_last, "wall_seconds": s.get("wall_seconds"),
-                     **{c: (mean_velocity(r, a, b) if t_last >= b - 1e-9 else None)
-                        for c, (a, b) in zip(columns, WINDOWS)}})
+                     **dict(zip(columns, window_velocities(r, WINDOWS)))})
     write_csv(os.path.join(OUT, "giesekus_migration_stiff.csv"),
               ["ca_e", "matrix", "equator_nodes", "supg_tau", "p", "D_end", "t_last", "wall_seconds"] + columns, rows)
     last = columns[-1]

@@ -12,14 +12,13 @@ refinement removes, and the finer value is the resolved one; if they stay
 apart, the parameter is a modelling choice the answer depends on.
 Writes docs/validation/giesekus_migration_supg.{md,csv}.
 Usage: scripts/validation/giesekus_migration_supg.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
-import json
 import os
 
-from case_runs import validation_main, write_csv  # noqa: E402
+from case_runs import summary_of, validation_main, write_csv  # noqa: E402
 from giesekus_migration import HEIGHT  # noqa: E402
 from giesekus_migration_prediction import FINER, case, finer_case  # noqa: E402
 from giesekus_migration_sensitivity import BASE_DT, WINDOWS  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from migration_runs import read_migration, window_velocities  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -57,14 +56,12 @@ def report(work):
                 continue
             r = read_migration(directory, HEIGHT)
             t_last = r["t"][-1] if r["t"] else 0.0
-            summary = os.path.join(directory, "summary.json")
-            s = json.load(open(summary)) if os.path.exists(summary) else {}
+            s = summary_of(directory)
             rows.append({"equator_nodes": n, "supg_tau": tau, "unknowns": s.get("unknowns"),
                          "wall_seconds": s.get("wall_seconds"), "t_last": t_last,
                          "relocation_steps": s.get("relocation_steps"),
-                         "units": [mean_velocity(r, a, b) if t_last >= b - 1e-9 else None for a, b in UNIT_WINDOWS],
-                         **{c: (mean_velocity(r, a, b) if t_last >= b - 1e-9 else None)
-                            for c, (a, b) in zip(columns, WINDOWS)}})
+                         "units": window_velocities(r, UNIT_WINDOWS),
+                         **dict(zip(columns, window_velocities(r, WINDOWS)))})
     units = [f"v_p_t{a:g}_{b:g}" for a, b in UNIT_WINDOWS]
     write_csv(os.path.join(OUT, "giesekus_migration_supg.csv"),
               ["equator_nodes", "supg_tau", "unknowns", "wall_seconds", "t_last", "relocation_steps"] + columns + units,

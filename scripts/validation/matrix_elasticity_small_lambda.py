@@ -18,7 +18,7 @@ import math
 import os
 
 from case_runs import read_run, validation_main
-from oldroyd_b_matrix import ETA_P, T_END, case_text, dt_for, greco_shift
+from oldroyd_b_matrix import ETA_P, T_END, case_text, derived_matrix_coefficient, dt_for, greco_shift
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -41,7 +41,7 @@ def slope_per_wi(matrix_coefficient):
 
 def report(work):
     lam = LAMBDA
-    derived = slope_per_wi((19 * lam ** 2 + 32 * lam + 16) / (2 * (1 + lam) * (19 * lam + 16)))
+    derived = slope_per_wi(derived_matrix_coefficient(lam))
     printed = greco_shift(lam, 1.0, ETA_P, 0.0)  # per unit Wi: Ca p = eta_p Wi
     twin = read_run(os.path.join(work, "newtonian"), 0.1 * T_END)
     runs = {wi: read_run(os.path.join(work, f"oldroyd_b_Wi{wi:g}"), 0.1 * T_END) for wi in WIS}

@@ -12,12 +12,11 @@ that a rise of v_p can be set beside the mesh's decline.
 Writes docs/validation/migration_near_centre_resolution.{md,csv}.
 Usage: scripts/validation/migration_near_centre_resolution.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import csv
-import json
 import os
 
-from case_runs import read_csv, validation_main  # noqa: E402
-from migration_near_centre import T_END, TRANSIENT, case_text, eq_3_8, height, read, y_max  # noqa: E402
-from migration_runs import mean_velocity  # noqa: E402
+from case_runs import read_csv, summary_of, validation_main  # noqa: E402
+from migration_near_centre import T_END, TRANSIENT, case_text, eq_3_8, read, y_max  # noqa: E402
+from migration_runs import mean_velocity, window_velocities  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -61,15 +60,13 @@ def report(work):
         r = read(directory, beta)
         if r is None:
             continue
-        path = os.path.join(directory, "summary.json")
-        s = json.load(open(path)) if os.path.exists(path) else {}
+        s = summary_of(directory)
         quality = worst_quality(directory)
         t_last = r["t"][-1]
         y_rel = (sum(r["y"]) / len(r["y"])) / y_max(beta)
         law = eq_3_8(beta, ca, y_rel)
         units = []
-        for a, b in UNITS:
-            v = mean_velocity(r, a, b) if t_last >= b - 1e-9 else None
+        for (a, b), v in zip(UNITS, window_velocities(r, UNITS)):
             q = min((x for t, x in quality.items() if t <= b + 1e-9), default=None)
             units.append((v, None if v is None else v / law, q))
         late = mean_velocity(r, TRANSIENT) if t_last >= T_END - 1e-9 else None

@@ -2,11 +2,10 @@
 at several heights): what scripts/validation/confined_migration.py and
 giesekus_migration.py share. Heights in units of H, velocities in gamma_dot H."""
 import csv
-import json
 import os
 import subprocess
 
-from case_runs import read_csv
+from case_runs import read_csv, summary_of
 
 
 def read_migration(directory, height):
@@ -28,6 +27,12 @@ def mean_velocity(r, transient, t_end=float("inf")):
         return None
     i, j = rows[0], rows[-1]
     return (r["y"][j] - r["y"][i]) / (r["t"][j] - r["t"][i])
+
+
+def window_velocities(r, windows):
+    """mean_velocity over each (start, end) window, None for a window past the run's end."""
+    t_last = r["t"][-1] if r["t"] else 0.0
+    return [mean_velocity(r, a, b) if t_last >= b - 1e-9 else None for a, b in windows]
 
 
 def read_starts(work, starts, case_name, height):
@@ -71,8 +76,7 @@ def start_table(runs, transient):
              "Delta S at end | remeshes | unknowns | wall s | status |",
              "|---|---|---|---|---|---|---|---|---|"]
     for s, (directory, r) in runs.items():
-        path = os.path.join(directory, "summary.json")
-        summary = json.load(open(path)) if os.path.exists(path) else {}
+        summary = summary_of(directory)
         late = [i for i, t in enumerate(r["t"]) if t >= transient]
         at_transient = r["y"][late[0]] if late else float("nan")
         mean_v = mean_velocity(r, transient)

@@ -77,6 +77,19 @@ def greco_shift(lam, ca, p, p_d):
                                + p_d * (9 * lam ** 2 + 6 * lam ** 3) / (8 * (1 + lam) * (16 + 19 * lam))))
 
 
+def derived_matrix_coefficient(lam):
+    """The matrix's first-order angle per unit Deborah number of the matrix, in
+    radians, as derived in scripts/theory/second_order_fluid_drop (docs/viscoelastic.md,
+    "Eq. 2.60 re-derived"): -c_m, c_m = (19 lam^2 + 32 lam + 16) / (2 (1 + lam)(19 lam + 16))."""
+    return (19 * lam ** 2 + 32 * lam + 16) / (2 * (1 + lam) * (19 * lam + 16))
+
+
+def derived_drop_coefficient(lam):
+    """The same for the drop phase: -c_d per unit Deborah number of the drop,
+    c_d = 3 lam / (2 (1 + lam)(19 lam + 16))."""
+    return 3 * lam / (2 * (1 + lam) * (19 * lam + 16))
+
+
 def jobs():
     out = {}
     for ca, wi, equator, far in RUNS:

@@ -13,7 +13,7 @@ import os
 
 from case_runs import read_csv, read_run, validation_main, write_csv  # noqa: E402
 from matrix_elasticity_small_lambda import slope_per_wi  # noqa: E402
-from oldroyd_b_matrix import ETA_P, LAMBDA, T_END, case_text, greco_shift  # noqa: E402
+from oldroyd_b_matrix import ETA_P, LAMBDA, T_END, case_text, derived_matrix_coefficient, greco_shift  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -46,8 +46,7 @@ def report(work):
         if not run or steady is None:
             continue
         greco = greco_shift(LAMBDA, ca, ETA_P * wi / ca, 0.0)
-        # The first-order second-order-fluid angle as derived here (docs/viscoelastic.md, "Eq. 2.60 re-derived").
-        derived = wi * slope_per_wi((19 * LAMBDA ** 2 + 32 * LAMBDA + 16) / (2 * (1 + LAMBDA) * (19 * LAMBDA + 16)))
+        derived = wi * slope_per_wi(derived_matrix_coefficient(LAMBDA))
         twin = float(steady["theta_newtonian_deg"])
         rows.append({"Ca": ca, "Wi": wi, "equator_nodes": equator, "greco_shift_deg": greco,
                      "derived_shift_deg": derived,

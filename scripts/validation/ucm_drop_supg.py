@@ -9,18 +9,17 @@ each against its Newtonian twin on the same mesh and step; the drop's
 conformation tank-treads where |u - u_m| is small, where the steady
 parameter is largest. Writes docs/validation/ucm_drop_supg.{md,csv}.
 Usage: scripts/validation/ucm_drop_supg.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
+import math
 import os
 
 from case_runs import read_run, validation_main, write_csv  # noqa: E402
+from oldroyd_b_matrix import derived_drop_coefficient  # noqa: E402
 from ucm_drop import LAMBDA, general_case_text, ucm_lines  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
 DE_D, DT, T_END = 0.1, 0.02, 6.0
-# The first-order angle per unit De_d of the drop phase, derived in
-# scripts/theory/second_order_fluid_drop (docs/viscoelastic.md):
-# -3 lambda / (2 (1 + lambda)(19 lambda + 16)) rad.
-DERIVED_DEG = -DE_D * 3 * LAMBDA / (2 * (1 + LAMBDA) * (19 * LAMBDA + 16)) * 180 / 3.141592653589793
+DERIVED_DEG = -math.degrees(DE_D * derived_drop_coefficient(LAMBDA))
 TAUS = ["steady", "transient"]
 
 
