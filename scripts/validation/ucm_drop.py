@@ -24,6 +24,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from case_runs import EULER_PREDICTION, read_run, richardson, validation_main  # noqa: E402
+from oldroyd_b_matrix import greco_shift  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -309,12 +310,6 @@ def taylor(lam, ca):
 
 def chaffey_brenner(lam, ca):
     return math.degrees(math.pi / 4 - (19 * lam + 16) * (2 * lam + 3) / (80 * (1 + lam)) * ca)
-
-
-def greco_shift(lam, ca, p, p_d):
-    """Greco's theta (eq. 2.60) minus Chaffey-Brenner's, in degrees."""
-    return -math.degrees(ca * (p * (176 + 436 * lam + 323 * lam ** 2) / (30 * (1 + lam) * (16 + 19 * lam))
-                               + p_d * (9 * lam ** 2 + 6 * lam ** 3) / (8 * (1 + lam) * (16 + 19 * lam))))
 
 
 def report(work):
