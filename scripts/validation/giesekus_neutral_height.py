@@ -1,0 +1,168 @@
+#!/usr/bin/python3
+"""Fig. 3.14 on the resolved setting: where does a neo-Hookean particle in the
+Giesekus matrix of Figs. 3.12-3.13 stop migrating, as the particle stiffens?
+p grows as 1 / Ca_e at the fixed matrix (lambda_m = 0.5, alpha_m = 0.2,
+eta_s = 0.1, eta_p = 0.9, Wi = 0.5; beta = 0.2) as in
+scripts/validation/giesekus_migration_stiff.py: Ca_e = 0.1, 0.05, 0.02
+(zero-shear p = 4.5, 9, 22.5), each started at y_p0 = 0.10, 0.20, 0.28,
+0.35 H. Every run uses the setting that the mesh study of
+scripts/validation/giesekus_migration_supg.py found resolved (20 equator
+nodes with the step-limited SUPG parameter: within 5 % of the 28-node mesh
+at p = 4.5, within 7e-5 gamma_dot H at p = 22.5), the consistent predicted
+stress, dt = 0.04 to t = 6; v_p is the slope of y_p over t = 2-6. A
+neutral height y_N lies between two adjacent starts whose v_p change sign;
+its estimate is the linear interpolation of v_p between them, its error the
+half-width of that bracket. The 0.20 H starts at p = 4.5 and 22.5 are the
+runs of giesekus_migration_supg.py and giesekus_migration_stiff.py (the
+same case), read from their csv tables.
+Writes docs/validation/giesekus_neutral_height.{md,csv,png}.
+Usage: scripts/validation/giesekus_neutral_height.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from case_runs import read_csv, summary_of, validation_main, write_csv  # noqa: E402
+from giesekus_migration import BETA, HEIGHT, Y_MAX  # noqa: E402
+from giesekus_migration_stiff import p_of, text as stiff_text  # noqa: E402
+from migration_runs import read_migration, window_velocities  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+OUT = os.path.join(ROOT, "docs", "validation")
+CA_E = [0.1, 0.05, 0.02]
+STARTS = [0.10, 0.20, 0.28, 0.35]  # y_p0 / H
+WINDOW = (2.0, 6.0)
+NODES, TAU = 20, "transient"
+# The runs already made elsewhere with this exact case: (Ca_e, y_p0) -> (csv, its row's keys).
+ELSEWHERE = {
+    (0.1, 0.20): ("giesekus_migration_supg.csv", {"equator_nodes": "20", "supg_tau": TAU}),
+    (0.02, 0.20): ("giesekus_migration_stiff.csv",
+                   {"ca_e": "0.02", "matrix": "giesekus", "equator_nodes": "20", "supg_tau": TAU}),
+}
+# The order they run, two at a time: the stiffest particle's bracket first,
+# then the thesis's p = 4.5 on both sides of its 0.20 H start.
+ORDER = [(0.02, 0.10), (0.02, 0.28), (0.1, 0.10), (0.1, 0.28), (0.05, 0.20), (0.02, 0.35), (0.05, 0.10),
+         (0.05, 0.28), (0.1, 0.35), (0.05, 0.35)]
+
+
+def run_name(ca, start):
+    return f"ca{ca:g}_yp0_{start:.2f}"
+
+
+def text(ca, start):
+    base = stiff_text(ca, "giesekus", NODES, TAU)
+    old_name = f'name = "giesekus_ca{ca:g}_{TAU}"'
+    old_centre = f"centre = [0.0, {0.20 * HEIGHT:.6f}, 0.0]"
+    assert old_name in base and old_centre in base
+    return base.replace(old_name, f'name = "{run_name(ca, start)}"').replace(
+        old_centre, f"centre = [0.0, {start * HEIGHT:.6f}, 0.0]")
+
+
+def jobs():
+    assert sorted(ORDER) == sorted((ca, s) for ca in CA_E for s in STARTS if (ca, s) not in ELSEWHERE)
+    return [(run_name(ca, s), text(ca, s)) for ca, s in ORDER]
+
+
+def point_here(work, ca, start):
+    directory = os.path.join(work, run_name(ca, start))
+    if not os.path.exists(os.path.join(directory, "migration.csv")):
+        return None
+    r = read_migration(directory, HEIGHT)
+    v, = window_velocities(r, [WINDOW])
+    inside = [y for t, y in zip(r["t"], r["y"]) if WINDOW[0] <= t <= WINDOW[1]]
+    s = summary_of(directory)
+    return {"v_p": v, "y_mean": sum(inside) / len(inside) if v is not None else None, "t_last": r["t"][-1],
+            "unknowns": s.get("unknowns"), "wall_seconds": s.get("wall_seconds"),
+            "source": f"output/validation_giesekus_neutral_height/{run_name(ca, start)}"}
+
+
+def point_elsewhere(ca, start):
+    name, keys = ELSEWHERE[(ca, start)]
+    path = os.path.join(OUT, name)
+    if not os.path.exists(path):
+        return None
+    column = f"mean_v_p_t{WINDOW[0]:g}_{WINDOW[1]:g}"
+    row = next((r for r in read_csv(path) if all(r[k] == v for k, v in keys.items())), None)
+    if row is None or not row.get(column):
+        return None
+    v = float(row[column])
+    # The tables keep v_p, not the mean height: y_p moves linearly over the window.
+    return {"v_p": v, "y_mean": start + v * sum(WINDOW) / 2.0, "t_last": float(row["t_last"]),
+            "unknowns": row.get("unknowns"), "wall_seconds": float(row["wall_seconds"] or 0),
+            "source": f"docs/validation/{name}"}
+
+
+def neutral_heights(points):
+    """(estimate, half-width, direction) for each adjacent pair of heights whose
+    v_p change sign; direction "stable" when v_p goes from + below to - above."""
+    found = []
+    for a, b in zip(points, points[1:]):
+        if a["v_p"] * b["v_p"] < 0.0:
+            y = a["y_mean"] - a["v_p"] * (b["y_mean"] - a["y_mean"]) / (b["v_p"] - a["v_p"])
+            found.append((y, (b["y_mean"] - a["y_mean"]) / 2.0, "stable" if a["v_p"] > 0.0 else "unstable"))
+    return found
+
+
+def report(work):
+    rows, by_p = [], {}
+    for ca in CA_E:
+        for s in STARTS:
+            x = point_elsewhere(ca, s) if (ca, s) in ELSEWHERE else point_here(work, ca, s)
+            if x is None or x["v_p"] is None:
+                continue
+            law = -2.0 * BETA ** 3 * ca * x["y_mean"] / Y_MAX  # eq. 3.8 (Newtonian matrix)
+            rows.append({"ca_e": ca, "p": p_of(ca), "y_p0": s, **x, "eq_3_8": law})
+            by_p.setdefault(ca, []).append(rows[-1])
+    write_csv(os.path.join(OUT, "giesekus_neutral_height.csv"),
+              ["ca_e", "p", "y_p0", "y_mean", "v_p", "eq_3_8", "t_last", "unknowns", "wall_seconds", "source"], rows)
+    a, b = WINDOW
+    lines = ["# Neutral heights against p on the resolved setting (thesis Fig. 3.14)", "",
+             "Generated by `scripts/validation/giesekus_neutral_height.py`: beta = 0.2, the Giesekus matrix of "
+             "Figs. 3.12-3.13 (lambda_m = 0.5, alpha_m = 0.2, eta_s = 0.1, eta_p = 0.9, Wi = 0.5); Ca_e sets the "
+             "particle's modulus, p = 4.5 x 0.1 / Ca_e (zero-shear Psi_1). 20 equator nodes, step-limited SUPG "
+             "parameter, consistent predicted stress, dt = 0.04, t = 0-6. "
+             f"v_p: slope of y_p over t = {a:g}-{b:g}, in gamma_dot H (negative: towards the centre plane); "
+             "y_p: its mean over the same window, in H. eq. 3.8: the Newtonian near-centre law at that height.",
+             "", "| Ca_e | p | y_p0 / H | mean y_p / H | v_p | eq. 3.8 | t reached | unknowns | wall s | run |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for x in rows:
+        lines.append(f"| {x['ca_e']:g} | {x['p']:g} | {x['y_p0']:.2f} | {x['y_mean']:.4f} | {x['v_p']:.3e} | "
+                     f"{x['eq_3_8']:.3e} | {x['t_last']:g} | {x['unknowns']} | {x['wall_seconds'] or 0:.0f} | "
+                     f"`{x['source']}` |")
+    lines += ["", "Neutral heights (sign changes of v_p between adjacent starts; estimate by linear interpolation, "
+              "error the half-width of the bracket). The thesis's Fig. 3.14 at Ca_e = 0.1: y_N = 0.26 H at "
+              "p = 4.5, rising with p until the walls attract every start beyond p ~ 10.", "",
+              "| Ca_e | p | starts measured | y_N / H | +- | kind |", "|---|---|---|---|---|---|"]
+    for ca in CA_E:
+        points = by_p.get(ca, [])
+        found = neutral_heights(points)
+        starts = ", ".join(f"{x['y_p0']:.2f}" for x in points)
+        if not found:
+            if points:
+                direction = "towards the centre" if all(x["v_p"] < 0 for x in points) else "towards the wall"
+                lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | none | | every start {direction} |")
+        for y, half, kind in found:
+            lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | {y:.3f} | {half:.3f} | {kind} |")
+    lines.append("")
+    with open(os.path.join(OUT, "giesekus_neutral_height.md"), "w") as f:
+        f.write("\n".join(lines))
+    print("\n".join(lines))
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for ca in CA_E:
+        points = by_p.get(ca, [])
+        if points:
+            ax.plot([x["y_mean"] for x in points], [x["v_p"] for x in points], "o-", label=f"p = {p_of(ca):g}")
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.axvspan(Y_MAX, 0.5, color="0.85")
+    ax.set(xlim=(0, 0.5), xlabel="y_p / H", ylabel="v_p / (gamma_dot H)",
+           title="Giesekus matrix, beta = 0.2: v_p against height (20 nodes, step-limited SUPG)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "giesekus_neutral_height.png"), dpi=120)
+
+
+if __name__ == "__main__":
+    validation_main("validation_giesekus_neutral_height", jobs, report)
