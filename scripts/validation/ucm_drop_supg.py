@@ -33,7 +33,7 @@ def text(name, drop_lines, tau):
 
 
 def with_tau(base, tau):
-    assert base.count("[conformation]\n") == 1
+    assert base.count("[conformation]\n") == 1 and "supg_tau" not in base
     return base.replace("[conformation]\n", f'[conformation]\nsupg_tau = "{tau}"\n')
 
 
@@ -59,27 +59,28 @@ def level_report(work):
         for tau, run in ucm.items():
             u, w = completed_pair(work, run, twin)
             if u:
-                rows.append({"equator_nodes": n, "supg_tau": tau, "unknowns": u["unknowns"], "D_ucm": u["D_steady"],
+                rows.append({"equator_nodes": n, "meshed_nodes": u["summary"]["mesh"]["equator_nodes"], "supg_tau": tau,
+                             "unknowns": u["unknowns"], "D_ucm": u["D_steady"],
                              "D_newtonian": w["D_steady"], "shift_deg": u["theta_steady"] - w["theta_steady"],
                              "wall_ucm_s": u["wall"]})
     write_csv(os.path.join(OUT, "ucm_drop_supg_levels.csv"),
-              ["equator_nodes", "supg_tau", "unknowns", "D_ucm", "D_newtonian", "shift_deg", "wall_ucm_s"], rows)
+              ["equator_nodes", "meshed_nodes", "supg_tau", "unknowns", "D_ucm", "D_newtonian", "shift_deg", "wall_ucm_s"], rows)
     lines = ["", "## Both parameters on the whole-mesh study", "",
              "ucm_drop.py's levels: equator nodes, far size and growth refined by one ratio, the interior at the "
              f"interface size (interior_growth = 0), De_d = {DE_D:g}, Ca = 0.025, dt = {DT:g}; each UCM run beside "
              "its Newtonian twin on the same mesh.", "",
-             "| equator nodes | supg_tau | unknowns | D (UCM) | D (twin) | shift [deg] | shift / derived | wall UCM [s] |",
+             "| equator nodes (asked / meshed) | supg_tau | unknowns | D (UCM) | D (twin) | shift [deg] | shift / derived | wall UCM [s] |",
              "|---|---|---|---|---|---|---|---|"]
     for x in rows:
-        lines.append(f"| {x['equator_nodes']} | {x['supg_tau']} | {x['unknowns']} | {x['D_ucm']:.5f} | "
+        lines.append(f"| {x['equator_nodes']} / {x['meshed_nodes']} | {x['supg_tau']} | {x['unknowns']} | {x['D_ucm']:.5f} | "
                      f"{x['D_newtonian']:.5f} | {x['shift_deg']:.4f} | {x['shift_deg'] / DERIVED_DEG:.3f} | "
                      f"{x['wall_ucm_s']:.0f} |")
     lines.append("")
-    sizes = [1.0 / n for n, _, _ in INTERIOR_LEVELS]
     for tau in TAUS:
-        shifts = [x["shift_deg"] for x in rows if x["supg_tau"] == tau]
-        if len(shifts) == len(sizes):
-            fit = richardson(sizes, shifts)
+        levels = [x for x in rows if x["supg_tau"] == tau]
+        if len(levels) == len(INTERIOR_LEVELS):
+            # h = 1 / (meshed equator nodes), as ucm_drop.py's own study.
+            fit = richardson([1.0 / x["meshed_nodes"] for x in levels], [x["shift_deg"] for x in levels], (0.1, 10.0))
             lines.append(f"- {tau}: " + ("the changes do not shrink monotonically: no Richardson limit" if fit is None
                                         else f"observed order {fit[0]:.2f}, Richardson shift {fit[1]:.4f} deg "
                                              f"({fit[1] / DERIVED_DEG:.3f} of the derived)"))
