@@ -157,7 +157,7 @@ def report(work):
     ax.axhline(0.0, color="k", lw=0.6)
     ax.axvspan(Y_MAX, 0.5, color="0.85")
     ax.set(xlim=(0, 0.5), xlabel="y_p / H", ylabel="v_p / (gamma_dot H)",
-           title="Giesekus matrix, beta = 0.2: v_p against height (20 nodes, step-limited SUPG)")
+           title="Giesekus matrix, beta = 0.2 (20 nodes, step-limited SUPG)")
     ax.grid(alpha=0.3)
     ax.legend()
     fig.tight_layout()
