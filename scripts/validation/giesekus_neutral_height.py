@@ -129,7 +129,7 @@ def report(work):
              "|---|---|---|---|---|---|---|---|---|---|"]
     for x in rows:
         lines.append(f"| {x['ca_e']:g} | {x['p']:g} | {x['y_p0']:.2f} | {x['y_mean']:.4f} | {x['v_p']:.3e} | "
-                     f"{x['eq_3_8']:.3e} | {x['t_last']:g} | {x['unknowns']} | {x['wall_seconds'] or 0:.0f} | "
+                     f"{x['eq_3_8']:.3e} | {x['t_last']:g} | {x['unknowns'] or ''} | {x['wall_seconds'] or 0:.0f} | "
                      f"`{x['source']}` |")
     lines += ["", "Neutral heights (sign changes of v_p between adjacent starts; estimate by linear interpolation, "
               "error the half-width of the bracket). The thesis's Fig. 3.14 at Ca_e = 0.1: y_N = 0.26 H at "
