@@ -47,26 +47,38 @@ ORDER = [(0.02, 0.10), (0.02, 0.28), (0.1, 0.10), (0.1, 0.28), (0.05, 0.20), (0.
          (0.05, 0.28), (0.1, 0.35), (0.05, 0.35)]
 
 
-def run_name(ca, start):
-    return f"ca{ca:g}_yp0_{start:.2f}"
+# The p = 22.5 bracket on the next mesh level (28 equator nodes, the whole
+# mesh refined by 20/28, the steady parameter, which agrees with the
+# step-limited one there: giesekus_migration_supg.py); its 0.20 H start is
+# giesekus_migration_stiff.py's N28 run.
+FINER = [(0.02, 0.10), (0.02, 0.28)]
+FINER_NODES, FINER_TAU = 28, "steady"
+FINER_ELSEWHERE = {(0.02, 0.20): ("giesekus_migration_stiff.csv",
+                                  {"ca_e": "0.02", "matrix": "giesekus", "equator_nodes": "28", "supg_tau": "steady"})}
 
 
-def text(ca, start):
-    base = stiff_text(ca, "giesekus", NODES, TAU)
-    old_name = f'name = "giesekus_ca{ca:g}_{TAU}"'
+def run_name(ca, start, nodes=NODES):
+    return f"ca{ca:g}_yp0_{start:.2f}" + ("" if nodes == NODES else f"_N{nodes}")
+
+
+def text(ca, start, nodes=NODES, tau=TAU):
+    base = stiff_text(ca, "giesekus", nodes, tau)
+    old_name = f'name = "giesekus_ca{ca:g}' + ("" if nodes == NODES else f"_N{nodes}") + \
+        ("" if tau == "steady" else f"_{tau}") + '"'
     old_centre = f"centre = [0.0, {0.20 * HEIGHT:.6f}, 0.0]"
     assert old_name in base and old_centre in base
-    return base.replace(old_name, f'name = "{run_name(ca, start)}"').replace(
+    return base.replace(old_name, f'name = "{run_name(ca, start, nodes)}"').replace(
         old_centre, f"centre = [0.0, {start * HEIGHT:.6f}, 0.0]")
 
 
 def jobs():
     assert sorted(ORDER) == sorted((ca, s) for ca in CA_E for s in STARTS if (ca, s) not in ELSEWHERE)
-    return [(run_name(ca, s), text(ca, s)) for ca, s in ORDER]
+    return [(run_name(ca, s), text(ca, s)) for ca, s in ORDER] + \
+        [(run_name(ca, s, FINER_NODES), text(ca, s, FINER_NODES, FINER_TAU)) for ca, s in FINER]
 
 
-def point_here(work, ca, start):
-    directory = os.path.join(work, run_name(ca, start))
+def point_here(work, ca, start, nodes=NODES):
+    directory = os.path.join(work, run_name(ca, start, nodes))
     if not os.path.exists(os.path.join(directory, "migration.csv")):
         return None
     r = read_migration(directory, HEIGHT)
@@ -75,11 +87,11 @@ def point_here(work, ca, start):
     s = summary_of(directory)
     return {"v_p": v, "y_mean": sum(inside) / len(inside) if v is not None else None, "t_last": r["t"][-1],
             "unknowns": s.get("unknowns"), "wall_seconds": s.get("wall_seconds"),
-            "source": f"output/validation_giesekus_neutral_height/{run_name(ca, start)}"}
+            "source": f"output/validation_giesekus_neutral_height/{run_name(ca, start, nodes)}"}
 
 
-def point_elsewhere(ca, start):
-    name, keys = ELSEWHERE[(ca, start)]
+def point_elsewhere(ca, start, elsewhere=ELSEWHERE):
+    name, keys = elsewhere[(ca, start)]
     path = os.path.join(OUT, name)
     if not os.path.exists(path):
         return None
@@ -145,6 +157,17 @@ def report(work):
                 lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | none | | every start {direction} |")
         for y, half, kind in found:
             lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | {y:.3f} | {half:.3f} | {kind} |")
+    finer = [(s, point_elsewhere(ca, s, FINER_ELSEWHERE) if (ca, s) in FINER_ELSEWHERE
+              else point_here(work, ca, s, FINER_NODES)) for ca, s in sorted(FINER + list(FINER_ELSEWHERE))]
+    finer = [(s, x) for s, x in finer if x is not None and x["v_p"] is not None]
+    if finer:
+        lines += ["", f"p = 22.5 on the next mesh level ({FINER_NODES} equator nodes asked, the whole mesh refined by "
+                  f"20/{FINER_NODES}, {FINER_TAU} SUPG parameter):", "",
+                  "| y_p0 / H | mean y_p / H | v_p | t reached | run |", "|---|---|---|---|---|"]
+        lines += [f"| {s:.2f} | {x['y_mean']:.4f} | {x['v_p']:.3e} | {x['t_last']:g} | `{x['source']}` |"
+                  for s, x in finer]
+        for y, half, kind in neutral_heights([x for _, x in finer]):
+            lines.append(f"\n- {kind} neutral height {y:.3f} +- {half:.3f} H")
     lines.append("")
     with open(os.path.join(OUT, "giesekus_neutral_height.md"), "w") as f:
         f.write("\n".join(lines))
