@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from case_runs import read_csv, summary_of, validation_main, write_csv  # noqa: E402
 from giesekus_migration import BETA, HEIGHT, Y_MAX  # noqa: E402
-from giesekus_migration_stiff import p_of, text as stiff_text  # noqa: E402
+from giesekus_migration_stiff import p_of, run_name as stiff_run_name, text as stiff_text  # noqa: E402
 from migration_runs import read_migration, window_velocities  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -63,8 +63,7 @@ def run_name(ca, start, nodes=NODES):
 
 def text(ca, start, nodes=NODES, tau=TAU):
     base = stiff_text(ca, "giesekus", nodes, tau)
-    old_name = f'name = "giesekus_ca{ca:g}' + ("" if nodes == NODES else f"_N{nodes}") + \
-        ("" if tau == "steady" else f"_{tau}") + '"'
+    old_name = f'name = "{stiff_run_name(ca, "giesekus", nodes, tau)}"'
     old_centre = f"centre = [0.0, {0.20 * HEIGHT:.6f}, 0.0]"
     assert old_name in base and old_centre in base
     return base.replace(old_name, f'name = "{run_name(ca, start, nodes)}"').replace(

@@ -60,7 +60,7 @@ def report(work):
              "Giesekus matrix alpha_m = 0.2, eta_s = 0.1, eta_p = 0.9, lambda_m = 0.5, dt = 0.04, Euler "
              f"prediction) to t = {T_END:g}, means over the last 2 pi; equator nodes, far size and growth refined "
              "by one ratio. `steady`: the thesis's SUPG parameter (giesekus_particle.py's figure); `transient`: "
-             "limited by the step (softflow 0.2's default).", "",
+             "limited by the step (the default in elastic solids, not in liquids).", "",
              "| equator nodes (asked / meshed) | supg_tau | unknowns | D | theta [deg] | D ampl. | wall s |",
              "|---|---|---|---|---|---|---|"]
     for x in rows:

@@ -11,10 +11,10 @@
 // transport keeps. Measured on this case at t = 8 (steady): D = 0.1106131,
 // 0.1086704 at dt = 0.1, 0.05 with the Euler prediction (its first-order
 // extrapolation 0.1067277), 0.1066698, 0.1066681 with the consistent one.
-// The matrix's SUPG parameter is the steady one here: the step-limited one
-// (the default) moves the discrete steady state with the step by itself
-// (D = 0.11685, 0.11803 at t = 5, dt = 0.1, 0.05 with the consistent
-// prediction on this 16-node mesh), which is not the prediction's doing.
+// The matrix's SUPG parameter is pinned to the steady one (the default in
+// liquids): the step-limited one moves the discrete steady state with the step
+// by itself (D = 0.11685, 0.11803 at t = 5, dt = 0.1, 0.05 with the
+// consistent prediction on this 16-node mesh), which is not the prediction's doing.
 #include <cmath>
 #include <cstdio>
 #include <string>
