@@ -5,7 +5,8 @@ p grows as 1 / Ca_e at the fixed matrix (lambda_m = 0.5, alpha_m = 0.2,
 eta_s = 0.1, eta_p = 0.9, Wi = 0.5; beta = 0.2) as in
 scripts/validation/giesekus_migration_stiff.py: Ca_e = 0.1, 0.05, 0.02
 (zero-shear p = 4.5, 9, 22.5), each started at y_p0 = 0.10, 0.20, 0.28,
-0.35 H. Every run uses the setting that the mesh study of
+0.35 H, and Ca_e = 0.03 (p = 15, between the last p without a neutral
+height and the first with one) from 0.10, 0.20, 0.28 H. Every run uses the setting that the mesh study of
 scripts/validation/giesekus_migration_supg.py found resolved (20 equator
 nodes with the step-limited SUPG parameter: within 5 % of the 28-node mesh
 at p = 4.5, within 7e-5 gamma_dot H at p = 22.5), the consistent predicted
@@ -31,8 +32,11 @@ from migration_runs import read_migration, window_velocities  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
-CA_E = [0.1, 0.05, 0.02]
+CA_E = [0.1, 0.05, 0.03, 0.02]
 STARTS = [0.10, 0.20, 0.28, 0.35]  # y_p0 / H
+# p = 15 brackets where the neutral heights appear; every p has its 0.35 H
+# start migrating down, so it is not repeated there.
+STARTS_OF = {0.03: [0.10, 0.20, 0.28]}
 WINDOW = (2.0, 6.0)
 NODES, TAU = 20, "transient"
 # The runs already made elsewhere with this exact case: (Ca_e, y_p0) -> (csv, its row's keys).
@@ -53,6 +57,8 @@ ORDER = [(0.02, 0.10), (0.02, 0.28), (0.1, 0.10), (0.1, 0.28), (0.05, 0.20), (0.
 # giesekus_migration_stiff.py's N28 run.
 FINER = [(0.02, 0.10), (0.02, 0.28)]
 FINER_NODES, FINER_TAU = 28, "steady"
+# Queued after the finer runs: p = 15, the middle start first.
+LATER = [(0.03, 0.20), (0.03, 0.10), (0.03, 0.28)]
 FINER_ELSEWHERE = {(0.02, 0.20): ("giesekus_migration_stiff.csv",
                                   {"ca_e": "0.02", "matrix": "giesekus", "equator_nodes": "28", "supg_tau": "steady"})}
 
@@ -71,9 +77,14 @@ def text(ca, start, nodes=NODES, tau=TAU):
 
 
 def jobs():
-    assert sorted(ORDER) == sorted((ca, s) for ca in CA_E for s in STARTS if (ca, s) not in ELSEWHERE)
+    assert sorted(ORDER + LATER) == sorted((ca, s) for ca in CA_E for s in starts_of(ca) if (ca, s) not in ELSEWHERE)
     return [(run_name(ca, s), text(ca, s)) for ca, s in ORDER] + \
-        [(run_name(ca, s, FINER_NODES), text(ca, s, FINER_NODES, FINER_TAU)) for ca, s in FINER]
+        [(run_name(ca, s, FINER_NODES), text(ca, s, FINER_NODES, FINER_TAU)) for ca, s in FINER] + \
+        [(run_name(ca, s), text(ca, s)) for ca, s in LATER]
+
+
+def starts_of(ca):
+    return STARTS_OF.get(ca, STARTS)
 
 
 def point_here(work, ca, start, nodes=NODES):
@@ -119,7 +130,7 @@ def neutral_heights(points):
 def report(work):
     rows, by_p = [], {}
     for ca in CA_E:
-        for s in STARTS:
+        for s in starts_of(ca):
             x = point_elsewhere(ca, s) if (ca, s) in ELSEWHERE else point_here(work, ca, s)
             if x is None or x["v_p"] is None:
                 continue
