@@ -5,9 +5,10 @@ Oldroyd-B matrix drop's offset was the steady parameter's:
 oldroyd_b_matrix_supg.py). scripts/validation/ucm_drop.py's De_d = 0.1,
 Ca = 0.025 drop (lambda = 2, 28 equator nodes, far size 4, dt = 0.02, t = 6,
 Euler prediction) with [conformation] supg_tau = "steady" and "transient",
-each against its Newtonian twin on the same mesh and step; the drop's
-conformation tank-treads where |u - u_m| is small, where the steady
-parameter is largest. Then both parameters on ucm_drop.py's whole-mesh
+each against its Newtonian twin on the same mesh and step. Why a drop:
+the steady parameter grows as the convective velocity |u - u_m| falls, and
+inside a drop that moves with its mesh that velocity may be small (the
+reason for the check, not measured here). Then both parameters on ucm_drop.py's whole-mesh
 study (20 / 28 / 40 equator nodes, far size and growth refined alike, the
 interior at the interface size, dt = 0.02): do they approach one limit,
 and which from closer? Writes docs/validation/ucm_drop_supg.{md,csv} and
