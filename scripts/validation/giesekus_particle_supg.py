@@ -97,7 +97,14 @@ def report(work):
         # eq. 3.9: theta - pi/4 = -(3/4)(1 + 11 p / 75 + 2 p^2 / 25) Ca_e at small Ca_e, so the matrix's share is
         # -(3/4)(11 p / 75 + 2 p^2 / 25) Ca_e (in radians).
         law = -0.75 * (11.0 * P / 75.0 + 2.0 * P ** 2 / 25.0) * CA_E * 180.0 / math.pi
-        lines.append(f"- eq. 3.9's small-Ca_e share of the matrix at p = {P:g}, Ca_e = {CA_E:g}: {law:+.3f} deg")
+        lines.append(f"- eq. 3.9's small-Ca_e share of the matrix at p = {P:g}, Ca_e = {CA_E:g}: {law:+.3f} deg; the "
+                     "measured share per mesh: " + ", ".join(f"{x['theta_deg'] / law:.3f}" for x in shift) + " of it")
+        # Fig. 3.11's measure: the slope of theta - pi/4 at p over that at p = 0, here at one Ca_e.
+        ratios = [(x["theta_deg"] - 45.0) / (newtonian[x["equator_nodes"]]["theta_deg"] - 45.0)
+                  for x in rows if x["p"] == P and x["supg_tau"] == NEWTONIAN_TAU]
+        lines.append(f"- (theta(p = {P:g}) - 45 deg) / (theta(0) - 45 deg) per mesh: "
+                     + ", ".join(f"{r:.3f}" for r in ratios)
+                     + f"; eq. 3.9's ratio 1 + 11 p / 75 + 2 p^2 / 25 = {1 + 11 * P / 75 + 2 * P ** 2 / 25:.3f}")
     lines.append("")
     with open(os.path.join(OUT, "giesekus_particle_supg.md"), "w") as f:
         f.write("\n".join(lines))
