@@ -8,6 +8,9 @@
 3. An object closer to a wall than the mesh resolves is refused by `check`
    before any meshing, exit 1, the message naming the keys that change it.
 4. cell.height and cell.blockage_ratio together are refused as ambiguous.
+5. A run from mesh.point_symmetric_start that remeshes says, once, that the
+   remesh gives the symmetric mesh up and which key keeps it; without
+   remeshing it says nothing.
 
 usage: confinement.py SOFTFLOW EXAMPLE WORKDIR
 """
@@ -78,3 +81,38 @@ refused = run([softflow, "check", both], expect=1).stderr
 if "cell gives both height = 5.0 and blockage_ratio = 0.4: give only one" not in refused:
     fail(f"softflow check {both}: {refused}")
 print("check refuses height with blockage_ratio:", refused.strip())
+
+# 5. A remesh gives the point-symmetric start up: a note, once; none without remeshing.
+symmetric = """
+[cell]
+length = 6.0
+width = 6.0
+blockage_ratio = 0.4
+[[objects]]
+model = "neo_hookean"
+elastic_capillary_number = 0.1
+centre = [0.0, 0.1, 0.0]
+[mesh]
+equator_nodes = 12
+far_size = 1.0
+point_symmetric_start = true
+[time]
+step = 0.05
+end = 0.1
+[output]
+fields = false
+"""
+note = "gives up mesh.point_symmetric_start"
+# remesh.quality above any mesh's, and an interval of one step: a remesh before every step.
+remeshing = write("symmetric_remeshed.toml", symmetric + "[remesh]\nquality = 0.6\ninterval = 0.05\n")
+stderr = run([softflow, "run", remeshing, "-o", os.path.join(work, "symmetric_remeshed"), "-q"]).stderr
+if stderr.count(note) != 1 or "remesh.quality = 0 (now 0.6)" not in stderr:
+    fail(f"a remeshed symmetric start: expected one note naming remesh.quality:\n{stderr}")
+with open(os.path.join(work, "symmetric_remeshed", "remesh.csv")) as f:
+    if len(f.readlines()) < 3:
+        fail("the remeshed symmetric start remeshed fewer than twice: the note's 'once' is untested")
+kept = write("symmetric_kept.toml", symmetric)
+stderr = run([softflow, "run", kept, "-o", os.path.join(work, "symmetric_kept"), "-q"]).stderr
+if note in stderr:
+    fail(f"a symmetric start without remeshing: an unexpected note:\n{stderr}")
+print("a remesh of a symmetric start is noted once:", note)

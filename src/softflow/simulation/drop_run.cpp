@@ -155,6 +155,7 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
   std::string status = "running", stop_reason;
   std::exception_ptr failure;
   RemeshTriggers triggers(config);
+  bool symmetric_start_noted = false;
   try {
     while (!at_end(config, sim.steps(), sim.time())) {
       if (config.remesh.enabled()) {
@@ -177,6 +178,17 @@ nlohmann::json continue_run(const io::CaseConfig& config, const RunOptions& opti
             continue;
           }
           triggers.remeshed(triggers.measure(sim.mesh(), sim.time(), e.quality_after));
+          // gmsh's new mesh is not the mirror case's image: from here the
+          // drift across streamlines no longer vanishes with the offset.
+          if (root && config.sizing.point_symmetric_start && !symmetric_start_noted) {
+            symmetric_start_noted = true;
+            fmt::print(stderr,
+                       "softflow: note: the remesh at step {} (t = {:.4f}) gives up "
+                       "mesh.point_symmetric_start: the new mesh is not the image of its mirror "
+                       "case's; remesh.quality = 0 (now {:g}) keeps the symmetric mesh "
+                       "(docs/confinement.md)\n",
+                       e.step, e.time, config.remesh.quality);
+          }
           // The modules are new objects: their report files' rows with them.
           files.reports = sim.report_files();
           write_checkpoint();
