@@ -65,6 +65,9 @@ FINER_NODES, FINER_TAU = 28, "steady"
 # 0.20 H inverts an element on this mesh, so only the 0.10 H start has one.
 # Queued after the finer runs, before p = 15 (Ca_e = 0.03) at 0.20 and 0.28 H.
 SYMMETRIC = [(0.02, 0.10), (0.1, 0.10), (0.03, 0.10), (0.05, 0.10)]
+# The symmetric 0.10 H starts at p = 22.5 and 4.5 on the next mesh level
+# (FINER's mesh and parameter), queued after the first two 20-node ones.
+SYMMETRIC_FINER = [(0.02, 0.10), (0.1, 0.10)]
 LATER = [(0.03, 0.20), (0.03, 0.28)]
 FINER_ELSEWHERE = {(0.02, 0.20): ("giesekus_migration_stiff.csv",
                                   {"ca_e": "0.02", "matrix": "giesekus", "equator_nodes": "28", "supg_tau": "steady"})}
@@ -97,7 +100,9 @@ def jobs():
                                            if (ca, s) not in ELSEWHERE and (ca, s) not in SYMMETRIC_ONLY)
     return [(run_name(ca, s), text(ca, s)) for ca, s in ORDER] + \
         [(run_name(ca, s, FINER_NODES), text(ca, s, FINER_NODES, FINER_TAU)) for ca, s in FINER] + \
-        [(run_name(ca, s, symmetric=True), text(ca, s, symmetric=True)) for ca, s in SYMMETRIC] + \
+        [(run_name(ca, s, symmetric=True), text(ca, s, symmetric=True)) for ca, s in SYMMETRIC[:2]] + \
+        [(run_name(ca, s, FINER_NODES, True), text(ca, s, FINER_NODES, FINER_TAU, True)) for ca, s in SYMMETRIC_FINER] + \
+        [(run_name(ca, s, symmetric=True), text(ca, s, symmetric=True)) for ca, s in SYMMETRIC[2:]] + \
         [(run_name(ca, s), text(ca, s)) for ca, s in LATER]
 
 
