@@ -150,31 +150,44 @@ def neutral_heights(points):
     return found
 
 
-def symmetric_lines(work, by_p):
-    """The 0.10 H starts from the point-symmetric start beside gmsh's mesh,
-    and the neutral heights with them in place of gmsh's 0.10 H points."""
-    symmetric = {ca: point_here(work, ca, s, symmetric=True) for ca, s in SYMMETRIC}
-    symmetric = {ca: x for ca, x in symmetric.items() if x is not None and x["v_p"] is not None}
-    if not symmetric:
+def symmetric_lines(work, by_p, finer):
+    """The 0.10 H starts from the point-symmetric start beside gmsh's mesh on
+    both mesh levels, and the neutral heights with them in place of gmsh's
+    0.10 H points (`finer`: the 28-node (start, point) pairs of p = 22.5)."""
+    levels = {nodes: {ca: point_here(work, ca, s, nodes, symmetric=True) for ca, s in starts}
+              for nodes, starts in ((NODES, SYMMETRIC), (FINER_NODES, SYMMETRIC_FINER))}
+    levels = {nodes: {ca: x for ca, x in found.items() if x is not None and x["v_p"] is not None}
+              for nodes, found in levels.items()}
+    if not levels[NODES] and not levels[FINER_NODES]:
         return []
-    lines = ["", "The 0.10 H starts from the point-symmetric start (`mesh.point_symmetric_start`: the mesh's own "
-             "drift across streamlines vanishes with the offset; otherwise the same case):", "",
-             "| Ca_e | p | v_p, gmsh's mesh | v_p, symmetric start | t reached | run |", "|---|---|---|---|---|---|"]
-    for ca, x in sorted(symmetric.items(), reverse=True):
-        plain = next((y["v_p"] for y in by_p.get(ca, []) if y["y_p0"] == 0.10), None)
-        lines.append(f"| {ca:g} | {p_of(ca):g} | {'' if plain is None else f'{plain:.3e}'} | {x['v_p']:.3e} | "
-                     f"{x['t_last']:g} | `{x['source']}` |")
-    lines += ["", "Neutral heights with the symmetric 0.10 H start in place of gmsh's:", "",
-              "| Ca_e | p | y_N / H | +- | kind |", "|---|---|---|---|---|"]
-    for ca, x in sorted(symmetric.items(), reverse=True):
-        points = sorted([y for y in by_p.get(ca, []) if y["y_p0"] != 0.10] + [{**x, "y_p0": 0.10}],
-                        key=lambda y: y["y_p0"])
-        found = neutral_heights(points)
-        if not found:
-            direction = "towards the centre" if all(y["v_p"] < 0 for y in points) else "towards the wall"
-            lines.append(f"| {ca:g} | {p_of(ca):g} | none | | every start {direction} |")
-        for y, half, kind in found:
-            lines.append(f"| {ca:g} | {p_of(ca):g} | {y:.3f} | {half:.3f} | {kind} |")
+    finer_plain = {s: x for s, x in finer}
+
+    def cell(x):
+        return "" if x is None else f"{x['v_p']:.3e}"
+    lines = ["", "The 0.10 H starts from the point-symmetric start (`mesh.point_symmetric_start`, no remeshing: the "
+             "mesh's own drift across streamlines vanishes with the offset; otherwise the same case on each level; "
+             f"{FINER_NODES} nodes with the {FINER_TAU} SUPG parameter, as above), v_p over t = "
+             f"{WINDOW[0]:g}-{WINDOW[1]:g}:", "",
+             f"| Ca_e | p | gmsh's mesh, {NODES} nodes | symmetric start, {NODES} nodes | gmsh's mesh, {FINER_NODES} "
+             f"nodes | symmetric start, {FINER_NODES} nodes |", "|---|---|---|---|---|---|"]
+    for ca in sorted(set(levels[NODES]) | set(levels[FINER_NODES]), reverse=True):
+        plain = next((y for y in by_p.get(ca, []) if y["y_p0"] == 0.10), None)
+        plain_finer = finer_plain.get(0.10) if ca == FINER[0][0] else None
+        lines.append(f"| {ca:g} | {p_of(ca):g} | {cell(plain)} | {cell(levels[NODES].get(ca))} | "
+                     f"{cell(plain_finer)} | {cell(levels[FINER_NODES].get(ca))} |")
+    lines += ["", "Neutral heights with the symmetric 0.10 H start in place of gmsh's (the other starts on gmsh's "
+              "mesh of the same level):", "", "| Ca_e | p | nodes | y_N / H | +- | kind |", "|---|---|---|---|---|---|"]
+    for nodes, others_of in ((NODES, lambda ca: by_p.get(ca, [])),
+                             (FINER_NODES, lambda ca: [{**x, "y_p0": s} for s, x in finer] if ca == FINER[0][0] else [])):
+        for ca, x in sorted(levels[nodes].items(), reverse=True):
+            points = sorted([y for y in others_of(ca) if y["y_p0"] != 0.10] + [{**x, "y_p0": 0.10}],
+                            key=lambda y: y["y_p0"])
+            found = neutral_heights(points)
+            if not found:
+                direction = "towards the centre" if all(y["v_p"] < 0 for y in points) else "towards the wall"
+                lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | none | | every start {direction} |")
+            for y, half, kind in found:
+                lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | {y:.3f} | {half:.3f} | {kind} |")
     return lines
 
 
@@ -229,7 +242,7 @@ def report(work):
                   for s, x in finer]
         for y, half, kind in neutral_heights([x for _, x in finer]):
             lines.append(f"\n- {kind} neutral height {y:.3f} +- {half:.3f} H")
-    lines += symmetric_lines(work, by_p)
+    lines += symmetric_lines(work, by_p, finer)
     lines.append("")
     with open(os.path.join(OUT, "giesekus_neutral_height.md"), "w") as f:
         f.write("\n".join(lines))
