@@ -68,6 +68,8 @@ SYMMETRIC = [(0.02, 0.10), (0.1, 0.10), (0.03, 0.10), (0.05, 0.10)]
 # The symmetric 0.10 H starts at p = 22.5 and 4.5 on the next mesh level
 # (FINER's mesh and parameter), queued after the first two 20-node ones.
 SYMMETRIC_FINER = [(0.02, 0.10), (0.1, 0.10)]
+# p = 4.5's other start on that level: giesekus_migration_supg.py's 28-node run (the same case).
+FINER_P45_ELSEWHERE = {(0.1, 0.20): ("giesekus_migration_supg.csv", {"equator_nodes": "28", "supg_tau": FINER_TAU})}
 LATER = [(0.03, 0.20), (0.03, 0.28)]
 FINER_ELSEWHERE = {(0.02, 0.20): ("giesekus_migration_stiff.csv",
                                   {"ca_e": "0.02", "matrix": "giesekus", "equator_nodes": "28", "supg_tau": "steady"})}
@@ -177,15 +179,22 @@ def symmetric_lines(work, by_p, finer):
                      f"{cell(plain_finer)} | {cell(levels[FINER_NODES].get(ca))} |")
     lines += ["", "Neutral heights with the symmetric 0.10 H start in place of gmsh's (the other starts on gmsh's "
               "mesh of the same level):", "", "| Ca_e | p | nodes | y_N / H | +- | kind |", "|---|---|---|---|---|---|"]
-    for nodes, others_of in ((NODES, lambda ca: by_p.get(ca, [])),
-                             (FINER_NODES, lambda ca: [{**x, "y_p0": s} for s, x in finer] if ca == FINER[0][0] else [])):
+    def finer_others(ca):
+        if ca == FINER[0][0]:
+            return [{**x, "y_p0": s} for s, x in finer]
+        found = [(s, point_elsewhere(c, s, FINER_P45_ELSEWHERE)) for c, s in FINER_P45_ELSEWHERE if c == ca]
+        return [{**x, "y_p0": s} for s, x in found if x is not None]
+    for nodes, others_of in ((NODES, lambda ca: by_p.get(ca, [])), (FINER_NODES, finer_others)):
         for ca, x in sorted(levels[nodes].items(), reverse=True):
             points = sorted([y for y in others_of(ca) if y["y_p0"] != 0.10] + [{**x, "y_p0": 0.10}],
                             key=lambda y: y["y_p0"])
+            if len(points) < 2:
+                continue
             found = neutral_heights(points)
             if not found:
                 direction = "towards the centre" if all(y["v_p"] < 0 for y in points) else "towards the wall"
-                lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | none | | every start {direction} |")
+                starts = ", ".join(f"{y['y_p0']:.2f}" for y in points)
+                lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | none | | every start ({starts} H) {direction} |")
             for y, half, kind in found:
                 lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | {y:.3f} | {half:.3f} | {kind} |")
     return lines
