@@ -9,7 +9,8 @@ scripts/validation/giesekus_migration_stiff.py: Ca_e = 0.1, 0.05, 0.02
 height and the first with one) from 0.10, 0.20, 0.28 H. Every run uses the setting that the mesh study of
 scripts/validation/giesekus_migration_supg.py found resolved (20 equator
 nodes with the step-limited SUPG parameter: within 5 % of the 28-node mesh
-at p = 4.5, within 7e-5 gamma_dot H at p = 22.5), the consistent predicted
+at p = 4.5, within 7e-5 gamma_dot H at p = 22.5, both at 0.20 H; at 0.10 H
+the symmetric starts below find it unresolved), the consistent predicted
 stress, dt = 0.04 to t = 6; v_p is the slope of y_p over t = 2-6. A
 neutral height y_N lies between two adjacent starts whose v_p change sign;
 its estimate is the linear interpolation of v_p between them, its error the
