@@ -135,7 +135,10 @@ def main():
           "the first, times the steps per unit. Trajectory length: y_p(t) integrated through the measured v_p(y_p) "
           "of docs/validation/giesekus_neutral_height.csv (linear between starts). The projected wall time adds "
           f"the measured start-up and first step. Target: {TARGET_HOURS:g} hours on this 2-core machine "
-          "(the thesis: 2-3 weeks on 12 cores). Load average: the 1-minute value when each run ended.", "",
+          "(the thesis: 2-3 weeks on 12 cores). Load average: the 1-minute value when each run ended. The "
+          "v_p table is the 20-node one on gmsh's meshes, whose values near the centre plane are within the "
+          "meshes' bias (docs/confinement.md, \"The 0.10 H starts from the point-symmetric start\"): the "
+          "trajectory lengths give the order of the wall time, not its digits.", "",
           "| Ca_e | p | unknowns | Stokes iterations (median) | first step [s] | median step [s] | s per time unit | "
           "trajectory [time units] | ends at | projected wall [h] | load |",
           "|---|---|---|---|---|---|---|---|---|---|---|"]
