@@ -56,6 +56,10 @@ def measure(build, work, ca, steps, reuse):
         with open(path, "w") as f:
             f.write(case_text(name, ca, steps))
         subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", out, "-q", "--overwrite"], check=True)
+        with open(os.path.join(out, "load_average.txt"), "w") as f:
+            f.write(f"{os.getloadavg()[0]}\n")  # when the run ended, kept for --reuse
+    with open(os.path.join(out, "load_average.txt")) as f:
+        load = float(f.read())
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     with open(os.path.join(out, "timeseries.csv")) as f:
@@ -66,7 +70,8 @@ def measure(build, work, ca, steps, reuse):
     return {"unknowns": summary["unknowns"], "steps": len(seconds), "wall_seconds": summary["wall_seconds"],
             "first_step_seconds": seconds[0], "median_step_seconds": statistics.median(later),
             "start_up_seconds": summary["wall_seconds"] - sum(seconds),
-            "median_stokes_iterations": statistics.median(float(r["stokes_iterations"]) for r in rows)}
+            "median_stokes_iterations": statistics.median(float(r["stokes_iterations"]) for r in rows),
+            "load_average": load}
 
 
 def velocity_table(ca):
@@ -122,8 +127,7 @@ def main():
         projected = None if length is None else m["start_up_seconds"] + m["first_step_seconds"] + length * per_unit
         results.append({"ca_e": ca, "p": p_of(ca), "equator_nodes": NODES, "dt": DT_OF_RUNS, **m,
                         "seconds_per_time_unit": per_unit, "trajectory_time_units": length, "end": what,
-                        "projected_wall_hours": None if projected is None else projected / 3600.0,
-                        "load_average": os.getloadavg()[0]})
+                        "projected_wall_hours": None if projected is None else projected / 3600.0})
         print(json.dumps(results[-1]), flush=True)
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "migration_trajectory.json"), "w") as f:
