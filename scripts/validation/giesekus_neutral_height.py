@@ -236,7 +236,7 @@ def report(work):
         found = neutral_heights(points)
         starts = ", ".join(f"{x['y_p0']:.2f}" for x in points)
         if not found:
-            if points:
+            if len(points) >= 2:  # one start alone brackets nothing
                 direction = "towards the centre" if all(x["v_p"] < 0 for x in points) else "towards the wall"
                 lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | none | | every start {direction} |")
         for y, half, kind in found:
