@@ -56,7 +56,7 @@ ORDER = [(0.02, 0.10), (0.02, 0.28), (0.1, 0.10), (0.1, 0.28), (0.05, 0.20), (0.
 # The p = 22.5 bracket on the next mesh level (28 equator nodes, the whole
 # mesh refined by 20/28, the steady parameter, which agrees with the
 # step-limited one there: giesekus_migration_supg.py); its 0.20 H start is
-# giesekus_migration_stiff.py's N28 run.
+# giesekus_migration_stiff.py's N28 run (FINER_ELSEWHERE).
 FINER = [(0.02, 0.10), (0.02, 0.28)]
 FINER_NODES, FINER_TAU = 28, "steady"
 # The 0.10 H starts again from the point-symmetric start (mesh.point_symmetric_start:
@@ -69,11 +69,13 @@ SYMMETRIC = [(0.02, 0.10), (0.1, 0.10), (0.03, 0.10), (0.05, 0.10)]
 # The symmetric 0.10 H starts at p = 22.5 and 4.5 on the next mesh level
 # (FINER's mesh and parameter), queued after the first two 20-node ones.
 SYMMETRIC_FINER = [(0.02, 0.10), (0.1, 0.10)]
-# p = 4.5's other start on that level: giesekus_migration_supg.py's 28-node run (the same case).
-FINER_P45_ELSEWHERE = {(0.1, 0.20): ("giesekus_migration_supg.csv", {"equator_nodes": "28", "supg_tau": FINER_TAU})}
 LATER = [(0.03, 0.20), (0.03, 0.28)]
-FINER_ELSEWHERE = {(0.02, 0.20): ("giesekus_migration_stiff.csv",
-                                  {"ca_e": "0.02", "matrix": "giesekus", "equator_nodes": "28", "supg_tau": "steady"})}
+# The runs on that level made elsewhere with the same case, as ELSEWHERE.
+FINER_ELSEWHERE = {
+    (0.02, 0.20): ("giesekus_migration_stiff.csv",
+                   {"ca_e": "0.02", "matrix": "giesekus", "equator_nodes": "28", "supg_tau": FINER_TAU}),
+    (0.1, 0.20): ("giesekus_migration_supg.csv", {"equator_nodes": "28", "supg_tau": FINER_TAU}),
+}
 
 
 def run_name(ca, start, nodes=NODES, symmetric=False):
@@ -101,12 +103,12 @@ def text(ca, start, nodes=NODES, tau=TAU, symmetric=False):
 def jobs():
     assert sorted(ORDER + LATER) == sorted((ca, s) for ca in CA_E for s in starts_of(ca)
                                            if (ca, s) not in ELSEWHERE and (ca, s) not in SYMMETRIC_ONLY)
-    return [(run_name(ca, s), text(ca, s)) for ca, s in ORDER] + \
-        [(run_name(ca, s, FINER_NODES), text(ca, s, FINER_NODES, FINER_TAU)) for ca, s in FINER] + \
-        [(run_name(ca, s, symmetric=True), text(ca, s, symmetric=True)) for ca, s in SYMMETRIC[:2]] + \
-        [(run_name(ca, s, FINER_NODES, True), text(ca, s, FINER_NODES, FINER_TAU, True)) for ca, s in SYMMETRIC_FINER] + \
-        [(run_name(ca, s, symmetric=True), text(ca, s, symmetric=True)) for ca, s in SYMMETRIC[2:]] + \
-        [(run_name(ca, s), text(ca, s)) for ca, s in LATER]
+    # (starts, nodes, SUPG parameter, symmetric start), in the order they run.
+    groups = [(ORDER, NODES, TAU, False), (FINER, FINER_NODES, FINER_TAU, False), (SYMMETRIC[:2], NODES, TAU, True),
+              (SYMMETRIC_FINER, FINER_NODES, FINER_TAU, True), (SYMMETRIC[2:], NODES, TAU, True),
+              (LATER, NODES, TAU, False)]
+    return [(run_name(ca, s, nodes, symmetric), text(ca, s, nodes, tau, symmetric))
+            for starts, nodes, tau, symmetric in groups for ca, s in starts]
 
 
 def starts_of(ca):
@@ -153,18 +155,35 @@ def neutral_heights(points):
     return found
 
 
-def symmetric_lines(work, by_p, finer):
+def height_rows(points):
+    """(y_N, +-, kind) cells for each neutral height of `points` (sorted by
+    height), or one "none" row naming where every start goes; nothing from a
+    single start, which brackets nothing."""
+    if len(points) < 2:
+        return []
+    found = neutral_heights(points)
+    if found:
+        return [(f"{y:.3f}", f"{half:.3f}", kind) for y, half, kind in found]
+    return [("none", "", "towards the centre" if all(x["v_p"] < 0 for x in points) else "towards the wall")]
+
+
+def finer_points(work, ca):
+    """The 28-node gmsh points of p (Ca_e = ca), made here or elsewhere, by height: (start, point)."""
+    found = [(s, point_elsewhere(c, s, FINER_ELSEWHERE) if (c, s) in FINER_ELSEWHERE
+              else point_here(work, c, s, FINER_NODES)) for c, s in sorted(FINER + list(FINER_ELSEWHERE)) if c == ca]
+    return [(s, x) for s, x in found if x is not None and x["v_p"] is not None]
+
+
+def symmetric_lines(work, by_p):
     """The 0.10 H starts from the point-symmetric start beside gmsh's mesh on
     both mesh levels, and the neutral heights with them in place of gmsh's
-    0.10 H points (`finer`: the 28-node (start, point) pairs of p = 22.5)."""
+    0.10 H points."""
     levels = {nodes: {ca: point_here(work, ca, s, nodes, symmetric=True) for ca, s in starts}
               for nodes, starts in ((NODES, SYMMETRIC), (FINER_NODES, SYMMETRIC_FINER))}
     levels = {nodes: {ca: x for ca, x in found.items() if x is not None and x["v_p"] is not None}
               for nodes, found in levels.items()}
     if not levels[NODES] and not levels[FINER_NODES]:
         return []
-    finer_plain = {s: x for s, x in finer}
-
     def cell(x):
         return "" if x is None else f"{x['v_p']:.3e}"
     lines = ["", "The 0.10 H starts from the point-symmetric start (`mesh.point_symmetric_start`, no remeshing: the "
@@ -175,29 +194,21 @@ def symmetric_lines(work, by_p, finer):
              f"nodes | symmetric start, {FINER_NODES} nodes |", "|---|---|---|---|---|---|"]
     for ca in sorted(set(levels[NODES]) | set(levels[FINER_NODES]), reverse=True):
         plain = next((y for y in by_p.get(ca, []) if y["y_p0"] == 0.10), None)
-        plain_finer = finer_plain.get(0.10) if ca == FINER[0][0] else None
+        plain_finer = dict(finer_points(work, ca)).get(0.10)
         lines.append(f"| {ca:g} | {p_of(ca):g} | {cell(plain)} | {cell(levels[NODES].get(ca))} | "
                      f"{cell(plain_finer)} | {cell(levels[FINER_NODES].get(ca))} |")
     lines += ["", "Neutral heights with the symmetric 0.10 H start in place of gmsh's (the other starts on gmsh's "
               "mesh of the same level):", "", "| Ca_e | p | nodes | y_N / H | +- | kind |", "|---|---|---|---|---|---|"]
-    def finer_others(ca):
-        if ca == FINER[0][0]:
-            return [{**x, "y_p0": s} for s, x in finer]
-        found = [(s, point_elsewhere(c, s, FINER_P45_ELSEWHERE)) for c, s in FINER_P45_ELSEWHERE if c == ca]
-        return [{**x, "y_p0": s} for s, x in found if x is not None]
-    for nodes, others_of in ((NODES, lambda ca: by_p.get(ca, [])), (FINER_NODES, finer_others)):
+    others_of = {NODES: lambda ca: by_p.get(ca, []),
+                 FINER_NODES: lambda ca: [{**x, "y_p0": s} for s, x in finer_points(work, ca)]}
+    for nodes in (NODES, FINER_NODES):
         for ca, x in sorted(levels[nodes].items(), reverse=True):
-            points = sorted([y for y in others_of(ca) if y["y_p0"] != 0.10] + [{**x, "y_p0": 0.10}],
+            points = sorted([y for y in others_of[nodes](ca) if y["y_p0"] != 0.10] + [{**x, "y_p0": 0.10}],
                             key=lambda y: y["y_p0"])
-            if len(points) < 2:
-                continue
-            found = neutral_heights(points)
-            if not found:
-                direction = "towards the centre" if all(y["v_p"] < 0 for y in points) else "towards the wall"
-                starts = ", ".join(f"{y['y_p0']:.2f}" for y in points)
-                lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | none | | every start ({starts} H) {direction} |")
-            for y, half, kind in found:
-                lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | {y:.3f} | {half:.3f} | {kind} |")
+            starts = ", ".join(f"{y['y_p0']:.2f}" for y in points)
+            for y, half, kind in height_rows(points):
+                kind = f"every start ({starts} H) {kind}" if y == "none" else kind
+                lines.append(f"| {ca:g} | {p_of(ca):g} | {nodes} | {y} | {half} | {kind} |")
     return lines
 
 
@@ -233,17 +244,11 @@ def report(work):
               "| Ca_e | p | starts measured | y_N / H | +- | kind |", "|---|---|---|---|---|---|"]
     for ca in CA_E:
         points = by_p.get(ca, [])
-        found = neutral_heights(points)
         starts = ", ".join(f"{x['y_p0']:.2f}" for x in points)
-        if not found:
-            if len(points) >= 2:  # one start alone brackets nothing
-                direction = "towards the centre" if all(x["v_p"] < 0 for x in points) else "towards the wall"
-                lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | none | | every start {direction} |")
-        for y, half, kind in found:
-            lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | {y:.3f} | {half:.3f} | {kind} |")
-    finer = [(s, point_elsewhere(ca, s, FINER_ELSEWHERE) if (ca, s) in FINER_ELSEWHERE
-              else point_here(work, ca, s, FINER_NODES)) for ca, s in sorted(FINER + list(FINER_ELSEWHERE))]
-    finer = [(s, x) for s, x in finer if x is not None and x["v_p"] is not None]
+        for y, half, kind in height_rows(points):
+            kind = f"every start {kind}" if y == "none" else kind
+            lines.append(f"| {ca:g} | {p_of(ca):g} | {starts} | {y} | {half} | {kind} |")
+    finer = finer_points(work, FINER[0][0])
     if finer:
         lines += ["", f"p = 22.5 on the next mesh level ({FINER_NODES} equator nodes asked, the whole mesh refined by "
                   f"20/{FINER_NODES}, {FINER_TAU} SUPG parameter):", "",
@@ -252,7 +257,7 @@ def report(work):
                   for s, x in finer]
         for y, half, kind in neutral_heights([x for _, x in finer]):
             lines.append(f"\n- {kind} neutral height {y:.3f} +- {half:.3f} H")
-    lines += symmetric_lines(work, by_p, finer)
+    lines += symmetric_lines(work, by_p)
     lines.append("")
     with open(os.path.join(OUT, "giesekus_neutral_height.md"), "w") as f:
         f.write("\n".join(lines))

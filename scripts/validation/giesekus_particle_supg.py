@@ -79,10 +79,12 @@ def report(work):
     series = [(f"p = {P:g}, {tau}", [x for x in rows if x["p"] == P and x["supg_tau"] == tau]) for tau in TAUS]
     series.append(("p = 0", [x for x in rows if x["p"] == 0.0]))
     newtonian = {x["equator_nodes"]: x for x in rows if x["p"] == 0.0}
+    # (p = P, p = 0) on one mesh, the same SUPG parameter in the particle.
+    pairs = [(x, newtonian[x["equator_nodes"]]) for x in rows
+             if x["p"] == P and x["supg_tau"] == NEWTONIAN_TAU and x["equator_nodes"] in newtonian]
     # What eq. 3.9 predicts is the matrix's share of theta: theta(p) - theta(0) on one mesh.
-    shift = [{"meshed_nodes": x["meshed_nodes"], "D": x["D"] - newtonian[x["equator_nodes"]]["D"],
-              "theta_deg": x["theta_deg"] - newtonian[x["equator_nodes"]]["theta_deg"]}
-             for x in rows if x["p"] == P and x["supg_tau"] == NEWTONIAN_TAU and x["equator_nodes"] in newtonian]
+    shift = [{"meshed_nodes": x["meshed_nodes"], "D": x["D"] - w["D"], "theta_deg": x["theta_deg"] - w["theta_deg"]}
+             for x, w in pairs]
     series.append((f"p = {P:g} minus p = 0 ({NEWTONIAN_TAU})", shift))
     for label, levels in series:
         if len(levels) != len(LEVELS):
@@ -100,8 +102,7 @@ def report(work):
         lines.append(f"- eq. 3.9's small-Ca_e share of the matrix at p = {P:g}, Ca_e = {CA_E:g}: {law:+.3f} deg; the "
                      "measured share per mesh: " + ", ".join(f"{x['theta_deg'] / law:.3f}" for x in shift) + " of it")
         # Fig. 3.11's measure: the slope of theta - pi/4 at p over that at p = 0, here at one Ca_e.
-        ratios = [(x["theta_deg"] - 45.0) / (newtonian[x["equator_nodes"]]["theta_deg"] - 45.0)
-                  for x in rows if x["p"] == P and x["supg_tau"] == NEWTONIAN_TAU]
+        ratios = [(x["theta_deg"] - 45.0) / (w["theta_deg"] - 45.0) for x, w in pairs]
         lines.append(f"- (theta(p = {P:g}) - 45 deg) / (theta(0) - 45 deg) per mesh: "
                      + ", ".join(f"{r:.3f}" for r in ratios)
                      + f"; eq. 3.9's ratio 1 + 11 p / 75 + 2 p^2 / 25 = {1 + 11 * P / 75 + 2 * P ** 2 / 25:.3f}")
