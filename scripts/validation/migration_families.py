@@ -41,6 +41,12 @@ BASE_BETA, BASE_CA_E = 0.2, 0.1
 BETAS = [0.1, 0.2, 0.3, 0.4]  # at BASE_CA_E (Fig. 3.9a)
 CA_ES = [0.05, 0.1, 0.15, 0.2, 0.3]  # at BASE_BETA (Fig. 3.9b)
 STARTS = [0.5, 0.75, 0.25]  # y_p0 / y_p,max, in the order they run
+# One start on the next mesh level (28 equator nodes asked, far size, wall
+# size and growth by 20/28: the whole mesh refined, as
+# migration_resolution.py's N28): how much of v_p and of Delta S's sign (the
+# thesis's Fig. 3.8 has Delta S > 0 in the upper half, softflow's
+# beta = 0.4 runs < 0: docs/confinement.md) is the mesh. (beta, Ca_e, start, nodes)
+FINER = [(0.4, 0.1, 0.5, 28)]
 DT = 0.04
 T_END = 6.0
 TRANSIENT = 2.0
@@ -65,14 +71,15 @@ def eq_3_8(beta, ca, y_rel):
     return -2.0 * beta ** 3 * ca * y_rel
 
 
-def case_name(beta, ca, start):
-    return f"beta{beta:.2f}_ca{ca:.2f}_y{start:.2f}"
+def case_name(beta, ca, start, nodes=20):
+    return f"beta{beta:.2f}_ca{ca:.2f}_y{start:.2f}" + ("" if nodes == 20 else f"_N{nodes}")
 
 
-def case_text(beta, ca, start):
+def case_text(beta, ca, start, nodes=20):
     y0 = start * y_max(beta) * height(beta)
+    scale = 20 / nodes
     return f"""[case]
-name = "{case_name(beta, ca, start)}"
+name = "{case_name(beta, ca, start, nodes)}"
 [cell]
 length = 20.0
 width = 20.0
@@ -85,10 +92,10 @@ radius = 1.0
 elastic_capillary_number = {ca}
 centre = [0.0, {y0:.6f}, 0.0]
 [mesh]
-equator_nodes = 20
-far_size = 2.0
-growth = 0.4
-wall_size = 0.5
+equator_nodes = {nodes}
+far_size = {round(2.0 * scale, 6)}
+growth = {round(0.4 * scale, 6)}
+wall_size = {round(0.5 * scale, 6)}
 gap_elements = 2
 [time]
 step = {DT}
@@ -105,34 +112,37 @@ fields = false
 def jobs():
     # One start of every configuration before the next start: the family's
     # ordering at one height is readable after the first round.
-    return [(case_name(b, ca, s), case_text(b, ca, s)) for s in STARTS for b, ca in configurations()]
+    return ([(case_name(b, ca, s), case_text(b, ca, s)) for s in STARTS for b, ca in configurations()] +
+            [(case_name(*x), case_text(*x)) for x in FINER])
 
 
 def read_points(work):
-    """One row per finished-or-running start with the mean v_p after the transient."""
+    """One row per start past the window's end: the mean v_p and Delta S after the transient."""
     rows = []
-    for beta, ca in configurations():
-        for s in sorted(STARTS):
-            directory = os.path.join(work, case_name(beta, ca, s))
-            if not os.path.exists(os.path.join(directory, "migration.csv")):
-                continue
-            r = read_migration(directory, height(beta))
-            v = mean_velocity(r, TRANSIENT)
-            if v is None or r["t"][-1] < T_END - 1e-9:
-                continue  # not yet past the window
-            late = [y for t, y in zip(r["t"], r["y"]) if t >= TRANSIENT - 1e-9]
-            y_rel = sum(late) / len(late) / y_max(beta)
-            summary = summary_of(directory)
-            rows.append({"beta": beta, "ca_e": ca, "y_p0_rel": s, "y_p_rel": y_rel, "v_p": v,
-                         "eq_3_8": eq_3_8(beta, ca, y_rel), "ratio": v / eq_3_8(beta, ca, y_rel),
-                         "unknowns": summary.get("unknowns"), "wall_seconds": summary.get("wall_seconds"),
-                         "directory": directory, "series": r})
+    runs = [(b, ca, s, 20) for b, ca in configurations() for s in sorted(STARTS)] + FINER
+    for beta, ca, s, nodes in runs:
+        directory = os.path.join(work, case_name(beta, ca, s, nodes))
+        if not os.path.exists(os.path.join(directory, "migration.csv")):
+            continue
+        r = read_migration(directory, height(beta))
+        v = mean_velocity(r, TRANSIENT)
+        if v is None or r["t"][-1] < T_END - 1e-9:
+            continue  # not yet past the window
+        late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT - 1e-9]
+        y_rel = sum(r["y"][i] for i in late) / len(late) / y_max(beta)
+        summary = summary_of(directory)
+        rows.append({"beta": beta, "ca_e": ca, "y_p0_rel": s, "equator_nodes": nodes, "y_p_rel": y_rel, "v_p": v,
+                     "eq_3_8": eq_3_8(beta, ca, y_rel), "ratio": v / eq_3_8(beta, ca, y_rel),
+                     "delta_s": sum(r["dS"][i] for i in late) / len(late),
+                     "unknowns": summary.get("unknowns"), "wall_seconds": summary.get("wall_seconds"),
+                     "series": r})
     return rows
 
 
 def family_rows(rows, family):
+    """The figure's rows (20 equator nodes) of the beta or the Ca_e family."""
     key = (lambda x: x["ca_e"] == BASE_CA_E) if family == "beta" else (lambda x: x["beta"] == BASE_BETA)
-    return [x for x in rows if key(x)]
+    return [x for x in rows if key(x) and x["equator_nodes"] == 20]
 
 
 def ordering_lines(rows):
@@ -191,7 +201,8 @@ def report(work, build):
         print("no runs to report")
         return
     os.makedirs(OUT, exist_ok=True)
-    fields = ["beta", "ca_e", "y_p0_rel", "y_p_rel", "v_p", "eq_3_8", "ratio", "unknowns", "wall_seconds"]
+    fields = ["beta", "ca_e", "y_p0_rel", "equator_nodes", "y_p_rel", "v_p", "eq_3_8", "ratio", "delta_s",
+              "unknowns", "wall_seconds"]
     write_csv(os.path.join(OUT, "migration_families.csv"), fields, [{k: x[k] for k in fields} for x in rows])
     plot(rows, os.path.join(OUT, "migration_families.png"))
     lines = ["# Migration families in a Newtonian matrix (thesis Fig. 3.9)", "",
@@ -200,14 +211,20 @@ def report(work, build):
              f"{T_END:g} with remeshing below quality 0.2, default conformation settings. v_p: slope of y_p(t) "
              f"over t = {TRANSIENT:g}-{T_END:g} in gamma_dot H (negative: towards the centre plane), at the "
              "window's mean height y_p / y_p,max (y_p,max = H/2 - R). eq. 3.8: -2 beta^3 Ca_e y_p / y_p,max.", "",
-             "| beta | Ca_e | y_p0 / y_p,max | y_p / y_p,max | v_p | eq. 3.8 | v_p / eq. 3.8 | unknowns | wall s |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "Delta S (eq. 3.6): its mean over the same window.", "",
+             "| beta | Ca_e | y_p0 / y_p,max | equator nodes | y_p / y_p,max | v_p | eq. 3.8 | v_p / eq. 3.8 | "
+             "Delta S | unknowns | wall s |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for x in rows:
-        lines.append(f"| {x['beta']:g} | {x['ca_e']:g} | {x['y_p0_rel']:.2f} | {x['y_p_rel']:.4f} | {x['v_p']:.3e} | "
-                     f"{x['eq_3_8']:.3e} | {x['ratio']:.3f} | {x['unknowns'] or ''} | {x['wall_seconds'] or 0:.0f} |")
+        lines.append(f"| {x['beta']:g} | {x['ca_e']:g} | {x['y_p0_rel']:.2f} | {x['equator_nodes']} | "
+                     f"{x['y_p_rel']:.4f} | {x['v_p']:.3e} | {x['eq_3_8']:.3e} | {x['ratio']:.3f} | "
+                     f"{x['delta_s']:+.4f} | {x['unknowns'] or ''} | {x['wall_seconds'] or 0:.0f} |")
     lines += ["", "## The thesis's claims", "",
               f"- v_p < 0 at every start: {'yes' if all(x['v_p'] < 0 for x in rows) else '**no**'} "
-              f"({len(rows)} starts)."]
+              f"({len(rows)} starts).",
+              f"- Delta S > 0 at every start (Fig. 3.8's sign): "
+              f"{'yes' if all(x['delta_s'] > 0 for x in rows) else '**no**'}: "
+              f"{sum(x['delta_s'] > 0 for x in rows)} of {len(rows)} positive."]
     lines += ordering_lines(rows)
     lines += ["", "## Each configuration's starts combined by `softflow migration`", ""]
     for beta, ca in configurations():
