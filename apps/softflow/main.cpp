@@ -5,6 +5,7 @@
 //   softflow sweep examples/sweep_ca.toml -j 2     every combination of listed parameters
 //   softflow converge CASE.toml --levels 4         one case on refined meshes, extrapolated
 //   softflow mesh examples/drop_shear.toml         mesh only, report sizes and quality
+//   softflow mesh CASE.toml -o DIR                 ... and write it for ParaView (DIR/mesh.pvd)
 //   softflow check examples/drop_shear.toml        validate the case file
 //   softflow keys                                  every case-file key (docs/case_file_keys.md)
 //   softflow theory --lambda 1.4 --ca 0.2          Taylor, Chaffey-Brenner, ... values
@@ -193,8 +194,15 @@ int main(int argc, char** argv) {
   response->add_option("-o,--output", output_dir, "output directory (overrides [output] directory)");
   response->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
-  auto* mesh = app.add_subcommand("mesh", "mesh the case and report nodes, elements and quality");
+  auto* mesh = app.add_subcommand(
+      "mesh",
+      "mesh the case and report nodes, elements and quality; with --output, also write the mesh "
+      "for ParaView (mesh.pvd: matrix.vtu, object_k.vtu with each element's quality) to look at "
+      "before a run");
   mesh->add_option("case", case_file, "case file (TOML)")->required()->check(CLI::ExistingFile);
+  auto* mesh_output = mesh->add_option(
+      "-o,--output", output_dir,
+      "write the mesh into this directory (new, or one an earlier `softflow mesh` wrote)");
   mesh->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
   std::vector<std::string> check_files;
@@ -376,6 +384,11 @@ int main(int argc, char** argv) {
                  "use [output] directory\n";
     return kInputError;
   }
+  if (mesh->count("--output") > 0 && output_dir.empty()) {
+    error_stream() << "softflow: mesh -o/--output is empty: give a directory, or leave the option "
+                      "out to only report the mesh\n";
+    return kInputError;
+  }
   if (!output_dir.empty()) {
     if (const auto what = softflow::io::output_directory_problem(output_dir); !what.empty()) {
       error_stream() << fmt::format(
@@ -516,24 +529,30 @@ int main(int argc, char** argv) {
   // A stop request during meshing and set-up ends the process at once, exit 5
   // (simulation/stop_requests.hpp); the run itself takes over once it has
   // output to keep.
-  if (*run || *restart || *response) softflow::simulation::install_stop_handler();
+  const bool mesh_writes = *mesh && *mesh_output;
+  if (*run || *restart || *response || mesh_writes) softflow::simulation::install_stop_handler();
 
   // One writer per output directory, from before meshing to the process's
   // end (io::RunLock): the launcher's rank 0 holds it. A refusal is shared
   // with every rank once MPI runs, below.
   std::optional<softflow::io::RunLock> run_lock;
   std::string lock_refusal;
-  if ((*run || *restart || *response) && launcher_rank_zero()) {
+  if ((*run || *restart || *response || mesh_writes) && launcher_rank_zero()) {
     try {
       std::filesystem::path directory = run_dir;
-      if (*run || *response) {
+      if (mesh_writes) {
+        directory = output_dir;
+      } else if (*run || *response) {
         const auto config = read_valid_case(case_file);
         directory = options.output_directory.value_or(std::filesystem::path(config.output_directory));
       }
       // A request between taking the lock and naming its file to the handler
       // would leave the file behind: held back until the handler knows it.
       const softflow::simulation::StopSignalsHeld held;
-      run_lock.emplace(directory, *run ? "run" : *response ? "response" : "restart");
+      run_lock.emplace(directory, *run        ? "run"
+                                  : *response ? "response"
+                                  : *restart  ? "restart"
+                                              : "mesh");
       softflow::simulation::install_stop_handler(run_lock->lock_file());  // removed on a stop
     } catch (const softflow::InputError&) {
       // reported below, with every rank
@@ -554,7 +573,7 @@ int main(int argc, char** argv) {
   try {
     PetscSession petsc_session(petsc);
     // PETSc installs its own handler for SIGTERM and SIGINT: softflow's comes back.
-    if (*run || *restart || *response)
+    if (*run || *restart || *response || mesh_writes)
       softflow::simulation::install_stop_handler(run_lock ? run_lock->lock_file()
                                                           : std::filesystem::path());
     try {
@@ -578,7 +597,9 @@ int main(int argc, char** argv) {
       } else if (*check) {
         if (is_root()) std::cout << softflow::io::to_toml(config);
       } else if (*mesh) {
-        softflow::simulation::mesh_case(config, quiet);
+        softflow::simulation::mesh_case(
+            config, quiet,
+            mesh_writes ? std::optional<std::filesystem::path>(output_dir) : std::nullopt);
       } else if (*run) {
         softflow::simulation::run_case(config, options);
       } else if (*response) {

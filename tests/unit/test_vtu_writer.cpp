@@ -1,6 +1,12 @@
 // VTU output pieces: base64 encoding and per-subdomain extraction.
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
 #include <gtest/gtest.h>
 
+#include "softflow/common/error.hpp"
 #include "softflow/fem/dof_map.hpp"
 #include "softflow/io/vtu_writer.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
@@ -49,4 +55,30 @@ TEST(VtuWriter, SubdomainPiecesCarryTheirOwnPressureAtSharedNodes) {
     }
   }
   EXPECT_EQ(n_cells, mesh.n_tets());
+}
+
+TEST(VtuWriter, CellFieldsAreWrittenAsCellDataAndAWrongSizeWritesNothing) {
+  mesh::Box box;
+  box.length = box.height = box.width = 2.0;
+  box.periodic_x = box.periodic_z = false;
+  const auto mesh = mesh::structured_box(box, 1, 1, 1);
+  auto piece = io::extract_subdomain(mesh, 0);
+  ASSERT_EQ(piece.cells.size(), static_cast<std::size_t>(mesh.n_tets()));
+  ASSERT_EQ(piece.tets.size(), piece.cells.size());
+  EXPECT_TRUE(piece.fields.empty());
+  io::CellField index{"tet", {}};
+  for (const int t : piece.tets) index.values.push_back(t);
+  piece.cell_fields.push_back(index);
+  const auto dir = std::filesystem::temp_directory_path() / "softflow_vtu_cell_data";
+  std::filesystem::create_directories(dir);
+  io::write_vtu(dir / "piece.vtu", piece);
+  std::ifstream in(dir / "piece.vtu");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<CellData Scalars=\"tet\">"), std::string::npos);
+  EXPECT_NE(text.find("Name=\"tet\""), std::string::npos);
+
+  piece.cell_fields.front().values.pop_back();  // one value short
+  EXPECT_THROW(io::write_vtu(dir / "short.vtu", piece), Error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "short.vtu"));
+  std::filesystem::remove_all(dir);
 }

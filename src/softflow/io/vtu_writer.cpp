@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/mesh/quality.hpp"
 
 namespace softflow::io {
 
@@ -103,8 +104,13 @@ SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const std::vector<Field
       cell[k] = local[node];
     }
     piece.cells.push_back(cell);
+    piece.tets.push_back(t);
   }
   return piece;
+}
+
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, int region) {
+  return extract_subdomain(mesh, std::vector<FieldData>{}, region);
 }
 
 SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs,
@@ -113,6 +119,10 @@ SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs
 }
 
 void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece) {
+  for (const auto& f : piece.cell_fields)  // before the file exists
+    if (f.values.size() != piece.cells.size())
+      throw Error(fmt::format("cell field '{}' has {} values for {} cells", f.name, f.values.size(),
+                              piece.cells.size()));
   std::ofstream out(path);
   if (!out) throw Error(fmt::format("cannot write {}", path.string()));
   out << "<?xml version=\"1.0\"?>\n"
@@ -145,7 +155,14 @@ void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece) {
   out << "</Cells>\n<PointData" << active << ">\n";
   for (const auto& f : piece.fields)
     write_data_array(out, "Float64", f.name.c_str(), f.components, f.values);
-  out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  out << "</PointData>\n";
+  if (!piece.cell_fields.empty()) {
+    out << fmt::format("<CellData Scalars=\"{}\">\n", piece.cell_fields.front().name);
+    for (const auto& f : piece.cell_fields)
+      write_data_array(out, "Float64", f.name.c_str(), 1, f.values);
+    out << "</CellData>\n";
+  }
+  out << "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
   if (!out) throw Error(fmt::format("error while writing {}", path.string()));
 }
 
@@ -160,6 +177,23 @@ void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mes
     pvd << fmt::format("<DataSet timestep=\"{}\" part=\"{}\" file=\"{}\"/>\n", time, region, name);
   }
   pvd << "</Collection>\n</VTKFile>\n";
+}
+
+void write_mesh(const std::filesystem::path& directory, const mesh::Mesh& mesh) {
+  std::ofstream pvd(directory / "mesh.pvd");
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (int region = 0; region <= mesh.n_objects; ++region) {
+    const std::string name = region == 0 ? "matrix.vtu" : fmt::format("object_{}.vtu", region);
+    auto piece = extract_subdomain(mesh, region);
+    CellField quality{"quality", {}};
+    quality.values.reserve(piece.tets.size());
+    for (const int t : piece.tets) quality.values.push_back(mesh::tet_quality(mesh, t));
+    piece.cell_fields.push_back(std::move(quality));
+    write_vtu(directory / name, piece);
+    pvd << fmt::format("<DataSet timestep=\"0\" part=\"{}\" file=\"{}\"/>\n", region, name);
+  }
+  pvd << "</Collection>\n</VTKFile>\n";
+  if (!pvd) throw Error(fmt::format("error while writing {}", (directory / "mesh.pvd").string()));
 }
 
 FieldSeries::FieldSeries(std::filesystem::path directory, std::filesystem::path pvd_path)

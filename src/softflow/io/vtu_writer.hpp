@@ -21,6 +21,12 @@ struct PointField {
   }
 };
 
+/// Values of one field per cell of a piece (e.g. the element quality).
+struct CellField {
+  std::string name;
+  std::vector<double> values;  ///< one per cell
+};
+
 /// One subdomain's piece of a solution on its own copy of the nodes, so
 /// that per-region fields (pressure, a conformation tensor, a slip
 /// velocity) may jump at the interface. Cells are VTK_QUADRATIC_TETRA.
@@ -31,7 +37,9 @@ struct SubdomainPiece {
   int region = 0;
   std::vector<mesh::Point> points;
   std::vector<mesh::Tet10> cells;  ///< indices into points
+  std::vector<int> tets;           ///< the mesh's tetrahedron of each cell
   std::vector<PointField> fields;  ///< in the dof map's field order
+  std::vector<CellField> cell_fields;  ///< written as CellData, one value per cell
 
   /// The field called `name`; throws if there is none.
   [[nodiscard]] const PointField& field(const std::string& name) const;
@@ -51,6 +59,10 @@ SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const std::vector<Field
 SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, const fem::DofMap& dofs,
                                  const std::vector<double>& solution, int region);
 
+/// The piece of `region` without fields: its points and cells only (a mesh
+/// to look at before a run, `softflow mesh --output`).
+SubdomainPiece extract_subdomain(const mesh::Mesh& mesh, int region);
+
 /// Writes `piece` as a binary (base64) XML UnstructuredGrid file.
 void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece);
 
@@ -59,6 +71,11 @@ void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece);
 void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mesh& mesh,
                          const fem::DofMap& dofs, const std::vector<double>& solution,
                          double time = 0.0);
+
+/// Writes the mesh alone into `directory`: matrix.vtu, object_1.vtu, ...
+/// with each element's quality (mesh::tet_quality) as cell data "quality",
+/// and mesh.pvd listing them (ParaView opens the PVD).
+void write_mesh(const std::filesystem::path& directory, const mesh::Mesh& mesh);
 
 /// Fields at several times as one ParaView time series: every call to
 /// write() adds matrix_<step>.vtu, object_k_<step>.vtu to `directory` and

@@ -53,9 +53,26 @@ nlohmann::json object_summary(const io::CaseConfig& config,
   return objects;
 }
 
+/// A mesh preview may replace only an earlier one (mesh.json, no run's
+/// summary.json or checkpoint): never a run's results.
+void refuse_to_replace_all_but_a_mesh(const std::filesystem::path& directory) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(directory)) return;
+  const bool earlier_mesh = fs::exists(directory / "mesh.json") &&
+                            !fs::exists(directory / "summary.json") &&
+                            !fs::exists(directory / "checkpoint.h5");
+  if (!earlier_mesh)
+    throw InputError(fmt::format(
+        "--output {}: the directory exists and is not a mesh written by `softflow mesh` (a run's "
+        "results are never replaced by a mesh); give a new directory",
+        directory.string()));
+}
+
 }  // namespace
 
-nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet) {
+nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet,
+                         const std::optional<std::filesystem::path>& output) {
+  if (output) on_root_sharing_failure([&] { refuse_to_replace_all_but_a_mesh(*output); });
   const auto meshed = build_mesh(config);
   if (!quiet && is_root())
     fmt::print("mesh: {} nodes, {} tetrahedra, {} interface nodes, {} equator nodes ({} asked), "
@@ -89,6 +106,18 @@ nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet) {
                c["fingerprint_gmsh"].get<std::string>(), c["min_quality_gmsh"].get<double>(),
                c["relocated_nodes"].get<int>(), c["min_quality_before"].get<double>(),
                c["offset"][0].get<double>(), c["offset"][1].get<double>(), c["offset"][2].get<double>());
+  }
+  if (output) {
+    std::unique_ptr<io::OutputDirectory> directory;
+    on_root_sharing_failure([&] {
+      directory = std::make_unique<io::OutputDirectory>(*output, is_root());
+      if (!is_root()) return;
+      directory->write_text("case.toml", io::to_toml(config));
+      directory->write_text("mesh.json", meshed.report.dump(2) + "\n");
+      io::write_mesh(directory->staging_path(), meshed.mesh);
+      directory->commit();
+    });
+    if (!quiet && is_root()) fmt::print("wrote {}/mesh.pvd\n", output->string());
   }
   return meshed.report;
 }

@@ -24,8 +24,14 @@ struct RunOptions {
   bool overwrite = false;
 };
 
-/// Meshes the case (rank 0; replicated to all ranks), reports the mesh.
-nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet);
+/// Meshes the case (rank 0; replicated to all ranks), reports the mesh and,
+/// given `output`, writes it there to look at before a run: mesh.pvd with
+/// matrix.vtu, object_k.vtu (each element's quality as cell data), mesh.json
+/// (the report) and case.toml (the resolved case), all or nothing
+/// (io::OutputDirectory). `output` may not hold anything but an earlier
+/// mesh: a run's results are never replaced (InputError).
+nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet,
+                         const std::optional<std::filesystem::path>& output = {});
 
 /// Runs the case: steps of the thesis's algorithm that exist so far —
 ///   1. mesh the shear cell (geometry::build_shear_cell),
