@@ -76,3 +76,33 @@ def triangle_geometry(points, triangles):
     cross = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     area = 0.5 * np.linalg.norm(cross, axis=1)
     return area, cross / (2.0 * area[:, None])
+
+
+def p2_shape(l0, l1, l2):
+    """The 6-node triangle's shape functions at barycentric (l0, l1, l2):
+    vertices, then the edge nodes on (0,1), (1,2), (2,0)."""
+    return np.array([l0 * (2 * l0 - 1), l1 * (2 * l1 - 1), l2 * (2 * l2 - 1), 4 * l0 * l1, 4 * l1 * l2, 4 * l2 * l0])
+
+
+def subdivided_triangles(points, faces, n):
+    """Each 6-node triangle's quadratic surface cut into n^2 flat triangles
+    through points of its map on a barycentric lattice: (m n^2, 3, 3)
+    corners. n = 2 gives flat_triangles' four; larger n converges to the
+    curved surface (area error O(1 / n^2))."""
+    lattice = {(i, j): p2_shape(1 - (i + j) / n, i / n, j / n) for i in range(n + 1) for j in range(n + 1 - i)}
+    small = []
+    for i in range(n):
+        for j in range(n - i):
+            small.append(((i, j), (i + 1, j), (i, j + 1)))
+            if i + j < n - 1:
+                small.append(((i + 1, j), (i + 1, j + 1), (i, j + 1)))
+    nodes = points[faces]  # (m, 6, 3)
+    at = {key: np.einsum("k,mkd->md", weights, nodes) for key, weights in lattice.items()}
+    return np.stack([np.stack([at[a], at[b], at[c]], axis=1) for a, b, c in small], axis=1).reshape(-1, 3, 3)
+
+
+def corner_geometry(corners):
+    """Areas and unit normals of flat triangles given by their corners (m, 3, 3)."""
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    area = 0.5 * np.linalg.norm(cross, axis=1)
+    return area, cross / (2.0 * area[:, None])
