@@ -12,7 +12,10 @@ Usage: mesh_output.py SOFTFLOW CASE WORK_DIR SCRIPTS_DIR
    sphere's interface (every node at radius 1 to round-off), its normals
    point outwards, and it is closed: the volume it bounds equals, to
    round-off, that of the piece's tetrahedra each split into the eight
-   straight ones through its edge nodes.
+   straight ones through its edge nodes. Cut along its quadratic map into
+   n^2 flat triangles per curved one (n = 2, 4, 8, 16), its area converges
+   at second order (successive differences falling 4-fold), n = 2 being the
+   drawing through the nodes.
 3. A second call replaces its own earlier mesh; a run's output directory is
    refused (exit 1, naming --output) and left as it was; an empty -o is
    refused.
@@ -84,8 +87,16 @@ def main(softflow, case, work, scripts):
     split = sum(abs(tet_volume(points[list(t)])) for cell in drop["cells"] for t in eight_tets(cell))
     if abs(bounded / split - 1) > 1e-12:
         fail(f"the drop's surface bounds {bounded!r}, its tetrahedra fill {split!r}: not its closed boundary")
+    areas = [vtu_pieces.corner_geometry(vtu_pieces.subdivided_triangles(points, faces, n))[0].sum()
+             for n in (2, 4, 8, 16)]
+    if abs(areas[0] / area.sum() - 1) > 1e-12:
+        fail(f"n = 2 along the map: area {areas[0]!r}, through the nodes {area.sum()!r}")
+    ratios = [(areas[k + 1] - areas[k]) / (areas[k + 2] - areas[k + 1]) for k in range(2)]
+    if not all(3.5 < r < 4.5 for r in ratios):
+        fail(f"the curved surface's area does not converge at second order: {areas}, ratios {ratios}")
     print(f"2. drop surface: {len(faces)} curved triangles on the sphere to {radius_error:.1e}, all outward, "
-          f"closed (volume {bounded:.6f} = its {len(drop['cells'])} tetrahedra's to {abs(bounded / split - 1):.1e}): ok")
+          f"closed (volume {bounded:.6f} = its {len(drop['cells'])} tetrahedra's to {abs(bounded / split - 1):.1e}), "
+          f"area along the map converging 4-fold ({ratios[0]:.2f}, {ratios[1]:.2f}): ok")
 
     # 3. Replacing, refusing.
     run([softflow, "mesh", case, "-o", out, "-q"])
