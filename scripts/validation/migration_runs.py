@@ -49,8 +49,17 @@ def combine(build, work, runs, transient, name="combined"):
     """`softflow migration` over the runs (master curves, neutral heights) into
     work/NAME; returns the lines of its migration.md after the title."""
     combined = os.path.join(work, name)
-    subprocess.run([os.path.join(build, "softflow"), "migration", *[d for d, _ in runs.values()],
-                    "--transient", str(transient), "-o", combined], check=True)
+    # Run from the repository, so that the report names the runs by their
+    # paths in it (output/...), not by this machine's.
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+    def short(path):
+        path = os.path.abspath(path)
+        return os.path.relpath(path, root) if path.startswith(root + os.sep) else path
+
+    subprocess.run([os.path.abspath(os.path.join(build, "softflow")), "migration",
+                    *[short(d) for d, _ in runs.values()], "--transient", str(transient), "-o", short(combined)],
+                   check=True, cwd=root)
     md = os.path.join(combined, "migration.md")
     return [line.rstrip("\n") for line in open(md)][1:] if os.path.exists(md) else []
 
