@@ -33,6 +33,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from case_runs import summary_of, validation_main, write_csv  # noqa: E402
+from migration_near_centre import eq_3_8, height, y_max  # noqa: E402
 from migration_runs import combine, mean_velocity, read_migration, read_starts  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -55,20 +56,6 @@ TRANSIENT = 2.0
 def configurations():
     """(beta, Ca_e) of both families, the shared one once."""
     return [(b, BASE_CA_E) for b in BETAS] + [(BASE_BETA, ca) for ca in CA_ES if ca != BASE_CA_E]
-
-
-def height(beta):
-    return 2.0 / beta
-
-
-def y_max(beta):
-    """y_p,max / H: the centre of a sphere touching a wall (eq. 3.7)."""
-    return (1.0 - beta) / 2.0
-
-
-def eq_3_8(beta, ca, y_rel):
-    """eq. 3.8: v_p / (gamma_dot H) near the centre plane."""
-    return -2.0 * beta ** 3 * ca * y_rel
 
 
 def case_name(beta, ca, start, nodes=20):
