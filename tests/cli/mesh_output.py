@@ -16,9 +16,9 @@ Usage: mesh_output.py SOFTFLOW CASE WORK_DIR SCRIPTS_DIR
    n^2 flat triangles per curved one (n = 2, 4, 8, 16), its area converges
    at second order (successive differences falling 4-fold), n = 2 being the
    drawing through the nodes.
-3. A second call replaces its own earlier mesh; a run's output directory is
-   refused (exit 1, naming --output) and left as it was; an empty -o is
-   refused.
+3. A second call replaces its own earlier mesh, and an empty directory is
+   filled; a run's output directory is refused (exit 1, naming --output)
+   and left as it was; an empty -o is refused.
 """
 import json
 import os
@@ -107,10 +107,15 @@ def main(softflow, case, work, scripts):
     refused = run([softflow, "mesh", case, "-o", run_dir], expect=1)
     if "--output" not in refused.stderr or sorted(os.listdir(run_dir)) != ["summary.json"]:
         fail(f"a run's directory: {refused.stderr!r}, left {sorted(os.listdir(run_dir))}")
+    new_dir = os.path.join(work, "made_by_hand")
+    os.makedirs(new_dir)
+    run([softflow, "mesh", case, "-o", new_dir, "-q"])
+    if "mesh.pvd" not in os.listdir(new_dir):
+        fail(f"an empty directory was not filled: {os.listdir(new_dir)}")
     empty = run([softflow, "mesh", case, "-o", ""], expect=1)
     if "-o/--output" not in empty.stderr:
         fail(f"an empty -o: {empty.stderr!r}")
-    print("3. an earlier mesh replaced, a run's directory and an empty -o refused: ok")
+    print("3. an earlier mesh and an empty directory replaced, a run's directory and an empty -o refused: ok")
 
 
 if __name__ == "__main__":

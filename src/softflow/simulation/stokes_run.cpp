@@ -53,11 +53,11 @@ nlohmann::json object_summary(const io::CaseConfig& config,
   return objects;
 }
 
-/// A mesh preview may replace only an earlier one (mesh.json, no run's
-/// summary.json or checkpoint): never a run's results.
+/// A mesh preview may replace only an empty directory or an earlier preview
+/// (mesh.json, no run's summary.json or checkpoint): never a run's results.
 void refuse_to_replace_all_but_a_mesh(const std::filesystem::path& directory) {
   namespace fs = std::filesystem;
-  if (!fs::exists(directory)) return;
+  if (!fs::exists(directory) || (fs::is_directory(directory) && fs::is_empty(directory))) return;
   const bool earlier_mesh = fs::exists(directory / "mesh.json") &&
                             !fs::exists(directory / "summary.json") &&
                             !fs::exists(directory / "checkpoint.h5");
