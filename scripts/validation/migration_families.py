@@ -118,7 +118,9 @@ def read_points(work):
         late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT - 1e-9]
         y_rel = sum(r["y"][i] for i in late) / len(late) / y_max(beta)
         summary = summary_of(directory)
-        rows.append({"beta": beta, "ca_e": ca, "y_p0_rel": s, "equator_nodes": nodes, "y_p_rel": y_rel, "v_p": v,
+        gap = (height(beta) / 2 - y_rel * y_max(beta) * height(beta) - 1.0)  # to the near wall, in R
+        rows.append({"beta": beta, "ca_e": ca, "y_p0_rel": s, "equator_nodes": nodes, "y_p_rel": y_rel,
+                     "wall_gap_over_R": gap, "v_p": v,
                      "eq_3_8": eq_3_8(beta, ca, y_rel), "ratio": v / eq_3_8(beta, ca, y_rel),
                      "delta_s": sum(r["dS"][i] for i in late) / len(late),
                      "unknowns": summary.get("unknowns"), "wall_seconds": summary.get("wall_seconds"),
@@ -188,7 +190,8 @@ def report(work, build):
         print("no runs to report")
         return
     os.makedirs(OUT, exist_ok=True)
-    fields = ["beta", "ca_e", "y_p0_rel", "equator_nodes", "y_p_rel", "v_p", "eq_3_8", "ratio", "delta_s",
+    fields = ["beta", "ca_e", "y_p0_rel", "equator_nodes", "y_p_rel", "wall_gap_over_R", "v_p", "eq_3_8", "ratio",
+              "delta_s",
               "unknowns", "wall_seconds"]
     write_csv(os.path.join(OUT, "migration_families.csv"), fields, [{k: x[k] for k in fields} for x in rows])
     plot(rows, os.path.join(OUT, "migration_families.png"))
@@ -198,20 +201,25 @@ def report(work, build):
              f"{T_END:g} with remeshing below quality 0.2, default conformation settings. v_p: slope of y_p(t) "
              f"over t = {TRANSIENT:g}-{T_END:g} in gamma_dot H (negative: towards the centre plane), at the "
              "window's mean height y_p / y_p,max (y_p,max = H/2 - R). eq. 3.8: -2 beta^3 Ca_e y_p / y_p,max.", "",
-             "Delta S (eq. 3.6): its mean over the same window.", "",
-             "| beta | Ca_e | y_p0 / y_p,max | equator nodes | y_p / y_p,max | v_p | eq. 3.8 | v_p / eq. 3.8 | "
-             "Delta S | unknowns | wall s |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "Delta S (eq. 3.6): its mean over the same window. Wall gap: from the particle's undeformed "
+             "surface to the nearer wall at the mean height, H/2 - y_p - R, in R.", "",
+             "| beta | Ca_e | y_p0 / y_p,max | equator nodes | y_p / y_p,max | wall gap / R | v_p | eq. 3.8 | "
+             "v_p / eq. 3.8 | Delta S | unknowns | wall s |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for x in rows:
         lines.append(f"| {x['beta']:g} | {x['ca_e']:g} | {x['y_p0_rel']:.2f} | {x['equator_nodes']} | "
-                     f"{x['y_p_rel']:.4f} | {x['v_p']:.3e} | {x['eq_3_8']:.3e} | {x['ratio']:.3f} | "
+                     f"{x['y_p_rel']:.4f} | {x['wall_gap_over_R']:.2f} | {x['v_p']:.3e} | {x['eq_3_8']:.3e} | "
+                     f"{x['ratio']:.3f} | "
                      f"{x['delta_s']:+.4f} | {x['unknowns'] or ''} | {x['wall_seconds'] or 0:.0f} |")
     lines += ["", "## The thesis's claims", "",
               f"- v_p < 0 at every start: {'yes' if all(x['v_p'] < 0 for x in rows) else '**no**'} "
               f"({len(rows)} starts).",
               f"- Delta S > 0 at every start (Fig. 3.8's sign): "
               f"{'yes' if all(x['delta_s'] > 0 for x in rows) else '**no**'}: "
-              f"{sum(x['delta_s'] > 0 for x in rows)} of {len(rows)} positive."]
+              f"{sum(x['delta_s'] > 0 for x in rows)} of {len(rows)} positive; by the wall gap:"]
+    for x in sorted(rows, key=lambda x: x["wall_gap_over_R"]):
+        lines.append(f"  - gap {x['wall_gap_over_R']:.2f} R (beta = {x['beta']:g}, Ca_e = {x['ca_e']:g}, "
+                     f"{x['equator_nodes']} nodes): Delta S {x['delta_s']:+.4f}")
     lines += ordering_lines(rows)
     lines += ["", "## Each configuration's starts combined by `softflow migration`", ""]
     for beta, ca in configurations():
