@@ -152,7 +152,8 @@ def ordering_lines(rows):
 
 
 def plot(rows, path):
-    fig, ax = plt.subplots(1, 3, figsize=(16, 4.6))
+    fig, axes = plt.subplots(2, 2, figsize=(13, 9.5))
+    ax = axes.ravel()
     for panel, family, values, label in ((0, "beta", BETAS, "beta"), (1, "ca_e", CA_ES, "Ca_e")):
         for v in values:
             pts = sorted((x for x in family_rows(rows, family) if x[family] == v), key=lambda x: x["y_p_rel"])
@@ -175,6 +176,15 @@ def plot(rows, path):
     ax[2].plot([0, 1], [0, -1], "k--", lw=0.8, label="eq. 3.8")
     ax[2].set(xlabel="y_p / y_p,max", ylabel="v_p / (2 beta^3 Ca_e gamma_dot H)", xlim=(0, 1),
               title="scaled by eq. 3.8's factor")
+    for x in rows:
+        ax[3].plot(x["wall_gap_over_R"], x["delta_s"], "o" if x["equator_nodes"] == 20 else "k*",
+                   color=plt.cm.viridis(x["beta"] / 0.45), ms=6 if x["equator_nodes"] == 20 else 10)
+    for beta in BETAS:
+        ax[3].plot([], [], "o", color=plt.cm.viridis(beta / 0.45), label=f"beta = {beta:g}")
+    ax[3].plot([], [], "k*", label="28 equator nodes")
+    ax[3].axhline(0, color="k", lw=0.6)
+    ax[3].set(xlabel="wall gap (H/2 - y_p - R) / R", ylabel=f"Delta S, mean over t = {TRANSIENT:g}-{T_END:g}",
+              title="surface imbalance against the gap to the wall (all starts)")
     for a in ax:
         a.grid(alpha=0.3)
         a.legend(fontsize=7)
