@@ -5,7 +5,7 @@ import csv
 import os
 import subprocess
 
-from case_runs import read_csv, summary_of
+from case_runs import ROOT, read_csv, summary_of
 
 
 def read_migration(directory, height):
@@ -51,15 +51,13 @@ def combine(build, work, runs, transient, name="combined"):
     combined = os.path.join(work, name)
     # Run from the repository, so that the report names the runs by their
     # paths in it (output/...), not by this machine's.
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
     def short(path):
         path = os.path.abspath(path)
-        return os.path.relpath(path, root) if path.startswith(root + os.sep) else path
+        return os.path.relpath(path, ROOT) if path.startswith(ROOT + os.sep) else path
 
     subprocess.run([os.path.abspath(os.path.join(build, "softflow")), "migration",
                     *[short(d) for d, _ in runs.values()], "--transient", str(transient), "-o", short(combined)],
-                   check=True, cwd=root)
+                   check=True, cwd=ROOT)
     md = os.path.join(combined, "migration.md")
     return [line.rstrip("\n") for line in open(md)][1:] if os.path.exists(md) else []
 

@@ -71,11 +71,8 @@ def flat_triangles(faces):
 
 
 def triangle_geometry(points, triangles):
-    """Areas and unit normals of flat triangles."""
-    p = points[triangles]
-    cross = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    area = 0.5 * np.linalg.norm(cross, axis=1)
-    return area, cross / (2.0 * area[:, None])
+    """Areas and unit normals of flat triangles given by indices into `points`."""
+    return corner_geometry(points[triangles])
 
 
 def p2_shape(l0, l1, l2):

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <vector>
 
@@ -166,34 +167,43 @@ void write_vtu(const std::filesystem::path& path, const SubdomainPiece& piece) {
   if (!out) throw Error(fmt::format("error while writing {}", path.string()));
 }
 
-void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mesh& mesh,
-                         const fem::DofMap& dofs, const std::vector<double>& solution,
-                         double time) {
-  std::ofstream pvd(directory / "fields.pvd");
+namespace {
+
+/// Writes one piece per region into `directory` (matrix.vtu, object_k.vtu),
+/// each made by `piece_of(region)`, and `pvd_name` listing them as the parts
+/// of one time step.
+void write_region_pieces(const std::filesystem::path& directory, const std::string& pvd_name,
+                         const mesh::Mesh& mesh, double time,
+                         const std::function<SubdomainPiece(int)>& piece_of) {
+  std::ofstream pvd(directory / pvd_name);
   pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
   for (int region = 0; region <= mesh.n_objects; ++region) {
     const std::string name = region == 0 ? "matrix.vtu" : fmt::format("object_{}.vtu", region);
-    write_vtu(directory / name, extract_subdomain(mesh, dofs, solution, region));
+    write_vtu(directory / name, piece_of(region));
     pvd << fmt::format("<DataSet timestep=\"{}\" part=\"{}\" file=\"{}\"/>\n", time, region, name);
   }
   pvd << "</Collection>\n</VTKFile>\n";
+  if (!pvd) throw Error(fmt::format("error while writing {}", (directory / pvd_name).string()));
+}
+
+}  // namespace
+
+void write_stokes_fields(const std::filesystem::path& directory, const mesh::Mesh& mesh,
+                         const fem::DofMap& dofs, const std::vector<double>& solution,
+                         double time) {
+  write_region_pieces(directory, "fields.pvd", mesh, time,
+                      [&](int region) { return extract_subdomain(mesh, dofs, solution, region); });
 }
 
 void write_mesh(const std::filesystem::path& directory, const mesh::Mesh& mesh) {
-  std::ofstream pvd(directory / "mesh.pvd");
-  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-  for (int region = 0; region <= mesh.n_objects; ++region) {
-    const std::string name = region == 0 ? "matrix.vtu" : fmt::format("object_{}.vtu", region);
+  write_region_pieces(directory, "mesh.pvd", mesh, 0.0, [&](int region) {
     auto piece = extract_subdomain(mesh, region);
     CellField quality{"quality", {}};
     quality.values.reserve(piece.tets.size());
     for (const int t : piece.tets) quality.values.push_back(mesh::tet_quality(mesh, t));
     piece.cell_fields.push_back(std::move(quality));
-    write_vtu(directory / name, piece);
-    pvd << fmt::format("<DataSet timestep=\"0\" part=\"{}\" file=\"{}\"/>\n", region, name);
-  }
-  pvd << "</Collection>\n</VTKFile>\n";
-  if (!pvd) throw Error(fmt::format("error while writing {}", (directory / "mesh.pvd").string()));
+    return piece;
+  });
 }
 
 FieldSeries::FieldSeries(std::filesystem::path directory, std::filesystem::path pvd_path)

@@ -108,14 +108,12 @@ nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet,
                c["offset"][0].get<double>(), c["offset"][1].get<double>(), c["offset"][2].get<double>());
   }
   if (output) {
-    std::unique_ptr<io::OutputDirectory> directory;
-    on_root_sharing_failure([&] {
-      directory = std::make_unique<io::OutputDirectory>(*output, is_root());
-      if (!is_root()) return;
-      directory->write_text("case.toml", io::to_toml(config));
-      directory->write_text("mesh.json", meshed.report.dump(2) + "\n");
-      io::write_mesh(directory->staging_path(), meshed.mesh);
-      directory->commit();
+    on_root_sharing_failure([&] {  // rank 0 writes
+      io::OutputDirectory directory(*output, true);
+      directory.write_text("case.toml", io::to_toml(config));
+      directory.write_text("mesh.json", meshed.report.dump(2) + "\n");
+      io::write_mesh(directory.staging_path(), meshed.mesh);
+      directory.commit();
     });
     if (!quiet && is_root()) fmt::print("wrote {}/mesh.pvd\n", output->string());
   }
