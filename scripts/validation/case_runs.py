@@ -3,7 +3,9 @@
 run_case writes CASE.toml in `work` and runs `softflow run` into work/NAME
 (run_response: `softflow response`),
 unless that directory already holds the summary.json of a run that ended by
-itself (scripts can be re-run to regenerate their reports); a run interrupted
+itself (scripts can be re-run to regenerate their reports), or the
+repository's archive holds a run of that case text (data/runs/, below:
+restored instead of run again); a run interrupted
 (SIGTERM/SIGINT: its summary says "interrupted") or killed, with a checkpoint
 of the same case text, is continued with `softflow restart`.
 read_run reads summary.json and the time series, with steady values as the
@@ -15,6 +17,7 @@ import csv
 import inspect
 import json
 import os
+import shutil
 import subprocess
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -38,21 +41,85 @@ def finished(directory):
     return os.path.exists(path) and json.load(open(path)).get("status") != "interrupted"
 
 
+# Finished runs are kept in the repository, under data/runs/WORK/NAME/: the
+# case text and the run's tables and summary (not its checkpoint, fields or
+# log). A script run again on a fresh clone, or on another machine, restores
+# such a run instead of running it again, so that a study longer than one
+# session goes on where the last one stopped. Only for work directories in
+# output/ (a test's scratch directory is not kept). Delete a run's folder
+# there to measure it again.
+ARCHIVE = os.path.join(ROOT, "data", "runs")
+KEPT_SUFFIXES = (".csv", ".json", ".md", ".toml")
+CASE_TEXT = "case_text.toml"
+
+
+def archive_of(work, name):
+    """data/runs/WORK/NAME for a work directory in output/, else None."""
+    work = os.path.abspath(work)
+    if os.path.dirname(work) != os.path.join(ROOT, "output"):
+        return None
+    return os.path.join(ARCHIVE, os.path.basename(work), name)
+
+
+def archived(work, name, text):
+    """The kept run of this name, if it ran this very case text."""
+    kept = archive_of(work, name)
+    if kept is None or not os.path.exists(os.path.join(kept, "summary.json")):
+        return None
+    path = os.path.join(kept, CASE_TEXT)
+    return kept if os.path.exists(path) and open(path).read() == text else None
+
+
+def keep(work, name, text):
+    """Copies a finished run's tables and summary, and its case text, to the archive."""
+    kept = archive_of(work, name)
+    directory = os.path.join(work, name)
+    if kept is None or not finished(directory):
+        return
+    os.makedirs(kept, exist_ok=True)
+    for entry in sorted(os.listdir(directory)):
+        if entry.endswith(KEPT_SUFFIXES) and os.path.isfile(os.path.join(directory, entry)):
+            shutil.copyfile(os.path.join(directory, entry), os.path.join(kept, entry))
+    with open(os.path.join(kept, CASE_TEXT), "w") as f:
+        f.write(text)
+
+
+def restore(work, name, text):
+    """Fills work/NAME from the archive; False when it holds no run of this case text."""
+    kept = archived(work, name, text)
+    if kept is None:
+        return False
+    directory = os.path.join(work, name)
+    if os.path.exists(directory):
+        shutil.rmtree(directory)
+    shutil.copytree(kept, directory, ignore=shutil.ignore_patterns(CASE_TEXT))
+    with open(os.path.join(work, name + ".toml"), "w") as f:
+        f.write(text)
+    return True
+
+
 def run_case(build, work, name, text, rerun=False):
     directory = os.path.join(work, name)
-    if not rerun and finished(directory):
+    path = os.path.join(work, name + ".toml")
+    # The run in work/NAME is this case's unless the case text beside it differs.
+    here = not rerun and not (os.path.exists(path) and open(path).read() != text)
+    if here and finished(directory):
+        if archived(work, name, text) is None and os.path.exists(path):
+            keep(work, name, text)  # a run from before the archive
         return directory
     os.makedirs(work, exist_ok=True)
-    path = os.path.join(work, name + ".toml")
-    unchanged = os.path.exists(path) and open(path).read() == text
-    if not rerun and unchanged and os.path.exists(os.path.join(directory, "checkpoint.h5")):
+    if not rerun and restore(work, name, text):
+        return directory
+    if here and os.path.exists(path) and os.path.exists(os.path.join(directory, "checkpoint.h5")):
         # Interrupted (a stop, a crash, a machine that went down): continue from the checkpoint.
         subprocess.run([os.path.join(build, "softflow"), "restart", directory, "-q", "--force"], check=False)
+        keep(work, name, text)
         return directory
     with open(path, "w") as f:
         f.write(text)
     subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q", "--overwrite"],
                    check=False)
+    keep(work, name, text)
     return directory
 
 

@@ -44,11 +44,10 @@ CA_ES = [0.05, 0.1, 0.15, 0.2, 0.3]  # at BASE_BETA (Fig. 3.9b)
 STARTS = [0.5, 0.75, 0.25]  # y_p0 / y_p,max, in the order they run
 # One start on the next mesh level (28 equator nodes asked, far size, wall
 # size and growth by 20/28: the whole mesh refined, as
-# migration_resolution.py's N28): how much of v_p and of Delta S's sign (the
-# thesis's Fig. 3.8 has Delta S > 0 in the upper half, softflow's
-# beta = 0.4 runs < 0: docs/confinement.md) is the mesh: a start near a wall
-# (Delta S < 0) and one far from it (Delta S > 0). (beta, Ca_e, start, nodes)
-FINER = [(0.4, 0.1, 0.5, 28), (0.2, 0.1, 0.25, 28)]
+# migration_resolution.py's N28): how much of v_p is the mesh.
+# delta_s_resolution.py refines a start on each side of Delta S's sign
+# change. (beta, Ca_e, start, nodes)
+FINER = [(0.4, 0.1, 0.5, 28)]
 DT = 0.04
 T_END = 6.0
 TRANSIENT = 2.0
