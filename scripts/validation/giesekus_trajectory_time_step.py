@@ -28,25 +28,27 @@ from migration_runs import mean_velocity, read_migration, window_velocities  # n
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
-CA_E, START, HEIGHT = 0.1, 0.28, 10.0  # p = 4.5; y_p0 / H; H = 2R / beta
+CA_E, HEIGHT = 0.1, 10.0  # p = 4.5; H = 2R / beta
 # (dt, redistribution factor k / gamma_dot; None: the case's, 10), in the order they run
-RUNS = [(0.16, None), (0.08, None), (0.04, None), (0.12, None), (0.16, 5.0)]
+# (y_p0 / H, dt, redistribution factor k / gamma_dot; None: the case's, 10), in the order they run
+RUNS = [(0.28, 0.16, None), (0.28, 0.08, None), (0.28, 0.04, None), (0.28, 0.12, None), (0.28, 0.16, 5.0),
+        (0.10, 0.12, None), (0.10, 0.04, None)]
 REFERENCE = 0.04  # the figures' step
 TRANSIENT, T_END = 2.0, 6.0
 WINDOWS = [(2.0, 3.0), (3.0, 4.0), (4.0, 5.0), (5.0, 6.0)]
 TRAJECTORY_UNITS = 431.0  # docs/benchmarks/migration_trajectory.md, p = 4.5 (time units, dt = 0.04)
 
 
-def name(dt, k=None):
-    return f"yp0_{START:.2f}_dt{dt:g}" + ("" if k is None else f"_k{k:g}")
+def name(start, dt, k=None):
+    return f"yp0_{start:.2f}_dt{dt:g}" + ("" if k is None else f"_k{k:g}")
 
 
-def case_text(dt, k=None):
-    base = neutral_height_text(CA_E, START)
-    old_step, old_name = "step = 0.04\n", f'name = "ca{CA_E:g}_yp0_{START:.2f}"'
+def case_text(start, dt, k=None):
+    base = neutral_height_text(CA_E, start)
+    old_step, old_name = "step = 0.04\n", f'name = "ca{CA_E:g}_yp0_{start:.2f}"'
     assert base.count(old_step) == 1 and base.count(old_name) == 1, "giesekus_neutral_height's case changed"
     assert "[interface]" not in base
-    text = base.replace(old_step, f"step = {dt:g}\n").replace(old_name, f'name = "{name(dt, k)}"')
+    text = base.replace(old_step, f"step = {dt:g}\n").replace(old_name, f'name = "{name(start, dt, k)}"')
     return text if k is None else text + f"[interface]\nredistribution_factor = {k:g}\n"
 
 
@@ -54,9 +56,9 @@ def jobs():
     return [(name(*run), case_text(*run)) for run in RUNS]
 
 
-def read_point(work, dt, k=None):
+def read_point(work, start, dt, k=None):
     """A finished run's velocities and cost; a run stopped early: its stop reason alone; else None."""
-    directory = os.path.join(work, name(dt, k))
+    directory = os.path.join(work, name(start, dt, k))
     summary = summary_of(directory)
     if not os.path.exists(os.path.join(directory, "migration.csv")) or not summary:
         return None
@@ -64,11 +66,11 @@ def read_point(work, dt, k=None):
     if r["t"][-1] < T_END - 1e-9:
         # The reason's first sentence, without the machine's path.
         reason = re.sub(r" \(centre \([^)]*\)\)", "", summary.get("stop_reason", summary.get("status", "")))
-        return {"dt": dt, "k": k, "stopped": reason.split(". Try")[0]}
+        return {"start": start, "dt": dt, "k": k, "stopped": reason.split(". Try")[0]}
     steps = [x for x in read_csv(os.path.join(directory, "timeseries.csv"))
              if x["object"] == "1" and int(x["step"]) > 1]  # the first step builds what the rest reuse
     step_seconds = statistics.median(float(x["step_seconds"]) for x in steps)
-    return {"dt": dt, "k": k, "stopped": None, "v_p": mean_velocity(r, TRANSIENT),
+    return {"start": start, "dt": dt, "k": k, "stopped": None, "v_p": mean_velocity(r, TRANSIENT),
             "windows": window_velocities(r, WINDOWS),
             "median_step_seconds": step_seconds, "seconds_per_unit": step_seconds / dt,
             "stokes_iterations": statistics.median(float(x["stokes_iterations"]) for x in steps),
@@ -77,17 +79,19 @@ def read_point(work, dt, k=None):
 
 
 def report(work):
-    points = [p for p in (read_point(work, *run) for run in sorted(RUNS, key=lambda x: (x[0], x[1] or 10)))
+    points = [p for p in (read_point(work, *run) for run in sorted(RUNS, key=lambda x: (-x[0], x[1], x[2] or 10)))
               if p is not None]
     if not points:
         print("no finished runs to report")
         return
-    reference = next((p for p in points if p["dt"] == REFERENCE and p["k"] is None and not p["stopped"]), None)
+    reference = {p["start"]: p for p in points if p["dt"] == REFERENCE and p["k"] is None and not p["stopped"]}
     rows = []
     for p in points:
-        row = {"dt": p["dt"], "redistribution_factor": p["k"] or 10.0, "stopped": p["stopped"]}
+        ref = reference.get(p["start"])
+        row = {"y_p0_over_H": p["start"], "dt": p["dt"], "redistribution_factor": p["k"] or 10.0,
+               "stopped": p["stopped"]}
         if not p["stopped"]:
-            row.update({"v_p": p["v_p"], "ratio_to_dt_0.04": p["v_p"] / reference["v_p"] if reference else None,
+            row.update({"v_p": p["v_p"], "ratio_to_dt_0.04": p["v_p"] / ref["v_p"] if ref else None,
                         **{f"v_p_t{a:g}_{b:g}": v for (a, b), v in zip(WINDOWS, p["windows"])},
                         "median_step_seconds": p["median_step_seconds"], "seconds_per_unit": p["seconds_per_unit"],
                         "stokes_iterations": p["stokes_iterations"], "unknowns": p["unknowns"],
@@ -100,17 +104,18 @@ def report(work):
     lines = ["# The Giesekus migration at longer steps (issue 35's trajectory target)", "",
              "Generated by `scripts/validation/giesekus_trajectory_time_step.py`: the trajectory case of "
              "docs/benchmarks/migration_trajectory.md (beta = 0.2, p = 4.5, 20 equator nodes, step-limited SUPG "
-             f"parameter, consistent predicted stress) from y_p0 = {START:g} H to t = {T_END:g} at several steps; "
+             f"parameter, consistent predicted stress) from y_p0 = 0.28 H (midway) and 0.10 H (the trajectory's slow end) "
+             f"to t = {T_END:g} at several steps; "
              "k: the tangential redistribution's factor (eq. 2.30, the case's 10 unless stated). "
              f"v_p in gamma_dot H over t = {TRANSIENT:g}-{T_END:g} and over each unit; cost: the median step "
              "after the first, beside whatever else ran on the machine. Trajectory: the 431 time units that "
              "migration_trajectory.md integrates from 0.35 H at dt = 0.04, times the cost of a unit at this step "
              "(one rank; the target is 4 h).", "",
-             "| dt | k | v_p, t = 2-6 | / v_p(dt = 0.04) | " + " | ".join(f"t = {a:g}-{b:g}" for a, b in WINDOWS) +
+             "| y_p0 / H | dt | k | v_p, t = 2-6 | / v_p(dt = 0.04) | " + " | ".join(f"t = {a:g}-{b:g}" for a, b in WINDOWS) +
              " | s / step | Stokes iterations | s / time unit | trajectory [h] |",
-             "|---|---|---|---|" + "---|" * len(WINDOWS) + "---|---|---|---|"]
+             "|---|---|---|---|---|" + "---|" * len(WINDOWS) + "---|---|---|---|"]
     for x, p in zip(rows, points):
-        head = f"| {x['dt']:g} | {x['redistribution_factor']:g} | "
+        head = f"| {x['y_p0_over_H']:g} | {x['dt']:g} | {x['redistribution_factor']:g} | "
         if p["stopped"]:
             lines.append(head + f"stopped: {p['stopped']} |" + " |" * (len(WINDOWS) + 5))
             continue
