@@ -4,7 +4,10 @@ case of Figs. 3.12-3.14 (beta = 0.2, Wi = 0.5, alpha_m = 0.2, a neo-Hookean
 particle from y_p0 = 0.35 H) on the setting its mesh study found resolved
 (scripts/validation/giesekus_neutral_height.py: 20 equator nodes,
 step-limited SUPG parameter, dt = 0.04), run for a few steps to measure the
-cost of a time unit, one run at a time.
+cost of a time unit, one run at a time: at the figures' step (dt = 0.04)
+and, with --dt, at longer ones (scripts/validation/
+giesekus_trajectory_time_step.py measures what they do to v_p), on one
+rank or, with --ranks, on several.
 
 How long a trajectory is comes from the measured migration velocities of
 docs/validation/giesekus_neutral_height.csv: y_p(t) is integrated through
@@ -16,7 +19,8 @@ plus the measured start-up; it is a projection, not a run to the end (one
 such run would take longer than this benchmark is meant to).
 
 Writes docs/benchmarks/migration_trajectory.{md,json}.
-Usage: bench/run_migration_trajectory.py [build_dir] [--work DIR] [--steps N] [--ca 0.1,0.02] [--reuse]"""
+Usage: bench/run_migration_trajectory.py [build_dir] [--work DIR] [--steps N] [--ca 0.1,0.02] [--dt 0.04,0.12]
+                                        [--ranks 1,2] [--reuse]"""
 import argparse
 import csv
 import json
@@ -29,6 +33,7 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "validation"))
 from giesekus_migration_stiff import p_of  # noqa: E402
+from run_rank_efficiency import MPI  # noqa: E402
 from giesekus_neutral_height import NODES, neutral_heights, text  # noqa: E402
 
 OUT = os.path.join(ROOT, "docs", "benchmarks")
@@ -39,23 +44,25 @@ CLOSE = 0.01  # within 1 % of the neutral height
 DT_OF_RUNS = float(re.search(r"^step = (\S+)$", text(0.1, START), re.M).group(1))
 
 
-def case_text(name, ca, steps):
+def case_text(name, ca, steps, dt):
     base = text(ca, START)
-    old_end = "end = 6.0\n"
-    assert base.count(old_end) == 1 and base.count("interval_minutes = 10.0\n") == 1
-    return (base.replace(old_end, f"end = {steps * DT_OF_RUNS:.10g}\n")
+    old_end, old_step = "end = 6.0\n", f"step = {DT_OF_RUNS:g}\n"
+    assert base.count(old_end) == 1 and base.count(old_step) == 1 and base.count("interval_minutes = 10.0\n") == 1
+    return (base.replace(old_end, f"end = {steps * dt:.10g}\n").replace(old_step, f"step = {dt:g}\n")
             .replace("interval_minutes = 10.0\n", "interval_minutes = 0\n")
             .replace('name = "', f'name = "bench_{name}_', 1))
 
 
-def measure(build, work, ca, steps, reuse):
-    name = f"ca{ca:g}"
+def measure(build, work, ca, steps, reuse, dt=DT_OF_RUNS, ranks=1):
+    name = f"ca{ca:g}" + ("" if dt == DT_OF_RUNS else f"_dt{dt:g}") + ("" if ranks == 1 else f"_ranks{ranks}")
     out = os.path.join(work, name)
     if not (reuse and os.path.exists(os.path.join(out, "summary.json"))):
         path = os.path.join(work, name + ".toml")
         with open(path, "w") as f:
-            f.write(case_text(name, ca, steps))
-        subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", out, "-q", "--overwrite"], check=True)
+            f.write(case_text(name, ca, steps, dt))
+        launcher = [] if ranks == 1 else MPI[:2] + [str(ranks)] + MPI[3:]
+        subprocess.run(launcher + [os.path.join(build, "softflow"), "run", path, "-o", out, "-q", "--overwrite"],
+                       check=True)
         with open(os.path.join(out, "load_average.txt"), "w") as f:
             f.write(f"{os.getloadavg()[0]}\n")  # when the run ended, kept for --reuse
     with open(os.path.join(out, "load_average.txt")) as f:
@@ -116,16 +123,20 @@ def main():
     parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_migration_trajectory"))
     parser.add_argument("--steps", type=int, default=25, help="time steps measured per case (25 = one time unit)")
     parser.add_argument("--ca", default="0.1,0.02", help="elastic capillary numbers (p = 4.5 x 0.1 / Ca_e)")
+    parser.add_argument("--dt", default=f"{DT_OF_RUNS:g}", help="time steps (the figures': 0.04)")
+    parser.add_argument("--ranks", default="1", help="MPI ranks per run")
     parser.add_argument("--reuse", action="store_true", help="report finished runs instead of running them again")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     results = []
-    for ca in (float(c) for c in args.ca.split(",")):
-        m = measure(args.build, args.work, ca, args.steps, args.reuse)
-        per_unit = m["median_step_seconds"] / DT_OF_RUNS
+    settings = [(float(c), float(dt), int(n)) for c in args.ca.split(",") for dt in args.dt.split(",")
+                for n in args.ranks.split(",")]
+    for ca, dt, ranks in settings:
+        m = measure(args.build, args.work, ca, args.steps, args.reuse, dt, ranks)
+        per_unit = m["median_step_seconds"] / dt
         length, goal, what = trajectory_length(velocity_table(ca))
         projected = None if length is None else m["start_up_seconds"] + m["first_step_seconds"] + length * per_unit
-        results.append({"ca_e": ca, "p": p_of(ca), "equator_nodes": NODES, "dt": DT_OF_RUNS, **m,
+        results.append({"ca_e": ca, "p": p_of(ca), "equator_nodes": NODES, "dt": dt, "ranks": ranks, **m,
                         "seconds_per_time_unit": per_unit, "trajectory_time_units": length, "end": what,
                         "projected_wall_hours": None if projected is None else projected / 3600.0})
         print(json.dumps(results[-1]), flush=True)
@@ -134,22 +145,26 @@ def main():
         json.dump(results, f, indent=2)
     md = ["# Wall time per Giesekus migration trajectory (issue 35)", "",
           f"Generated by `bench/run_migration_trajectory.py`: the case of Figs. 3.12-3.14 from y_p0 = {START} H "
-          f"on the resolved setting ({NODES} equator nodes, step-limited SUPG parameter, dt = {DT_OF_RUNS}), "
-          f"{args.steps} steps measured, one run at a time on one rank. Cost of a time unit: the median step after "
+          f"on the resolved setting ({NODES} equator nodes, step-limited SUPG parameter; the figures' dt = "
+          f"{DT_OF_RUNS:g}, longer steps as scripts/validation/giesekus_trajectory_time_step.py measures their v_p), "
+          f"{args.steps} steps measured, one run at a time. Cost of a time unit: the median step after "
           "the first, times the steps per unit. Trajectory length: y_p(t) integrated through the measured v_p(y_p) "
           "of docs/validation/giesekus_neutral_height.csv (linear between starts). The projected wall time adds "
           f"the measured start-up and first step. Target: {TARGET_HOURS:g} hours on this 2-core machine "
           "(the thesis: 2-3 weeks on 12 cores). Load average: the 1-minute value when each run ended. The "
           "v_p table is the 20-node one on gmsh's meshes, whose values near the centre plane are within the "
           "meshes' bias (docs/confinement.md, \"The 0.10 H starts from the point-symmetric start\"): the "
-          "trajectory lengths give the order of the wall time, not its digits.", "",
-          "| Ca_e | p | unknowns | Stokes iterations (median) | first step [s] | median step [s] | s per time unit | "
-          "trajectory [time units] | ends at | projected wall [h] | load |",
-          "|---|---|---|---|---|---|---|---|---|---|---|"]
+          "trajectory lengths give the order of the wall time, not its digits. They are the dt = 0.04 ones at "
+          "every step (the longer steps' v_p differ by a few per cent: "
+          "docs/validation/giesekus_trajectory_time_step.md).", "",
+          "| Ca_e | p | dt | ranks | unknowns | Stokes iterations (median) | first step [s] | median step [s] | "
+          "s per time unit | trajectory [time units] | ends at | projected wall [h] | load |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         length = "-" if r["trajectory_time_units"] is None else f"{r['trajectory_time_units']:.0f}"
         hours = "-" if r["projected_wall_hours"] is None else f"{r['projected_wall_hours']:.1f}"
-        md.append(f"| {r['ca_e']:g} | {r['p']:g} | {r['unknowns']} | {r['median_stokes_iterations']:g} | "
+        md.append(f"| {r['ca_e']:g} | {r['p']:g} | {r['dt']:g} | {r['ranks']} | {r['unknowns']} | "
+                  f"{r['median_stokes_iterations']:g} | "
                   f"{r['first_step_seconds']:.1f} | {r['median_step_seconds']:.2f} | {r['seconds_per_time_unit']:.0f} | "
                   f"{length} | {r['end']} | {hours} | {r['load_average']:.1f} |")
     with open(os.path.join(OUT, "migration_trajectory.md"), "w") as f:
