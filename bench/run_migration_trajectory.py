@@ -19,7 +19,7 @@ plus the measured start-up; it is a projection, not a run to the end (one
 such run would take longer than this benchmark is meant to).
 
 Writes docs/benchmarks/migration_trajectory.{md,json}.
-Usage: bench/run_migration_trajectory.py [build_dir] [--work DIR] [--steps N] [--ca 0.1,0.02] [--dt 0.04,0.12]
+Usage: bench/run_migration_trajectory.py [build_dir] [--work DIR] [--steps N] [--ca 0.1,0.02] [--dt 0.04,0.16/5]
                                         [--ranks 1,2] [--reuse]"""
 import argparse
 import csv
@@ -44,8 +44,11 @@ CLOSE = 0.01  # within 1 % of the neutral height
 DT_OF_RUNS = float(re.search(r"^step = (\S+)$", text(0.1, START), re.M).group(1))
 
 
-def case_text(name, ca, steps, dt):
+def case_text(name, ca, steps, dt, k=None):
     base = text(ca, START)
+    if k is not None:  # the tangential redistribution's factor (eq. 2.30; the case's is 10)
+        assert "[interface]" not in base
+        base += f"[interface]\nredistribution_factor = {k:g}\n"
     old_end, old_step = "end = 6.0\n", f"step = {DT_OF_RUNS:g}\n"
     assert base.count(old_end) == 1 and base.count(old_step) == 1 and base.count("interval_minutes = 10.0\n") == 1
     return (base.replace(old_end, f"end = {steps * dt:.10g}\n").replace(old_step, f"step = {dt:g}\n")
@@ -53,13 +56,14 @@ def case_text(name, ca, steps, dt):
             .replace('name = "', f'name = "bench_{name}_', 1))
 
 
-def measure(build, work, ca, steps, reuse, dt=DT_OF_RUNS, ranks=1):
-    name = f"ca{ca:g}" + ("" if dt == DT_OF_RUNS else f"_dt{dt:g}") + ("" if ranks == 1 else f"_ranks{ranks}")
+def measure(build, work, ca, steps, reuse, dt=DT_OF_RUNS, k=None, ranks=1):
+    name = (f"ca{ca:g}" + ("" if dt == DT_OF_RUNS else f"_dt{dt:g}") + ("" if k is None else f"_k{k:g}") +
+            ("" if ranks == 1 else f"_ranks{ranks}"))
     out = os.path.join(work, name)
     if not (reuse and os.path.exists(os.path.join(out, "summary.json"))):
         path = os.path.join(work, name + ".toml")
         with open(path, "w") as f:
-            f.write(case_text(name, ca, steps, dt))
+            f.write(case_text(name, ca, steps, dt, k))
         launcher = [] if ranks == 1 else MPI[:2] + [str(ranks)] + MPI[3:]
         subprocess.run(launcher + [os.path.join(build, "softflow"), "run", path, "-o", out, "-q", "--overwrite"],
                        check=True)
@@ -123,20 +127,22 @@ def main():
     parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_migration_trajectory"))
     parser.add_argument("--steps", type=int, default=25, help="time steps measured per case (25 = one time unit)")
     parser.add_argument("--ca", default="0.1,0.02", help="elastic capillary numbers (p = 4.5 x 0.1 / Ca_e)")
-    parser.add_argument("--dt", default=f"{DT_OF_RUNS:g}", help="time steps (the figures': 0.04)")
+    parser.add_argument("--dt", default=f"{DT_OF_RUNS:g}",
+                        help="time steps (the figures': 0.04); DT/K also sets the redistribution factor K "
+                             "(above dt = 4 / (3 k) the redistribution oscillates: docs/time_stepping.md)")
     parser.add_argument("--ranks", default="1", help="MPI ranks per run")
     parser.add_argument("--reuse", action="store_true", help="report finished runs instead of running them again")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     results = []
-    settings = [(float(c), float(dt), int(n)) for c in args.ca.split(",") for dt in args.dt.split(",")
-                for n in args.ranks.split(",")]
-    for ca, dt, ranks in settings:
-        m = measure(args.build, args.work, ca, args.steps, args.reuse, dt, ranks)
+    steps = [(float(x.split("/")[0]), float(x.split("/")[1]) if "/" in x else None) for x in args.dt.split(",")]
+    settings = [(float(c), dt, k, int(n)) for c in args.ca.split(",") for dt, k in steps for n in args.ranks.split(",")]
+    for ca, dt, k, ranks in settings:
+        m = measure(args.build, args.work, ca, args.steps, args.reuse, dt, k, ranks)
         per_unit = m["median_step_seconds"] / dt
         length, goal, what = trajectory_length(velocity_table(ca))
         projected = None if length is None else m["start_up_seconds"] + m["first_step_seconds"] + length * per_unit
-        results.append({"ca_e": ca, "p": p_of(ca), "equator_nodes": NODES, "dt": dt, "ranks": ranks, **m,
+        results.append({"ca_e": ca, "p": p_of(ca), "equator_nodes": NODES, "dt": dt, "redistribution_factor": k or 10.0, "ranks": ranks, **m,
                         "seconds_per_time_unit": per_unit, "trajectory_time_units": length, "end": what,
                         "projected_wall_hours": None if projected is None else projected / 3600.0})
         print(json.dumps(results[-1]), flush=True)
@@ -157,13 +163,13 @@ def main():
           "trajectory lengths give the order of the wall time, not its digits. They are the dt = 0.04 ones at "
           "every step (the longer steps' v_p differ by a few per cent: "
           "docs/validation/giesekus_trajectory_time_step.md).", "",
-          "| Ca_e | p | dt | ranks | unknowns | Stokes iterations (median) | first step [s] | median step [s] | "
+          "| Ca_e | p | dt | k | ranks | unknowns | Stokes iterations (median) | first step [s] | median step [s] | "
           "s per time unit | trajectory [time units] | ends at | projected wall [h] | load |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         length = "-" if r["trajectory_time_units"] is None else f"{r['trajectory_time_units']:.0f}"
         hours = "-" if r["projected_wall_hours"] is None else f"{r['projected_wall_hours']:.1f}"
-        md.append(f"| {r['ca_e']:g} | {r['p']:g} | {r['dt']:g} | {r['ranks']} | {r['unknowns']} | "
+        md.append(f"| {r['ca_e']:g} | {r['p']:g} | {r['dt']:g} | {r['redistribution_factor']:g} | {r['ranks']} | {r['unknowns']} | "
                   f"{r['median_stokes_iterations']:g} | "
                   f"{r['first_step_seconds']:.1f} | {r['median_step_seconds']:.2f} | {r['seconds_per_time_unit']:.0f} | "
                   f"{length} | {r['end']} | {hours} | {r['load_average']:.1f} |")
