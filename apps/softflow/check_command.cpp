@@ -11,6 +11,7 @@
 #include "case_files.hpp"
 #include "command_support.hpp"
 #include "softflow/common/error.hpp"
+#include "softflow/simulation/run_ledger.hpp"
 
 namespace softflow::app {
 
@@ -42,6 +43,14 @@ class ScopedOptions {
   PetscOptions options_ = nullptr;
 };
 
+/// "FILE: valid", and the case's warnings (a valid case that will not run
+/// well) on the error stream.
+void report_valid(const std::string& file, const io::CaseConfig& config) {
+  output_stream() << fmt::format("{}: valid\n", file);
+  if (const auto warning = simulation::redistribution_step_warning(config))
+    error_stream() << fmt::format("softflow: {}: warning: {}\n", file, *warning);
+}
+
 }  // namespace
 
 int check_several(const std::vector<std::string>& files, const std::vector<char*>& petsc) {
@@ -61,7 +70,7 @@ int check_several(const std::vector<std::string>& files, const std::vector<char*
       }
       auto config = read_valid_case(file);
       if (config.petsc_options.empty() && petsc.size() == 1)
-        output_stream() << fmt::format("{}: valid\n", file);
+        report_valid(file, config);
       else
         with_petsc.emplace_back(file, std::move(config));
     } catch (const InputError& e) {
@@ -78,7 +87,7 @@ int check_several(const std::vector<std::string>& files, const std::vector<char*
         const ScopedOptions options(petsc);
         insert_case_petsc_options(config);
         check_petsc_options(config);
-        output_stream() << fmt::format("{}: valid\n", file);
+        report_valid(file, config);
       } catch (const InputError& e) {
         refuse(fmt::format("{}: {}", file, e.what()), kInputError);
       }

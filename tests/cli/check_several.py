@@ -9,6 +9,8 @@ options, one with an unknown KSP type, and a sweep. Each gets one verdict:
 its message on stderr naming the file; the exit code is 1 as one was
 refused. "-- -stokes_pc_type nonsense" after three of them refuses all three (the
 options after "--" go with every case), and the valid ones alone exit 0.
+A valid case with a constant step above the tangential redistribution's
+stability bound gets one warning on stderr and exits 0.
 """
 import os
 import shutil
@@ -56,6 +58,24 @@ def main(softflow, work):
              f"{result.stdout}\n{result.stderr}")
 
     run([softflow, "check", paths["valid"], paths["petsc_ok"], paths["sweep"]], expect=0)
+
+    # A valid case whose constant step is above the tangential redistribution's
+    # bound 4 / (3 k): valid (exit 0), with one warning naming both keys and
+    # the largest stable values; none at half the factor, none with adaptive steps.
+    steps = "[[objects]]\ncapillary_number = 0.1\n[time]\nstep = 0.16\nend = 1.0\n"
+    cases = {"above_bound": steps, "half_factor": steps + "[interface]\nredistribution_factor = 5.0\n",
+             "adaptive": steps.replace("end = 1.0", "end = 1.0\nadaptive_tolerance = 1e-3")}
+    for name, text in cases.items():
+        paths[name] = os.path.join(work, name + ".toml")
+        with open(paths[name], "w") as f:
+            f.write(text)
+    result = run([softflow, "check"] + [paths[name] for name in cases], expect=0)
+    warnings = [line for line in result.stderr.splitlines() if ": warning: " in line]
+    if len(result.stdout.splitlines()) != 3 or len(warnings) != 1 or paths["above_bound"] not in warnings[0]:
+        fail(f"one warning, for the step above the bound, expected:\n{result.stdout}\n{result.stderr}")
+    for expected in ("time.step = 0.16", "0.1333", "interface.redistribution_factor", "at most 8.333"):
+        if expected not in warnings[0]:
+            fail(f"the warning does not say {expected!r}: {warnings[0]}")
     print("PASS")
 
 

@@ -339,6 +339,10 @@ nlohmann::json run_drop_case(const io::CaseConfig& config, const RunOptions& opt
   ledger.mesh_report = meshed.report;
   ledger.steady = steady_monitor(config);
   ledger.adaptive = adaptive_steps(config);
+  if (const auto warning = redistribution_step_warning(config)) {
+    if (is_root()) fmt::print(stderr, "softflow: warning: {}\n", *warning);
+    ledger.warnings.push_back(*warning);  // summary.json's warnings
+  }
   leave_startup();  // the staging directory exists: a stop request now removes it cleanly
   DropSimulation sim(config, std::move(meshed.mesh));
   const StepReport first = sim.initial_report();

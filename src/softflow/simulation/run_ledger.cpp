@@ -32,6 +32,22 @@ double adaptive_step_bound(const io::CaseConfig& config) {
   return std::max(bound, config.time.step);  // never below the first step
 }
 
+std::optional<std::string> redistribution_step_warning(const io::CaseConfig& config) {
+  const double k = redistribution_rate(config);
+  const double dt = config.time.step;
+  if (config.objects.empty() || config.time.end <= 0.0 || config.time.adaptive_tolerance > 0.0 ||
+      k <= 0.0 || k * dt <= 4.0 / 3.0)
+    return std::nullopt;
+  return fmt::format(
+      "time.step = {:g} is above the tangential redistribution's stability bound 4 / (3 k) = "
+      "{:.4g} "
+      "(k = interface.redistribution_factor {:g} x the shear rate): the interface nodes will "
+      "oscillate from step to step and the objects' volume drift; a time.step below {:.4g}, or "
+      "interface.redistribution_factor at most {:.4g}, keeps it stable",
+      dt, 4.0 / (3.0 * k), config.interface.redistribution_factor, 4.0 / (3.0 * k),
+      config.interface.redistribution_factor * 4.0 / (3.0 * k * dt));
+}
+
 time::StepController step_controller(const io::CaseConfig& config) {
   time::StepControllerSettings s;
   s.tolerance = config.time.adaptive_tolerance;
