@@ -33,7 +33,8 @@ CA_E, HEIGHT = 0.1, 10.0  # p = 4.5; H = 2R / beta
 # (dt, redistribution factor k / gamma_dot; None: the case's, 10), in the order they run
 # (y_p0 / H, dt, redistribution factor k / gamma_dot; None: the case's, 10), in the order they run
 RUNS = [(0.28, 0.16, None), (0.28, 0.08, None), (0.28, 0.04, None), (0.28, 0.12, None), (0.28, 0.16, 5.0),
-        (0.10, 0.12, None), (0.10, 0.04, None), (0.10, 0.16, 5.0), (0.28, 0.04, 5.0), (0.10, 0.08, None)]
+        (0.10, 0.12, None), (0.10, 0.04, None), (0.10, 0.16, 5.0), (0.28, 0.04, 5.0), (0.10, 0.08, None),
+        (0.10, 0.02, None), (0.28, 0.02, None)]  # the figures' step against a shorter one
 REFERENCE = 0.04  # the figures' step
 TRANSIENT, T_END = 2.0, 6.0
 WINDOWS = [(2.0, 3.0), (3.0, 4.0), (4.0, 5.0), (5.0, 6.0)]
