@@ -242,12 +242,13 @@ def validation_main(work_name, jobs, report, runner=run_case):
     if not args.report_only:
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
             list(pool.map(lambda j: runner(args.build, args.work, *j), jobs()))
-    absent = [name for name, _ in jobs() if not finished(os.path.join(args.work, name))
+    names = [name for name, _ in jobs()]
+    absent = [name for name in names if not finished(os.path.join(args.work, name))
               and not os.path.exists(os.path.join(args.work, name, "response.csv"))]
     if absent:
         # On a fresh clone the runs from before the archive (data/runs/) are
         # not here: the report then covers fewer runs than the committed one.
-        print(f"note: {len(absent)} of {len(jobs())} runs have not finished in {args.work} "
+        print(f"note: {len(absent)} of {len(names)} runs have not finished in {args.work} "
               f"(the report leaves them out): {', '.join(absent[:8])}{' ...' if len(absent) > 8 else ''}")
     if len(inspect.signature(report).parameters) >= 2:
         report(args.work, args.build)

@@ -23,10 +23,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from case_runs import summary_of, validation_main, write_csv  # noqa: E402
+from case_runs import validation_main, write_csv  # noqa: E402
 from migration_families import T_END, TRANSIENT, case_name, case_text  # noqa: E402
-from migration_near_centre import height  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from migration_families import read_point as families_point  # noqa: E402
+from migration_near_centre import y_max  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -48,23 +48,17 @@ def jobs():
 
 
 def read_point(work, beta, ca, start, nodes):
-    """Means over t = TRANSIENT ... T_END of one finished run, else None."""
-    directory = os.path.join(work, case_name(beta, ca, start, nodes))
-    if not os.path.exists(os.path.join(directory, "migration.csv")):
+    """migration_families.read_point's means over t = TRANSIENT ... T_END, with
+    Delta S's range over that window and the height in H; None before its end."""
+    p = families_point(work, beta, ca, start, nodes)
+    if p is None:
         return None
-    r = read_migration(directory, height(beta))
-    if r["t"][-1] < T_END - 1e-9:
-        return None
-    late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT - 1e-9]
-    y = sum(r["y"][i] for i in late) / len(late)
-    late_ds = [r["dS"][i] for i in late]
-    summary = summary_of(directory)
     return {"beta": beta, "ca_e": ca, "y_p0_rel": start, "equator_nodes": nodes,
-            "equator_nodes_made": summary["mesh"]["equator_nodes"], "unknowns": summary["unknowns"],
-            "y_p_over_H": y, "wall_gap_over_R": height(beta) * (0.5 - y) - 1.0,
-            "v_p": mean_velocity(r, TRANSIENT), "delta_s": sum(late_ds) / len(late_ds),
-            "delta_s_min": min(late_ds), "delta_s_max": max(late_ds),
-            "wall_seconds": summary["wall_seconds"], "series": r}
+            "equator_nodes_made": p["summary"]["mesh"]["equator_nodes"], "unknowns": p["unknowns"],
+            "y_p_over_H": p["y_p_rel"] * y_max(beta), "wall_gap_over_R": p["wall_gap_over_R"],
+            "v_p": p["v_p"], "delta_s": p["delta_s"],
+            "delta_s_min": min(p["late_delta_s"]), "delta_s_max": max(p["late_delta_s"]),
+            "wall_seconds": p["wall_seconds"], "series": p["series"]}
 
 
 def report(work):

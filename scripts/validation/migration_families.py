@@ -103,29 +103,33 @@ def jobs():
             [(case_name(*x), case_text(*x)) for x in FINER])
 
 
+def read_point(work, beta, ca, s, nodes=20):
+    """One start past the window's end, else None: the mean height, v_p and
+    Delta S after the transient (the late rows' Delta S kept as `late_delta_s`)."""
+    directory = os.path.join(work, case_name(beta, ca, s, nodes))
+    if not os.path.exists(os.path.join(directory, "migration.csv")):
+        return None
+    r = read_migration(directory, height(beta))
+    v = mean_velocity(r, TRANSIENT)
+    if v is None or r["t"][-1] < T_END - 1e-9:
+        return None  # not yet past the window
+    late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT - 1e-9]
+    y_rel = sum(r["y"][i] for i in late) / len(late) / y_max(beta)
+    summary = summary_of(directory)
+    gap = (height(beta) / 2 - y_rel * y_max(beta) * height(beta) - 1.0)  # to the near wall, in R
+    late_delta_s = [r["dS"][i] for i in late]
+    return {"beta": beta, "ca_e": ca, "y_p0_rel": s, "equator_nodes": nodes, "y_p_rel": y_rel,
+            "wall_gap_over_R": gap, "v_p": v,
+            "eq_3_8": eq_3_8(beta, ca, y_rel), "ratio": v / eq_3_8(beta, ca, y_rel),
+            "delta_s": sum(late_delta_s) / len(late_delta_s), "late_delta_s": late_delta_s,
+            "unknowns": summary.get("unknowns"), "wall_seconds": summary.get("wall_seconds"),
+            "summary": summary, "series": r}
+
+
 def read_points(work):
-    """One row per start past the window's end: the mean v_p and Delta S after the transient."""
-    rows = []
+    """One row per start past the window's end (read_point)."""
     runs = [(b, ca, s, 20) for b, ca in configurations() for s in sorted(STARTS)] + FINER
-    for beta, ca, s, nodes in runs:
-        directory = os.path.join(work, case_name(beta, ca, s, nodes))
-        if not os.path.exists(os.path.join(directory, "migration.csv")):
-            continue
-        r = read_migration(directory, height(beta))
-        v = mean_velocity(r, TRANSIENT)
-        if v is None or r["t"][-1] < T_END - 1e-9:
-            continue  # not yet past the window
-        late = [i for i, t in enumerate(r["t"]) if t >= TRANSIENT - 1e-9]
-        y_rel = sum(r["y"][i] for i in late) / len(late) / y_max(beta)
-        summary = summary_of(directory)
-        gap = (height(beta) / 2 - y_rel * y_max(beta) * height(beta) - 1.0)  # to the near wall, in R
-        rows.append({"beta": beta, "ca_e": ca, "y_p0_rel": s, "equator_nodes": nodes, "y_p_rel": y_rel,
-                     "wall_gap_over_R": gap, "v_p": v,
-                     "eq_3_8": eq_3_8(beta, ca, y_rel), "ratio": v / eq_3_8(beta, ca, y_rel),
-                     "delta_s": sum(r["dS"][i] for i in late) / len(late),
-                     "unknowns": summary.get("unknowns"), "wall_seconds": summary.get("wall_seconds"),
-                     "series": r})
-    return rows
+    return [x for x in (read_point(work, *run) for run in runs) if x is not None]
 
 
 def family_rows(rows, family):
