@@ -38,7 +38,8 @@ OUT = os.path.join(ROOT, "docs", "validation")
 # block without its mass term, docs/emulsions.md), and the longer solves.
 FREQUENCIES = {"": [0.2, 0.4, 1.0, 3.0, 10.0], "_low": [0.02, 0.06]}
 # (lambda, phi asked), in the order they run; phi = 0.26 in the centres' layout (layout()).
-POINTS = [(1.0, 0.10), (5.0, 0.10), (0.1, 0.10), (1.0, 0.20), (1.0, 0.26), (5.0, 0.20)]
+POINTS = [(1.0, 0.10), (5.0, 0.10), (0.1, 0.10), (1.0, 0.20), (1.0, 0.26), (5.0, 0.20), (5.0, 0.26),
+          (0.1, 0.20), (0.1, 0.26)]
 LOW_POINTS = [(1.0, 0.10)]  # the points with the low frequencies too
 # The same configurations with finer drops (FINER_NODES equator nodes; the
 # rest of the mesh as above) at a few frequencies: how much of the low
