@@ -115,8 +115,9 @@ def report(work):
                   "5-10x smaller than the case's size on one side, edge nodes up to a quarter of an "
                   "edge off centre), and each remesh ended lower (0.14, 0.12, 0.09) and slower "
                   "(49-253 s). The last row resampled the interface (`interfaces = \"auto\"`, "
-                  "the default): 132 triangles, worst element 0.24, 4.4 s, and no other remesh was "
-                  "needed to the end.", ""]
+                  "the default): 132 triangles, worst element 0.203 (its row; 0.20-0.24 in 4.4-4.6 s when "
+                  "redone from the checkpoint, docs/remeshing.md), and no other remesh was needed to the "
+                  "end.", ""]
     lines += [f"## Migration velocity along the trajectory (slopes of y_p over {STRETCH:g} time units)", "",
               "| t | y_p / H | v_p | eq. 3.8 (near-centre law) | ratio |", "|---|---|---|---|---|"]
     for t, y, v in parts:

@@ -270,15 +270,16 @@ def report(work):
             if p:
                 finer_lines.append(
                     f"| {lam:g} | {phi:.2f} | {nodes} | {p['n']} | {modulus(p['storage'][0])} ± "
-                    f"{modulus(p['storage'][1])} | {modulus(p['oldroyd'][0])} | {p['loss'][0]:.4f} ± "
+                    f"{modulus(p['storage'][1])} | {modulus(p['oldroyd'][0])} | "
+                    f"{p['storage'][0] / p['oldroyd'][0]:.3f} | {p['loss'][0]:.4f} ± "
                     f"{p['loss'][1]:.4f} | {p['oldroyd'][1]:.4f} | {p['loss'][0] / p['oldroyd'][1]:.3f} | "
                     f"{p['seconds']:.0f} |")
     if finer_lines:
         lines += ["", "## Finer drops at one point", "",
                   "The same configurations (seeds) with finer drops (equator nodes; far size and the rest of the mesh "
                   "as above).", "",
-                  "| lambda | phi asked | equator nodes | configurations | G' R/Gamma | Oldroyd | G''/(eta_m omega) | "
-                  "Oldroyd | ratio | s per configuration |", "|---|---|---|---|---|---|---|---|---|---|"] + finer_lines
+                  "| lambda | phi asked | equator nodes | configurations | G' R/Gamma | Oldroyd | ratio | G''/(eta_m omega) | "
+                  "Oldroyd | ratio | s per configuration |", "|---|---|---|---|---|---|---|---|---|---|---|"] + finer_lines
     centres_points = []
     for lam, phi, n in [(lam, phi, 14) for lam, phi in CENTRES] + CENTRES_FINER:
         rows = read_point(work, lam, phi, record, n, "centres")

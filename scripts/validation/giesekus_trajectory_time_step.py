@@ -23,7 +23,7 @@ import os
 import re
 import statistics
 
-from case_runs import read_csv, summary_of, validation_main, write_csv  # noqa: E402
+from case_runs import read_csv, richardson, summary_of, validation_main, write_csv  # noqa: E402
 from giesekus_neutral_height import text as neutral_height_text  # noqa: E402
 from migration_runs import mean_velocity, read_migration, window_velocities  # noqa: E402
 
@@ -123,6 +123,17 @@ def report(work):
         windows = " | ".join("" if v is None else f"{v:.3e}" for v in p["windows"])
         lines.append(head + f"{x['v_p']:.4e} | {ratio} | {windows} | {x['median_step_seconds']:.2f} | "
                      f"{x['stokes_iterations']:g} | {x['seconds_per_unit']:.0f} | {x['trajectory_hours']:.1f} |")
+    lines += ["", "The step's limit: Richardson through dt = 0.08 / 0.04 / 0.02 (k = 10), per start:", ""]
+    for start in sorted({p["start"] for p in points}, reverse=True):
+        by_dt = {p["dt"]: p["v_p"] for p in points if p["start"] == start and p["k"] is None and not p["stopped"]}
+        fit = richardson((0.08, 0.04, 0.02), [by_dt[dt] for dt in (0.08, 0.04, 0.02)]) \
+            if all(dt in by_dt for dt in (0.08, 0.04, 0.02)) else None
+        if fit is None:
+            lines.append(f"- {start:g} H: no monotone triple to extrapolate")
+            continue
+        order, limit = fit
+        lines.append(f"- {start:g} H: observed order {order:.2f}, dt -> 0 limit {limit:.4e}; dt = 0.04 is "
+                     f"{by_dt[REFERENCE] / limit - 1:+.1%} from it, dt = 0.02 {by_dt[0.02] / limit - 1:+.1%}")
     with open(os.path.join(OUT, "giesekus_trajectory_time_step.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
