@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Plots the migration master curves of `softflow migration`: v_p and Delta S against
-y_p / y_p,max, one colour per run, and eq. 3.8's near-centre line.
+y_p / y_p,max, one colour per run, and eq. 3.8's near-centre line; with a
+quasi-steady trajectory (--trajectory-from), y_p / y_p,max against t beside them.
 
-Usage: plot_migration.py DIR  (reads DIR/migration_curves.csv, DIR/migration.md;
-writes DIR/migration.png)
+Usage: plot_migration.py DIR  (reads DIR/migration_curves.csv, DIR/migration.md,
+DIR/migration_trajectory.csv if there; writes DIR/migration.png)
 """
 import csv
+import os
 import re
 import sys
 
@@ -21,7 +23,10 @@ def main(directory):
     text = open(f"{directory}/migration.md").read()
     m = re.search(r"eq\. 3\.8 gives -2 beta\^3 Ca_e = ([-0-9.e+]+)", text)
     theory = float(m.group(1)) if m else None
-    fig, (ax_v, ax_s) = plt.subplots(1, 2, figsize=(10, 4))
+    path_file = f"{directory}/migration_trajectory.csv"
+    path = list(csv.DictReader(open(path_file))) if os.path.exists(path_file) else []
+    fig, axes = plt.subplots(1, 3 if path else 2, figsize=(15 if path else 10, 4))
+    ax_v, ax_s = axes[0], axes[1]
     for run in runs:
         pts = [r for r in rows if int(r["run"]) == run]
         y = [float(r["y_p_rel"]) for r in pts]
@@ -35,6 +40,11 @@ def main(directory):
     ax_v.legend(fontsize=7)
     ax_s.set_xlabel("y_p / y_p,max")
     ax_s.set_ylabel("Delta S (eq. 3.6)")
+    if path:
+        ax_t = axes[2]
+        ax_t.plot([float(r["t"]) for r in path], [float(r["y_p_rel"]) for r in path], "k-")
+        ax_t.set_xlabel("t (quasi-steady, along the master curve)")
+        ax_t.set_ylabel("y_p / y_p,max")
     fig.tight_layout()
     fig.savefig(f"{directory}/migration.png", dpi=120)
 

@@ -321,6 +321,11 @@ int main(int argc, char** argv) {
                         "the time over which each run's mean v_p (the slope of y_p) is taken for the "
                         "neutral heights")
       ->capture_default_str();
+  std::optional<double> migration_from;
+  migration->add_option("--trajectory-from", migration_from,
+                        "also integrate the quasi-steady trajectory dy_p/dt = v_p(y_p) along the "
+                        "master curve from this y_p / y_p,max, to a stable neutral height or the "
+                        "end of the measured heights (migration_trajectory.csv)");
   migration->add_option("-o,--output", migration_out, "where the curves go")->capture_default_str();
 
   double lambda = 1.0, ca = 0.1;
@@ -474,7 +479,12 @@ int main(int argc, char** argv) {
     try {
       std::vector<std::filesystem::path> dirs(migration_runs.begin(), migration_runs.end());
       const auto curves = softflow::simulation::assemble_migration(dirs, migration_transient, migration_segment);
-      softflow::simulation::write_migration(curves, migration_out);
+      std::optional<softflow::simulation::QuasiSteadyTrajectory> trajectory;
+      if (migration_from) trajectory = softflow::simulation::quasi_steady_trajectory(curves, *migration_from);
+      softflow::simulation::write_migration(curves, migration_out, trajectory);
+      if (trajectory && !quiet)
+        std::cout << fmt::format("quasi-steady trajectory from y_p / y_p,max = {:g}: ends {} at t = {:.6g}\n",
+                                 *migration_from, trajectory->ends_at, trajectory->duration);
       if (!quiet) std::cout << fmt::format("wrote {}/migration.md\n", migration_out);
       return kOk;
     } catch (const softflow::InputError& e) {

@@ -75,6 +75,7 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
     const double ca_e = io::elastic_capillary_number(config, object).value_or(0.0);
     if (r == 0) {
       curves.blockage_ratio = beta;
+      curves.y_max = 0.5 * config.box.height - radius;
       curves.capillary_number = ca_e;
     } else if (std::abs(beta - curves.blockage_ratio) > 1e-9 ||
                std::abs(ca_e - curves.capillary_number) > 1e-12) {
@@ -157,7 +158,101 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
   return curves;
 }
 
-void write_migration(const MigrationCurves& c, const fs::path& out) {
+namespace {
+
+/// The time to go from y1 to y2 on a piece where the velocity is linear,
+/// v(y) = v1 + slope (y - y1), and keeps v1's sign: the integral of dy / v.
+double piece_time(double y1, double y2, double v1, double slope) {
+  const double x = slope * (y2 - y1) / v1;  // v(y2) / v1 - 1 > -1
+  if (std::abs(x) < 1e-12) return (y2 - y1) / v1;
+  return std::log1p(x) / slope;
+}
+
+}  // namespace
+
+QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, double y_start,
+                                              double neutral_tolerance, const std::string& option) {
+  // The curve's nodes: the stretches by height, stretches at one height merged.
+  std::vector<double> ys, vs;  // y_rel and d(y_rel)/dt
+  for (const auto& s : curves.segments) {
+    const double v = s.v_p / curves.y_max;
+    if (!ys.empty() && s.y_rel - ys.back() < 1e-12) {
+      vs.back() = 0.5 * (vs.back() + v);
+      continue;
+    }
+    ys.push_back(s.y_rel);
+    vs.push_back(v);
+  }
+  if (ys.size() < 2)
+    throw InputError(fmt::format("{}: the master curve has {} stretch height(s); a trajectory needs two "
+                                 "or more (more runs, or a shorter --segment)",
+                                 option, ys.size()));
+  if (!(y_start >= ys.front() && y_start <= ys.back()))
+    throw InputError(fmt::format("{} = {:g}: outside the measured heights, y_p / y_p,max = {:.4f} ... {:.4f} "
+                                 "(the stretches' middles); start within them",
+                                 option, y_start, ys.front(), ys.back()));
+  if (!(neutral_tolerance > 0.0 && neutral_tolerance < 1.0))
+    throw InputError(fmt::format("neutral tolerance = {:g}: must lie in (0, 1)", neutral_tolerance));
+
+  QuasiSteadyTrajectory path;
+  path.y_start = y_start;
+  std::size_t k = std::upper_bound(ys.begin(), ys.end(), y_start) - ys.begin();
+  k = std::clamp<std::size_t>(k, 1, ys.size() - 1) - 1;  // the piece [ys[k], ys[k + 1]]
+  const auto velocity = [&](std::size_t piece, double y) {
+    const double slope = (vs[piece + 1] - vs[piece]) / (ys[piece + 1] - ys[piece]);
+    return vs[piece] + slope * (y - ys[piece]);
+  };
+  double t = 0.0, y = y_start;
+  path.t.push_back(t);
+  path.y_rel.push_back(y);
+  const auto advance = [&](std::size_t piece, double to) {  // along one piece, eight samples
+    if (to == y) return;  // a start on a node: nothing on the piece it leaves
+    const double slope = (vs[piece + 1] - vs[piece]) / (ys[piece + 1] - ys[piece]);
+    const double from = y;
+    for (int i = 1; i <= 8; ++i) {
+      const double next = from + (to - from) * i / 8.0;
+      t += piece_time(y, next, velocity(piece, y), slope);
+      y = next;
+      path.t.push_back(t);
+      path.y_rel.push_back(y);
+    }
+  };
+  const double v0 = velocity(k, y);
+  if (v0 == 0.0) {
+    path.neutral_height = y;
+    path.ends_at = fmt::format("at a neutral height, y_p / y_p,max = {:.4f} (v_p = 0 where it starts)", y);
+  }
+  const int direction = v0 > 0.0 ? 1 : -1;
+  while (path.ends_at.empty()) {
+    const double target = direction > 0 ? ys[k + 1] : ys[k];
+    const double v_target = velocity(k, target);
+    if (v_target == 0.0 || (v_target > 0.0) != (direction > 0)) {
+      // v_p vanishes inside this piece: a stable neutral height, approached
+      // ever more slowly (exponentially in time), so stop within the tolerance.
+      const double y_n = ys[k] + (ys[k + 1] - ys[k]) * vs[k] / (vs[k] - vs[k + 1]);
+      const double band = neutral_tolerance * (y_n != 0.0 ? std::abs(y_n) : 1.0);
+      const double stop = y_n - direction * band;
+      if (direction * (stop - y) > 0.0) advance(k, stop);
+      path.neutral_height = y_n;
+      path.ends_at = fmt::format("within {:g} % of the stable neutral height y_p / y_p,max = {:.4f}",
+                                 100.0 * neutral_tolerance, y_n);
+      break;
+    }
+    advance(k, target);
+    if (direction > 0 && k + 2 < ys.size()) ++k;
+    else if (direction < 0 && k >= 1) --k;
+    else
+      path.ends_at = fmt::format("at the {} measured height, y_p / y_p,max = {:.4f} (no neutral height "
+                                 "on the way)",
+                                 direction > 0 ? "highest" : "lowest", target);
+  }
+  path.duration = t;
+  path.y_end = y;
+  return path;
+}
+
+void write_migration(const MigrationCurves& c, const fs::path& out,
+                     const std::optional<QuasiSteadyTrajectory>& trajectory) {
   std::string csv = "run,t,y_p,y_p_rel,v_p,delta_s\n";
   for (const auto& p : c.points)
     csv += fmt::format("{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", p.run, p.t, p.y_p, p.y_rel,
@@ -194,9 +289,25 @@ void write_migration(const MigrationCurves& c, const fs::path& out) {
                       c.theory_slope != 0.0 ? *c.slope / c.theory_slope : std::nan(""));
   else
     md += "Fewer than two points there: no slope.\n";
+  std::string path_csv;
+  if (trajectory) {
+    const auto& p = *trajectory;
+    md += fmt::format(
+        "\n## Quasi-steady trajectory from y_p / y_p,max = {:.4f}\n\n"
+        "dy_p/dt = v_p(y_p) along the stretches' curve (linear between them, integrated exactly; "
+        "migration_trajectory.csv): it ends {} after t = {:.6g} (gamma_dot t with the runs' "
+        "shear rate), at y_p / y_p,max = {:.4f} (y_p = {:.6g}). It holds where the particle settles "
+        "faster than it migrates (docs/confinement.md, \"The quasi-steady trajectory\").\n",
+        p.y_start, p.ends_at, p.duration, p.y_end, p.y_end * c.y_max);
+    path_csv = "t,y_p,y_p_rel\n";
+    for (std::size_t i = 0; i < p.t.size(); ++i)
+      path_csv += fmt::format("{:.10g},{:.10g},{:.10g}\n", p.t[i], p.y_rel[i] * c.y_max, p.y_rel[i]);
+  }
   md += "\n![migration](migration.png)\n";
   fs::create_directories(out);
   io::write_text_file_atomically(out / "migration_curves.csv", csv);
+  if (trajectory) io::write_text_file_atomically(out / "migration_trajectory.csv", path_csv);
+  else fs::remove(out / "migration_trajectory.csv");  // not an earlier call's beside these curves
   io::write_text_file_atomically(out / "migration.md", md);
   draw_plot("plot_migration.py", out, "migration.png", false);
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,7 @@ struct NeutralHeight {
 struct MigrationCurves {
   std::vector<std::filesystem::path> runs;
   double blockage_ratio = 0.0;       ///< beta = 2R/H, of the first run (all must agree)
+  double y_max = 0.0;                ///< y_p,max = H/2 - R of the first run (y_rel's unit)
   double capillary_number = 0.0;     ///< Ca_e of the first object (0 for a drop)
   double transient = 0.0;            ///< time dropped at the start of each run
   std::vector<MigrationPoint> points;  ///< every kept row, sorted by y_rel
@@ -70,8 +72,40 @@ struct MigrationCurves {
 MigrationCurves assemble_migration(const std::vector<std::filesystem::path>& directories,
                                    double transient, double segment = 2.0);
 
+/// The path of a particle that migrates quasi-steadily along the master curve:
+/// dy_p/dt = v_p(y_p), with v_p linear between neighbouring stretches of
+/// `MigrationCurves::segments` (the curve the neutral heights are read from),
+/// integrated exactly on each piece (dt = dy / v with v linear in y: a
+/// logarithm). It stands for a time-stepped trajectory when the particle's
+/// shape and the flow around it settle (the transient each run drops, a few
+/// 1/gamma_dot) much faster than the particle crosses the curve's features
+/// (v_p ~ 1e-4 to 1e-2 gamma_dot H): short runs from a few heights then give
+/// a trajectory whose time stepping would take tens of hours
+/// (docs/confinement.md, "The quasi-steady trajectory", measures it against a
+/// time-stepped one).
+struct QuasiSteadyTrajectory {
+  double y_start = 0.0;          ///< y_p / y_p,max at t = 0
+  std::vector<double> t, y_rel;  ///< the path, eight points per piece of the curve
+  double duration = 0.0;         ///< t at its end
+  double y_end = 0.0;            ///< y_p / y_p,max at its end
+  double neutral_height = std::numeric_limits<double>::quiet_NaN();  ///< y_rel it approaches, if any
+  std::string ends_at;  ///< why it ends: near a stable neutral height, or the measured heights end
+};
+
+/// From y_p / y_p,max = `y_start` (within the segments' heights) until it
+/// comes within `neutral_tolerance` of a stable neutral height (relative to
+/// that height; of y_p,max for the centre plane itself) or leaves the measured
+/// heights. InputError naming `option` for a start outside them or a curve of
+/// fewer than two stretches.
+QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, double y_start,
+                                              double neutral_tolerance = 0.01,
+                                              const std::string& option = "--trajectory-from");
+
 /// migration_curves.csv (the points), migration.md (runs, neutral heights,
-/// the slope beside eq. 3.8) in `out`; migration.png by scripts/plot_migration.py.
-void write_migration(const MigrationCurves& curves, const std::filesystem::path& out);
+/// the slope beside eq. 3.8, and the trajectory if one is given) in `out`,
+/// with migration_trajectory.csv for the trajectory; migration.png by
+/// scripts/plot_migration.py.
+void write_migration(const MigrationCurves& curves, const std::filesystem::path& out,
+                     const std::optional<QuasiSteadyTrajectory>& trajectory = std::nullopt);
 
 }  // namespace softflow::simulation
