@@ -73,7 +73,9 @@ TEST(QuasiSteadyTrajectory, IntegratesUnequalPiecesAsAQuadratureOfOneOverV) {
     const double lo = heights[k], hi = std::min(heights[k + 1], 0.9);
     if (hi <= lo) continue;
     const double vl = -0.03 * heights[k] * heights[k], vh = -0.03 * heights[k + 1] * heights[k + 1];
-    const auto v = [&](double y) { return vl + (vh - vl) * (y - heights[k]) / (heights[k + 1] - heights[k]); };
+    const auto v = [&](double y) {
+      return vl + (vh - vl) * (y - heights[k]) / (heights[k + 1] - heights[k]);
+    };
     const int n = 20000;
     double sum = 0.0;
     for (int i = 0; i <= n; ++i) {
@@ -89,7 +91,10 @@ TEST(QuasiSteadyTrajectory, IntegratesUnequalPiecesAsAQuadratureOfOneOverV) {
 TEST(QuasiSteadyTrajectory, StretchesAtOneHeightAreMerged) {
   simulation::MigrationCurves c;
   c.y_max = 2.0;
-  c.segments = {{0, 0, 1, 0.2, -0.002}, {1, 0, 1, 0.5, -0.004}, {2, 0, 1, 0.5, -0.008}, {1, 1, 2, 0.8, -0.01}};
+  c.segments = {{0, 0, 1, 0.2, -0.002},
+                {1, 0, 1, 0.5, -0.004},
+                {2, 0, 1, 0.5, -0.008},
+                {1, 1, 2, 0.8, -0.01}};
   const auto path = simulation::quasi_steady_trajectory(c, 0.5);
   // Down from 0.5 along v_rel linear from -0.003 (the two stretches' mean) to -0.001.
   const double slope = (-0.003 + 0.001) / 0.3;
@@ -107,6 +112,9 @@ TEST(QuasiSteadyTrajectory, RefusesAStartOutsideTheMeasuredHeightsAndAOnePointCu
     EXPECT_NE(m.find("--trajectory-from = 0.45"), std::string::npos) << m;
     EXPECT_NE(m.find("0.2000 ... 0.4000"), std::string::npos) << m;
   }
-  EXPECT_THROW(simulation::quasi_steady_trajectory(curve({0.3}, [](double y) { return -y; }), 0.3), InputError);
+  EXPECT_THROW(simulation::quasi_steady_trajectory(curve({0.3}, [](double y) { return -y; }), 0.3),
+               InputError);
   EXPECT_THROW(simulation::quasi_steady_trajectory(c, 0.3, 0.0), InputError);
+  // A round-off beyond an end is that end.
+  EXPECT_EQ(simulation::quasi_steady_trajectory(c, 0.4 + 1e-13).y_start, 0.4);
 }

@@ -187,6 +187,10 @@ QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, dou
     throw InputError(fmt::format("{}: the master curve has {} stretch height(s); a trajectory needs two "
                                  "or more (more runs, or a shorter --segment)",
                                  option, ys.size()));
+  // A start a round-off beyond an end (a height computed from the same rows) is that end.
+  const double round_off = 1e-9 * (ys.back() - ys.front());
+  if (y_start < ys.front() && y_start >= ys.front() - round_off) y_start = ys.front();
+  if (y_start > ys.back() && y_start <= ys.back() + round_off) y_start = ys.back();
   if (!(y_start >= ys.front() && y_start <= ys.back()))
     throw InputError(fmt::format("{} = {:g}: outside the measured heights, y_p / y_p,max = {:.4f} ... {:.4f} "
                                  "(the stretches' middles); start within them",
