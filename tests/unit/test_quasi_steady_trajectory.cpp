@@ -54,6 +54,65 @@ TEST(QuasiSteadyTrajectory, StopsWithinTheToleranceOfAStableNeutralHeightFromEit
   EXPECT_EQ(simulation::quasi_steady_trajectory(c, 0.301).duration, 0.0);
 }
 
+TEST(QuasiSteadyTrajectory, StopsWhereTheToleranceBandBeginsEvenPiecesBeforeTheZero) {
+  // A node inside the 1 % band above y_n: the path stops at 1.01 y_n, in the
+  // piece above that node, not at the node.
+  const double a = 0.05, y_n = 0.3;
+  const auto c = curve({0.2, 0.301, 0.4}, [&](double y) { return -a * (y - y_n); });
+  const auto path = simulation::quasi_steady_trajectory(c, 0.35);
+  EXPECT_NEAR(path.y_end, 1.01 * y_n, 1e-14);
+  EXPECT_NEAR(path.duration, std::log(0.05 / 0.003) / a, 1e-9);
+  // Started inside the band, a piece away from the zero: no time.
+  EXPECT_EQ(simulation::quasi_steady_trajectory(c, 0.3025).duration, 0.0);
+}
+
+TEST(QuasiSteadyTrajectory, TheCentrePlaneGetsABandOfATenthOfItsHeightScale) {
+  // v_rel = -0.05 y (a master curve through the centre plane): the band is
+  // 1 % of 0.1 y_p,max there, and a y_n off zero by round-off changes nothing.
+  const auto c = curve({-0.2, 0.2}, [](double y) { return -0.05 * y; });
+  const auto path = simulation::quasi_steady_trajectory(c, -0.1);
+  EXPECT_NEAR(path.y_end, -0.001, 1e-15);
+  EXPECT_NEAR(path.duration, std::log(100.0) / 0.05, 1e-9);
+  auto nudged = c;
+  nudged.segments[1].v_p += 1e-9;
+  EXPECT_NEAR(simulation::quasi_steady_trajectory(nudged, -0.1).duration, path.duration, 1e-4);
+}
+
+TEST(QuasiSteadyTrajectory, AZeroOnANodeIsAnExactNeutralHeight) {
+  // v_rel = 0.007 / 0 / -0.007 at -0.35 / 0 / 0.35: stable at the node 0.
+  simulation::MigrationCurves c;
+  c.y_max = 1.0;
+  c.segments = {{0, 0, 1, -0.35, 0.007}, {0, 1, 2, 0.0, 0.0}, {0, 2, 3, 0.35, -0.007}};
+  const auto path = simulation::quasi_steady_trajectory(c, -0.3);
+  EXPECT_EQ(path.neutral_height, 0.0);
+  EXPECT_NEAR(path.y_end, -0.001, 1e-15);
+  EXPECT_NEAR(path.duration, std::log(0.3 / 0.001) / 0.02, 1e-9);
+  EXPECT_NE(path.ends_at.find("stable neutral height"), std::string::npos) << path.ends_at;
+  // Touched, not crossed (v_p > 0 again above it): it still stops there, saying so.
+  c.segments[2].v_p = 0.004;
+  const auto touched = simulation::quasi_steady_trajectory(c, -0.3);
+  EXPECT_NEAR(touched.y_end, -0.001, 1e-15);
+  EXPECT_TRUE(std::isfinite(touched.duration));
+  EXPECT_NE(touched.ends_at.find("points onwards again"), std::string::npos) << touched.ends_at;
+  // Started on it: there already.
+  const auto on = simulation::quasi_steady_trajectory(c, 0.0);
+  EXPECT_EQ(on.duration, 0.0);
+  EXPECT_NE(on.ends_at.find("v_p = 0 where it starts"), std::string::npos) << on.ends_at;
+}
+
+TEST(QuasiSteadyTrajectory, StartsOnANodeOrAnEndGoingEitherWay) {
+  const auto c = curve({0.1, 0.3, 0.5, 0.7, 0.9}, [](double y) { return 0.01 * (y - 0.5); });
+  const auto up = simulation::quasi_steady_trajectory(c, 0.7);  // on a node, moving up
+  EXPECT_NEAR(up.duration, std::log(0.4 / 0.2) / 0.01, 1e-9);
+  EXPECT_EQ(up.t.size(), 9u);                                     // one piece
+  const auto down = simulation::quasi_steady_trajectory(c, 0.3);  // on a node, moving down
+  EXPECT_NEAR(down.duration, std::log(0.4 / 0.2) / 0.01, 1e-9);
+  EXPECT_EQ(down.t.size(), 9u);
+  EXPECT_EQ(simulation::quasi_steady_trajectory(c, 0.9).duration, 0.0);  // at the top, moving up
+  EXPECT_EQ(simulation::quasi_steady_trajectory(c, 0.1).duration,
+            0.0);  // at the bottom, moving down
+}
+
 TEST(QuasiSteadyTrajectory, LeavesAnUnstableNeutralHeightToTheEndOfTheCurve) {
   const auto c = curve({0.1, 0.3, 0.5, 0.7, 0.9}, [](double y) { return 0.01 * (y - 0.5); });
   const auto up = simulation::quasi_steady_trajectory(c, 0.6);
@@ -95,11 +154,16 @@ TEST(QuasiSteadyTrajectory, StretchesAtOneHeightAreMerged) {
                 {1, 0, 1, 0.5, -0.004},
                 {2, 0, 1, 0.5, -0.008},
                 {1, 1, 2, 0.8, -0.01}};
-  const auto path = simulation::quasi_steady_trajectory(c, 0.5);
+  auto path = simulation::quasi_steady_trajectory(c, 0.5);
   // Down from 0.5 along v_rel linear from -0.003 (the two stretches' mean) to -0.001.
   const double slope = (-0.003 + 0.001) / 0.3;
   EXPECT_NEAR(path.duration, std::log(-0.001 / -0.003) / slope, 1e-10);
   EXPECT_EQ(path.t.size(), 9u);  // one piece: the start on a node adds nothing from the piece above
+  // Three at one height: their mean, each with its weight.
+  c.segments = {
+      {0, 0, 1, 0.2, -0.002}, {1, 0, 1, 0.5, 0.0}, {2, 0, 1, 0.5, 0.0}, {3, 0, 1, 0.5, -0.018}};
+  path = simulation::quasi_steady_trajectory(c, 0.5);
+  EXPECT_NEAR(path.duration, std::log(-0.001 / -0.003) / slope, 1e-10);
 }
 
 TEST(QuasiSteadyTrajectory, RefusesAStartOutsideTheMeasuredHeightsAndAOnePointCurve) {

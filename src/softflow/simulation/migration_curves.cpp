@@ -73,17 +73,21 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
     const double radius = io::mean_radius(object.geometry);
     const double beta = 2.0 * radius / config.box.height;
     const double ca_e = io::elastic_capillary_number(config, object).value_or(0.0);
+    const double y_max = 0.5 * config.box.height - radius;
     if (r == 0) {
       curves.blockage_ratio = beta;
-      curves.y_max = 0.5 * config.box.height - radius;
+      curves.y_max = y_max;
       curves.capillary_number = ca_e;
     } else if (std::abs(beta - curves.blockage_ratio) > 1e-9 ||
-               std::abs(ca_e - curves.capillary_number) > 1e-12) {
-      throw InputError(fmt::format(
-          "{}: beta = {:g}, Ca_e = {:g}, but {} has beta = {:g}, Ca_e = {:g}: a master curve "
-          "combines runs of one particle and flow from different starts",
-          dir.string(), beta, ca_e, directories.front().string(), curves.blockage_ratio,
-          curves.capillary_number));
+               std::abs(ca_e - curves.capillary_number) > 1e-12 ||
+               std::abs(y_max - curves.y_max) > 1e-9 * curves.y_max) {
+      throw InputError(
+          fmt::format("{}: beta = {:g}, Ca_e = {:g}, y_p,max = H/2 - R = {:g}, but {} has beta = "
+                      "{:g}, Ca_e = {:g}, "
+                      "y_p,max = {:g}: a master curve combines runs of one particle and flow from "
+                      "different starts",
+                      dir.string(), beta, ca_e, y_max, directories.front().string(),
+                      curves.blockage_ratio, curves.capillary_number, curves.y_max));
     }
     curves.runs.push_back(dir);
     const fs::path file = dir / "migration.csv";
@@ -161,94 +165,141 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
 namespace {
 
 /// The time to go from y1 to y2 on a piece where the velocity is linear,
-/// v(y) = v1 + slope (y - y1), and keeps v1's sign: the integral of dy / v.
+/// v(y) = v1 + slope (y - y1), and keeps v1's (non-zero) sign: the integral
+/// of dy / v.
 double piece_time(double y1, double y2, double v1, double slope) {
   const double x = slope * (y2 - y1) / v1;  // v(y2) / v1 - 1 > -1
   if (std::abs(x) < 1e-12) return (y2 - y1) / v1;
   return std::log1p(x) / slope;
 }
 
+/// The master curve as quasi_steady_trajectory integrates it: heights ys
+/// (increasing) and d(y_rel)/dt vs, linear between them.
+struct PiecewiseCurve {
+  std::vector<double> ys, vs;
+  /// On piece k (between nodes k and k + 1), exact at both nodes.
+  double velocity(std::size_t k, double y) const {
+    const double w = (y - ys[k]) / (ys[k + 1] - ys[k]);
+    return (1.0 - w) * vs[k] + w * vs[k + 1];
+  }
+  double slope(std::size_t k) const { return (vs[k + 1] - vs[k]) / (ys[k + 1] - ys[k]); }
+};
+
 }  // namespace
 
 QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, double y_start,
                                               double neutral_tolerance, const std::string& option) {
-  // The curve's nodes: the stretches by height, stretches at one height merged.
-  std::vector<double> ys, vs;  // y_rel and d(y_rel)/dt
+  if (!(curves.y_max > 0.0))
+    throw InputError(
+        fmt::format("{}: y_p,max = H/2 - R = {:g} is not positive", option, curves.y_max));
+  if (!(neutral_tolerance > 0.0 && neutral_tolerance < 1.0))
+    throw InputError(
+        fmt::format("neutral tolerance = {:g}: must lie in (0, 1)", neutral_tolerance));
+  // The curve's nodes: the stretches by height, stretches at one height averaged.
+  PiecewiseCurve c;
+  std::vector<int> merged;
   for (const auto& s : curves.segments) {
     const double v = s.v_p / curves.y_max;
-    if (!ys.empty() && s.y_rel - ys.back() < 1e-12) {
-      vs.back() = 0.5 * (vs.back() + v);
+    if (!std::isfinite(v) || !std::isfinite(s.y_rel))
+      throw InputError(fmt::format(
+          "{}: run {} has a non-finite y_p or v_p over t = {:g}-{:g}", option,
+          curves.runs.size() > static_cast<std::size_t>(s.run) ? curves.runs[s.run].string()
+                                                               : std::to_string(s.run),
+          s.t_begin, s.t_end));
+    if (!c.ys.empty() && s.y_rel - c.ys.back() < 1e-12) {
+      c.vs.back() += (v - c.vs.back()) / ++merged.back();  // running mean
       continue;
     }
-    ys.push_back(s.y_rel);
-    vs.push_back(v);
+    c.ys.push_back(s.y_rel);
+    c.vs.push_back(v);
+    merged.push_back(1);
   }
-  if (ys.size() < 2)
-    throw InputError(fmt::format("{}: the master curve has {} stretch height(s); a trajectory needs two "
-                                 "or more (more runs, or a shorter --segment)",
-                                 option, ys.size()));
+  const auto& ys = c.ys;
+  const auto& vs = c.vs;
+  const std::size_t n = ys.size();
+  if (n < 2)
+    throw InputError(
+        fmt::format("{}: the master curve has {} stretch height(s); a trajectory needs two "
+                    "or more (more runs, or a shorter --segment)",
+                    option, n));
   // A start a round-off beyond an end (a height computed from the same rows) is that end.
   const double round_off = 1e-9 * (ys.back() - ys.front());
   if (y_start < ys.front() && y_start >= ys.front() - round_off) y_start = ys.front();
   if (y_start > ys.back() && y_start <= ys.back() + round_off) y_start = ys.back();
   if (!(y_start >= ys.front() && y_start <= ys.back()))
-    throw InputError(fmt::format("{} = {:g}: outside the measured heights, y_p / y_p,max = {:.4f} ... {:.4f} "
-                                 "(the stretches' middles); start within them",
-                                 option, y_start, ys.front(), ys.back()));
-  if (!(neutral_tolerance > 0.0 && neutral_tolerance < 1.0))
-    throw InputError(fmt::format("neutral tolerance = {:g}: must lie in (0, 1)", neutral_tolerance));
+    throw InputError(
+        fmt::format("{} = {:g}: outside the measured heights, y_p / y_p,max = {:.4f} ... {:.4f} "
+                    "(the stretches' middles); start within them",
+                    option, y_start, ys.front(), ys.back()));
 
   QuasiSteadyTrajectory path;
   path.y_start = y_start;
-  std::size_t k = std::upper_bound(ys.begin(), ys.end(), y_start) - ys.begin();
-  k = std::clamp<std::size_t>(k, 1, ys.size() - 1) - 1;  // the piece [ys[k], ys[k + 1]]
-  const auto velocity = [&](std::size_t piece, double y) {
-    const double slope = (vs[piece + 1] - vs[piece]) / (ys[piece + 1] - ys[piece]);
-    return vs[piece] + slope * (y - ys[piece]);
-  };
+  path.t.push_back(0.0);
+  path.y_rel.push_back(y_start);
+  // The piece [ys[k], ys[k + 1]] holding the start, and the velocity there
+  // (a node's own value on a node).
+  std::size_t k =
+      std::min<std::size_t>(std::upper_bound(ys.begin(), ys.end(), y_start) - ys.begin(), n - 1) -
+      1;
+  const double v0 = c.velocity(k, y_start);
+  if (v0 == 0.0) {
+    path.neutral_height = y_start;
+    path.ends_at = fmt::format(
+        "at a neutral height, y_p / y_p,max = {:.4f} (v_p = 0 where it starts)", y_start);
+    path.y_end = y_start;
+    return path;
+  }
+  const int direction = v0 > 0.0 ? 1 : -1;
+  const auto ahead = [&](double v) { return direction > 0 ? v > 0.0 : v < 0.0; };
+  // Where it ends: the first node ahead where v_p no longer points onwards
+  // marks a neutral height in the piece before it (v_p = 0 there, or between
+  // the two by the linear root); it is approached ever more slowly
+  // (exponentially in time), so the path stops within the tolerance of it,
+  // which may lie pieces before it. Without one, the last measured height.
+  double end = direction > 0 ? ys.back() : ys.front();
+  for (std::size_t j = k;; j = direction > 0 ? j + 1 : j - 1) {
+    const std::size_t far = direction > 0 ? j + 1 : j;
+    if (!ahead(vs[far])) {
+      const std::size_t near = direction > 0 ? j : j + 1;
+      const bool crosses = vs[far] != 0.0;  // else v_p = 0 on the node itself
+      const double y_n =
+          crosses ? ys[near] + (ys[far] - ys[near]) * vs[near] / (vs[near] - vs[far]) : ys[far];
+      // Near the centre plane a tolerance relative to y_n would shrink to
+      // nothing: there it is relative to 0.1 y_p,max.
+      const double band = neutral_tolerance * std::max(std::abs(y_n), 0.1);
+      path.neutral_height = y_n;
+      end = y_n - direction * band;
+      // Stable if v_p points back beyond it; a zero on a node may also be
+      // touched with v_p pointing onwards again past it, or end the curve.
+      const bool has_beyond = direction > 0 ? far + 1 < n : far >= 1;
+      const bool onwards_beyond = has_beyond && ahead(direction > 0 ? vs[far + 1] : vs[far - 1]);
+      const bool stable = crosses || (has_beyond && !onwards_beyond);
+      path.ends_at = fmt::format("within {:g} % of the {}neutral height y_p / y_p,max = {:.4f}",
+                                 100.0 * neutral_tolerance, stable ? "stable " : "", y_n);
+      if (!crosses && !has_beyond) path.ends_at += " (v_p = 0 at the last measured height)";
+      if (onwards_beyond) path.ends_at += " (v_p = 0 there, and points onwards again beyond it)";
+      break;
+    }
+    if ((direction > 0 && far == n - 1) || (direction < 0 && far == 0)) break;
+  }
+  if (path.ends_at.empty())
+    path.ends_at = fmt::format(
+        "at the {} measured height, y_p / y_p,max = {:.4f} (no neutral height on the way)",
+        direction > 0 ? "highest" : "lowest", end);
+  // Along the pieces to `end`, eight samples each.
   double t = 0.0, y = y_start;
-  path.t.push_back(t);
-  path.y_rel.push_back(y);
-  const auto advance = [&](std::size_t piece, double to) {  // along one piece, eight samples
-    if (to == y) return;  // a start on a node: nothing on the piece it leaves
-    const double slope = (vs[piece + 1] - vs[piece]) / (ys[piece + 1] - ys[piece]);
+  while (direction * (end - y) > 0.0) {
+    const double piece_end = direction > 0 ? std::min(ys[k + 1], end) : std::max(ys[k], end);
     const double from = y;
-    for (int i = 1; i <= 8; ++i) {
-      const double next = from + (to - from) * i / 8.0;
-      t += piece_time(y, next, velocity(piece, y), slope);
+    for (int i = 1; i <= 8 && piece_end != from; ++i) {
+      const double next = i == 8 ? piece_end : from + (piece_end - from) * i / 8.0;
+      t += piece_time(y, next, c.velocity(k, y), c.slope(k));
       y = next;
       path.t.push_back(t);
       path.y_rel.push_back(y);
     }
-  };
-  const double v0 = velocity(k, y);
-  if (v0 == 0.0) {
-    path.neutral_height = y;
-    path.ends_at = fmt::format("at a neutral height, y_p / y_p,max = {:.4f} (v_p = 0 where it starts)", y);
-  }
-  const int direction = v0 > 0.0 ? 1 : -1;
-  while (path.ends_at.empty()) {
-    const double target = direction > 0 ? ys[k + 1] : ys[k];
-    const double v_target = velocity(k, target);
-    if (v_target == 0.0 || (v_target > 0.0) != (direction > 0)) {
-      // v_p vanishes inside this piece: a stable neutral height, approached
-      // ever more slowly (exponentially in time), so stop within the tolerance.
-      const double y_n = ys[k] + (ys[k + 1] - ys[k]) * vs[k] / (vs[k] - vs[k + 1]);
-      const double band = neutral_tolerance * (y_n != 0.0 ? std::abs(y_n) : 1.0);
-      const double stop = y_n - direction * band;
-      if (direction * (stop - y) > 0.0) advance(k, stop);
-      path.neutral_height = y_n;
-      path.ends_at = fmt::format("within {:g} % of the stable neutral height y_p / y_p,max = {:.4f}",
-                                 100.0 * neutral_tolerance, y_n);
-      break;
-    }
-    advance(k, target);
-    if (direction > 0 && k + 2 < ys.size()) ++k;
-    else if (direction < 0 && k >= 1) --k;
-    else
-      path.ends_at = fmt::format("at the {} measured height, y_p / y_p,max = {:.4f} (no neutral height "
-                                 "on the way)",
-                                 direction > 0 ? "highest" : "lowest", target);
+    if (y == end) break;
+    k = direction > 0 ? k + 1 : k - 1;
   }
   path.duration = t;
   path.y_end = y;
@@ -311,8 +362,10 @@ void write_migration(const MigrationCurves& c, const fs::path& out,
   fs::create_directories(out);
   io::write_text_file_atomically(out / "migration_curves.csv", csv);
   if (trajectory) io::write_text_file_atomically(out / "migration_trajectory.csv", path_csv);
-  else fs::remove(out / "migration_trajectory.csv");  // not an earlier call's beside these curves
   io::write_text_file_atomically(out / "migration.md", md);
+  // Nothing of an earlier call beside these curves: its trajectory, its picture.
+  if (!trajectory) fs::remove(out / "migration_trajectory.csv");
+  fs::remove(out / "migration.png");
   draw_plot("plot_migration.py", out, "migration.png", false);
 }
 
