@@ -126,7 +126,6 @@ def report(work, build):
         ax_y.plot(r["t"], r["y"], lw=1, label=f"run from {d['start']:g} H")
         ax_v.plot(d["y_mean"], d["v_p"], "ko")
     ax_y.plot(ts, ys, "k--", lw=1.5, label="quasi-steady trajectory")
-    ax_y.set_xscale("symlog", linthresh=10.0)
     ax_y.set_xlabel("gamma_dot t")
     ax_y.set_ylabel("y_p / H")
     ax_y.legend(fontsize=7)
