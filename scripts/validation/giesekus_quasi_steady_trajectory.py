@@ -19,7 +19,6 @@ time-stepped projection.
 Writes docs/validation/giesekus_quasi_steady_trajectory.{md,csv,png}.
 Usage: scripts/validation/giesekus_quasi_steady_trajectory.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import os
-import subprocess
 
 import matplotlib
 
@@ -27,8 +26,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import giesekus_trajectory_time_step as step_study  # noqa: E402
-from case_runs import ROOT, read_csv, run_case, summary_of, validation_main, write_csv  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from case_runs import ROOT, run_case, summary_of, validation_main, write_csv  # noqa: E402
+from migration_runs import mean_velocity, quasi_steady_path, read_migration  # noqa: E402
 
 OUT = os.path.join(ROOT, "docs", "validation")
 DT = 0.04
@@ -80,21 +79,9 @@ def report(work, build):
         print(f"{len(done)} starts finished; the trajectory needs the {max(STARTS):g} H start and one more")
         return
     top = done[-1]["series"]
-    i = next(k for k, t in enumerate(top["t"]) if t >= TRANSIENT - 1e-9)
-    j = next(k for k, t in enumerate(top["t"]) if t >= TRANSIENT + STRETCH - 1e-9)
-    t0, y0 = 0.5 * (top["t"][i] + top["t"][j]), 0.5 * (top["y"][i] + top["y"][j])
-    out = os.path.join(work, "curves")
-    command = [os.path.abspath(os.path.join(build, "softflow")), "migration", *[d["directory"] for d in done],
-               "--transient", f"{TRANSIENT:g}", "--segment", f"{STRETCH:g}",
-               "--trajectory-from", f"{y0 / Y_MAX_OVER_H:.12g}", "-o", out]
-    subprocess.run(command, check=True, env=dict(os.environ, SOFTFLOW_PLOTS="0"))
-    path = read_csv(os.path.join(out, "migration_trajectory.csv"))
-    ts = [t0 + float(r["t"]) for r in path]
-    ys = [float(r["y_p_rel"]) * Y_MAX_OVER_H for r in path]
-    md = open(os.path.join(out, "migration.md")).read()
-    section = md.split("## Quasi-steady trajectory", 1)[1]
-    ends = section.split("it ends ", 1)[1].split(" after t", 1)[0]
-    neutral = md.split("## Neutral heights (v_p = 0)", 1)[1].split("##", 1)[0].strip()
+    q = quasi_steady_path(build, [d["directory"] for d in done], os.path.join(work, "curves"), (top["t"], top["y"]),
+                          TRANSIENT, STRETCH, Y_MAX_OVER_H)
+    t0, y0, ts, ys, ends, neutral = q["t0"], q["y0"], q["t"], q["y"], q["ends"], q["neutral"]
 
     write_csv(os.path.join(OUT, "giesekus_quasi_steady_trajectory.csv"), ["t", "y_p_over_H"],
               [{"t": t, "y_p_over_H": y} for t, y in zip(ts, ys)])

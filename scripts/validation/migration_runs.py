@@ -107,3 +107,24 @@ def plot_trajectories(ax, runs, y_max, transient, prefix="", linestyle="-", mark
     ax[0].axhspan(y_max, 0.5, color="0.85")
     ax[0].set(xlabel="gamma_dot t", ylabel="y_p / H", ylim=(0, 0.5))
     ax[1].set(xlabel="y_p / H", ylabel="v_p / (gamma_dot H)")
+
+
+def quasi_steady_path(build, runs, out, top, transient, stretch, y_max):
+    """`softflow migration --trajectory-from` over the run directories `runs` into `out`, from the
+    first stretch after `transient` of the series `top` (t and y_p / H lists: the start the trajectory
+    leaves from), placed at that stretch's middle time. Returns its t, y_p / H, where it ends (the
+    command's words), the curve's neutral heights section and its number of stretch heights."""
+    t, y = top
+    i = next(k for k, x in enumerate(t) if x >= transient - 1e-9)
+    j = next(k for k, x in enumerate(t) if x >= transient + stretch - 1e-9)
+    t0, y0 = 0.5 * (t[i] + t[j]), 0.5 * (y[i] + y[j])
+    command = [os.path.abspath(os.path.join(build, "softflow")), "migration", *runs, "--transient",
+               f"{transient:g}", "--segment", f"{stretch:g}", "--trajectory-from", f"{y0 / y_max:.12g}", "-o", out]
+    subprocess.run(command, check=True, env=dict(os.environ, SOFTFLOW_PLOTS="0"))
+    path = read_csv(os.path.join(out, "migration_trajectory.csv"))
+    md = open(os.path.join(out, "migration.md")).read()
+    return {"t0": t0, "y0": y0, "t": [t0 + float(r["t"]) for r in path],
+            "y": [float(r["y_p_rel"]) * y_max for r in path],
+            "ends": md.split("## Quasi-steady trajectory", 1)[1].split("it ends ", 1)[1].split(" after t", 1)[0],
+            "neutral": md.split("## Neutral heights (v_p = 0)", 1)[1].split("##", 1)[0].strip(),
+            "stretches": md.split("## Mean migration", 1)[1].split("## Neutral", 1)[0].count("\n| ") - 1}

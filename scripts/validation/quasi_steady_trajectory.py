@@ -31,7 +31,6 @@ import bisect
 import collections
 import os
 import shutil
-import subprocess
 import sys
 
 import matplotlib
@@ -41,6 +40,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import confined_migration as starts  # noqa: E402
 from case_runs import ROOT, read_csv, write_csv  # noqa: E402
+from migration_runs import quasi_steady_path  # noqa: E402
 
 OUT = os.path.join(ROOT, "docs", "validation")
 Y_MAX_OVER_H = starts.Y_MAX  # y_p,max / H = (1 - beta) / 2
@@ -116,24 +116,10 @@ def quasi_steady(build, work, series, protocol):
         runs.append(os.path.join(root, starts.case_name(start)))
         write_run(runs[-1], start, series[start], t_last)
     # Where the curve begins: the 0.27 H start's first stretch (its middle height and time).
-    t, y = series[0.27][0], series[0.27][1]
-    i = bisect.bisect_left(t, transient - 1e-9)
-    j = bisect.bisect_left(t, transient + stretch - 1e-9)
-    t0, y0 = 0.5 * (t[i] + t[j]), 0.5 * (y[i] + y[j])
-    out = os.path.join(root, "curves")
-    softflow = os.path.abspath(os.path.join(build, "softflow"))
-    command = [softflow, "migration", *runs, "--transient", f"{transient:g}", "--segment", f"{stretch:g}",
-               "--trajectory-from", f"{y0 / Y_MAX_OVER_H:.12g}", "-o", out]
-    subprocess.run(command, check=True, env=dict(os.environ, SOFTFLOW_PLOTS="0"))
-    path = read_csv(os.path.join(out, "migration_trajectory.csv"))
-    ts = [t0 + float(r["t"]) for r in path]
-    ys = [float(r["y_p_rel"]) * Y_MAX_OVER_H for r in path]
-    md = open(os.path.join(out, "migration.md")).read()
-    ends = md.split("## Quasi-steady trajectory", 1)[1].split("it ends ", 1)[1].split(" after t", 1)[0]
-    nodes = md.split("## Mean migration", 1)[1].split("## Neutral", 1)[0].count("\n| ") - 1
-    return {"name": name, "t_last": t_last, "transient": transient, "stretch": stretch, "t0": t0, "y0": y0,
-            "t": ts, "y": ys, "ends": ends, "stretches": nodes, "starts": used,
-            "simulated": len(used) * t_last}
+    q = quasi_steady_path(build, runs, os.path.join(root, "curves"), series[0.27][:2], transient, stretch,
+                          Y_MAX_OVER_H)
+    return dict(q, name=name, t_last=t_last, transient=transient, stretch=stretch, starts=used,
+                simulated=len(used) * t_last)
 
 
 def main():
