@@ -93,10 +93,10 @@ struct QuasiSteadyTrajectory {
 };
 
 /// From y_p / y_p,max = `y_start` (within the segments' heights) until it
-/// comes within `neutral_tolerance` of a stable neutral height (relative to
-/// that height; of y_p,max for the centre plane itself) or leaves the measured
-/// heights. InputError naming `option` for a start outside them or a curve of
-/// fewer than two stretches.
+/// comes within `neutral_tolerance` of a neutral height y_n ahead (relative to
+/// max(|y_n|, 0.1): near the centre plane, to 0.1 y_p,max) or leaves the
+/// measured heights. InputError naming `option` for a start outside them, a
+/// curve of fewer than two stretch heights or a non-finite stretch.
 QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, double y_start,
                                               double neutral_tolerance = 0.01,
                                               const std::string& option = "--trajectory-from");
