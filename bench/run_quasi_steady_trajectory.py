@@ -1,0 +1,146 @@
+#!/usr/bin/python3
+"""Wall time per quasi-steady Giesekus migration trajectory (issue 35's
+benchmark: one trajectory from y_p0 = 0.35 H in at most 4 hours on this 2-core
+machine, on the mesh the convergence study asks for).
+
+A trajectory is `softflow migration --trajectory-from` along the master curve
+of short runs from several heights (scripts/validation/
+giesekus_quasi_steady_trajectory.py: 20 equator nodes; giesekus_quasi_steady_resolved.py:
+28, the convergence study's level). Its cost is the curve's runs, two at a
+time on the two cores (each run one rank), plus the command.
+
+By default the level's starts are run here, in the validation script's order,
+`--jobs` at a time, and the wall clock of the whole is measured. With
+--from-runs DIR the finished runs of a validation script's work directory are
+read instead: their own wall times (each measured beside the other run of its
+pair), and the wall clock of the whole is reconstructed by handing the runs, in
+the script's order, to `--jobs` workers as each frees, as the script does.
+
+Writes docs/benchmarks/quasi_steady_trajectory.{md,json} (one row per level;
+a level measured again replaces its row).
+Usage: bench/run_quasi_steady_trajectory.py [build_dir] [--nodes 20|28] [--work DIR] [--jobs N] [--from-runs DIR]"""
+import argparse
+import concurrent.futures
+import json
+import os
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "validation"))
+import giesekus_quasi_steady_resolved as resolved  # noqa: E402
+import giesekus_quasi_steady_trajectory as coarse  # noqa: E402
+from case_runs import summary_of  # noqa: E402
+from migration_runs import quasi_steady_path, read_csv, read_migration  # noqa: E402
+
+OUT = os.path.join(ROOT, "docs", "benchmarks")
+LEVELS = {coarse.COARSE.nodes: coarse.COARSE, resolved.LEVEL.nodes: resolved.LEVEL}
+TARGET_HOURS = 4.0
+
+
+def run_here(build, work, level, jobs):
+    """Runs the level's starts `jobs` at a time; returns each run's directory and the whole's wall clock."""
+    os.makedirs(work, exist_ok=True)
+
+    def one(job):
+        name, text = job
+        path = os.path.join(work, name + ".toml")
+        with open(path, "w") as f:
+            f.write(text)
+        subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", os.path.join(work, name), "-q",
+                        "--overwrite"], check=True)
+
+    began = time.monotonic()
+    with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
+        list(pool.map(one, level.jobs()))
+    return time.monotonic() - began, "measured"
+
+
+def reconstructed_wall(seconds, jobs):
+    """The wall clock of runs taking `seconds` (in order) handed to `jobs` workers as each frees."""
+    free = [0.0] * jobs
+    for s in seconds:
+        i = free.index(min(free))
+        free[i] += s
+    return max(free)
+
+
+def measure(build, level, work, jobs, from_runs):
+    if from_runs:
+        work = from_runs
+    else:
+        wall, how = run_here(build, work, level, jobs)
+    starts = []
+    for s in level.starts:  # the order they run
+        directory = os.path.join(work, level.name(s))
+        summary = summary_of(directory)
+        if summary.get("status") != "completed":
+            sys.exit(f"{directory}: not a completed run (status {summary.get('status')!r}); run "
+                     f"scripts/validation/{level.stem}.py first, or leave out --from-runs")
+        rows = [r for r in read_csv(os.path.join(directory, "timeseries.csv")) if r["object"] == "1"]
+        starts.append({"y_p0": s, "directory": directory, "unknowns": summary["unknowns"],
+                       "wall_seconds": summary["wall_seconds"],
+                       "stokes_iterations_per_step": summary["stokes_iterations_per_step"],
+                       "steps": len(rows)})
+    if from_runs:
+        wall, how = reconstructed_wall([x["wall_seconds"] for x in starts], jobs), "reconstructed"
+    top = read_migration(next(x["directory"] for x in starts if x["y_p0"] == max(level.starts)), coarse.HEIGHT)
+    began = time.monotonic()
+    q = quasi_steady_path(build, sorted((x["directory"] for x in starts)),
+                          os.path.join(work, "bench_curves"), (top["t"], top["y"]), coarse.TRANSIENT,
+                          coarse.STRETCH, coarse.Y_MAX_OVER_H)
+    command_seconds = time.monotonic() - began
+    return {"equator_nodes": level.nodes, "starts": starts, "jobs": jobs, "runs_wall_clock_seconds": wall,
+            "wall_clock_is": how, "core_seconds": sum(x["wall_seconds"] for x in starts),
+            "command_seconds": command_seconds, "trajectory_time_units": q["t"][-1] - q["t"][0],
+            "trajectory_from": q["y0"], "trajectory_to": q["y"][-1], "ends": q["ends"],
+            "hours": (wall + command_seconds) / 3600.0}
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--nodes", type=int, default=resolved.LEVEL.nodes, choices=sorted(LEVELS))
+    parser.add_argument("--work", default=None, help="where the runs go (default output/bench_quasi_steady_NODES)")
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--from-runs", default=None, help="a validation script's work directory of finished runs")
+    args = parser.parse_args()
+    level = LEVELS[args.nodes]
+    work = args.work or os.path.join(ROOT, "output", f"bench_quasi_steady_{args.nodes}")
+    result = measure(os.path.abspath(args.build), level, work, args.jobs, args.from_runs)
+    print(json.dumps(result, indent=1))
+
+    json_path = os.path.join(OUT, "quasi_steady_trajectory.json")
+    results = json.load(open(json_path)) if os.path.exists(json_path) else []
+    results = sorted([r for r in results if r["equator_nodes"] != level.nodes] + [result],
+                     key=lambda r: r["equator_nodes"])
+    with open(json_path, "w") as f:
+        json.dump(results, f, indent=1)
+    md = ["# Wall time per quasi-steady Giesekus migration trajectory (issue 35)", "",
+          "Generated by `bench/run_quasi_steady_trajectory.py`: beta = 0.2, Ca_e = 0.1 (p = 4.5), Wi = 0.5, "
+          "alpha_m = 0.2, dt = 0.04, step-limited SUPG parameter; the master curve of seven starts "
+          "(0.10-0.35 H) each run to t = 6 on one rank, two at a time on the 2-core machine, then `softflow "
+          "migration --trajectory-from` from the 0.35 H start's first stretch (docs/validation/"
+          "giesekus_quasi_steady_trajectory.md, giesekus_quasi_steady_resolved.md). Wall clock: measured around "
+          "the runs, or reconstructed from each run's own wall time (measured beside its pair) by handing the runs "
+          "in order to two workers, as the validation scripts do. Target: "
+          f"{TARGET_HOURS:g} hours on this machine, on the mesh the convergence study asks for (28 nodes: "
+          "docs/validation/delta_s_resolution.md).", "",
+          "| equator nodes | unknowns | Stokes iterations per step | core hours | wall clock [h] | wall clock is | "
+          "trajectory [time units] | from -> to [H] | ends | within 4 h |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        unknowns = [x["unknowns"] for x in r["starts"]]
+        its = [x["stokes_iterations_per_step"] for x in r["starts"]]
+        md.append(f"| {r['equator_nodes']} | {min(unknowns)}-{max(unknowns)} | {min(its):.1f}-{max(its):.1f} | "
+                  f"{r['core_seconds'] / 3600:.2f} | {r['hours']:.2f} | {r['wall_clock_is']} | "
+                  f"{r['trajectory_time_units']:.1f} | {r['trajectory_from']:.4f} -> {r['trajectory_to']:.4f} | "
+                  f"{r['ends']} | {'yes' if r['hours'] <= TARGET_HOURS else 'no'} |")
+    with open(os.path.join(OUT, "quasi_steady_trajectory.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+
+
+if __name__ == "__main__":
+    main()
