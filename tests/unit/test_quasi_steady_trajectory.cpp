@@ -182,3 +182,71 @@ TEST(QuasiSteadyTrajectory, RefusesAStartOutsideTheMeasuredHeightsAndAOnePointCu
   // A round-off beyond an end is that end.
   EXPECT_EQ(simulation::quasi_steady_trajectory(c, 0.4 + 1e-13).y_start, 0.4);
 }
+
+namespace {
+
+simulation::MasterCurve master(const std::vector<simulation::MigrationSegment>& segments) {
+  return simulation::master_curve(segments);
+}
+
+using Kind = simulation::NeutralHeight::Kind;
+
+}  // namespace
+
+TEST(NeutralHeights, CrossingsBetweenNodesByLinearInterpolation) {
+  // + / - / + at 0.1 / 0.3 / 0.7: stable between the first two, unstable above.
+  const auto zeros = simulation::neutral_heights(
+      master({{0, 0, 1, 0.1, 0.002}, {0, 1, 2, 0.3, -0.002}, {1, 0, 1, 0.7, 0.006}}));
+  ASSERT_EQ(zeros.size(), 2u);
+  EXPECT_NEAR(zeros[0].y_rel, 0.2, 1e-15);
+  EXPECT_NEAR(zeros[0].error, 0.1, 1e-15);
+  EXPECT_EQ(zeros[0].kind, Kind::stable);
+  EXPECT_NEAR(zeros[1].y_rel, 0.4, 1e-15);  // a quarter of the way from -0.002 to 0.006
+  EXPECT_NEAR(zeros[1].error, 0.2, 1e-15);
+  EXPECT_EQ(zeros[1].kind, Kind::unstable);
+  // One sign throughout: none.
+  EXPECT_TRUE(
+      simulation::neutral_heights(master({{0, 0, 1, 0.1, -1.0}, {0, 1, 2, 0.3, -2.0}})).empty());
+}
+
+TEST(NeutralHeights, AZeroOnANodeIsListedOnceWithItsKind) {
+  // Before the master curve was shared, a zero on a stretch was skipped.
+  auto zeros = simulation::neutral_heights(
+      master({{0, 0, 1, 0.1, 0.002}, {0, 1, 2, 0.3, 0.0}, {0, 2, 3, 0.4, -0.002}}));
+  ASSERT_EQ(zeros.size(), 1u);
+  EXPECT_EQ(zeros[0].y_rel, 0.3);
+  EXPECT_NEAR(zeros[0].error, 0.1, 1e-15);  // half the larger gap to a neighbour
+  EXPECT_EQ(zeros[0].kind, Kind::stable);
+  // Touched: + on both sides.
+  zeros = simulation::neutral_heights(
+      master({{0, 0, 1, 0.1, 0.002}, {0, 1, 2, 0.3, 0.0}, {0, 2, 3, 0.4, 0.001}}));
+  ASSERT_EQ(zeros.size(), 1u);
+  EXPECT_EQ(zeros[0].kind, Kind::touching);
+  // On the last node: the side beyond is not measured.
+  zeros = simulation::neutral_heights(master({{0, 0, 1, 0.1, 0.002}, {0, 1, 2, 0.3, 0.0}}));
+  ASSERT_EQ(zeros.size(), 1u);
+  EXPECT_EQ(zeros[0].kind, Kind::at_end);
+  // Two zero nodes in a row take their kind from the nearest non-zero sides.
+  zeros = simulation::neutral_heights(master(
+      {{0, 0, 1, 0.1, -0.002}, {0, 1, 2, 0.2, 0.0}, {0, 2, 3, 0.3, 0.0}, {0, 3, 4, 0.4, 0.003}}));
+  ASSERT_EQ(zeros.size(), 2u);
+  EXPECT_EQ(zeros[0].kind, Kind::unstable);
+  EXPECT_EQ(zeros[1].kind, Kind::unstable);
+}
+
+TEST(NeutralHeights, ReadTheCurveTheTrajectoryIntegrates) {
+  // Two runs at one height average to +0.001 there: the same stable height
+  // for the list and for the trajectory, where a list of unmerged stretches
+  // would have found a crossing between the two (0.002 and -0.004 of the pair).
+  simulation::MigrationCurves c;
+  c.y_max = 1.0;
+  c.segments = {
+      {0, 0, 1, 0.1, 0.003}, {1, 0, 1, 0.3, 0.006}, {2, 0, 1, 0.3, -0.004}, {0, 1, 2, 0.5, -0.003}};
+  const auto zeros = simulation::neutral_heights(simulation::master_curve(c.segments));
+  ASSERT_EQ(zeros.size(), 1u);
+  EXPECT_NEAR(zeros[0].y_rel, 0.3 + 0.2 * 0.001 / 0.004, 1e-15);
+  EXPECT_EQ(zeros[0].kind, Kind::stable);
+  const auto path = simulation::quasi_steady_trajectory(c, 0.45);
+  EXPECT_DOUBLE_EQ(path.neutral_height, zeros[0].y_rel);
+  EXPECT_NE(path.ends_at.find("stable neutral height"), std::string::npos) << path.ends_at;
+}

@@ -74,7 +74,7 @@ TEST(Migration, MirrorImagesMigrateEquallyTowardsTheCentre) {
   ASSERT_EQ(curves.segments.size(), 6u);
   for (const auto& s : curves.segments) EXPECT_EQ(s.v_p > 0.0, s.y_rel < 0.0);
   ASSERT_EQ(curves.neutral.size(), 1u);
-  EXPECT_TRUE(curves.neutral[0].stable);
+  EXPECT_TRUE(curves.neutral[0].stable());
   EXPECT_LT(std::abs(curves.neutral[0].y_rel), curves.neutral[0].error);
   EXPECT_FALSE(curves.slope.has_value());  // no point within |y_p / y_p,max| <= 0.1
 

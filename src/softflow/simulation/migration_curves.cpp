@@ -129,16 +129,7 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
             [](const MigrationPoint& a, const MigrationPoint& b) { return a.y_rel < b.y_rel; });
   const auto& pts = curves.points;
   const auto& segs = curves.segments;
-  for (std::size_t i = 0; i + 1 < segs.size(); ++i) {
-    const auto& a = segs[i];
-    const auto& b = segs[i + 1];
-    if (a.v_p == 0.0 || (a.v_p > 0.0) == (b.v_p > 0.0)) continue;
-    NeutralHeight n;
-    n.y_rel = a.y_rel + (b.y_rel - a.y_rel) * a.v_p / (a.v_p - b.v_p);
-    n.error = 0.5 * (b.y_rel - a.y_rel);
-    n.stable = a.v_p > 0.0;
-    curves.neutral.push_back(n);
-  }
+  curves.neutral = neutral_heights(master_curve(segs));
   // Eq. 3.7: v_p linear in y_rel near the centre plane, through the origin.
   double syy = 0.0, syv = 0.0;
   for (const auto& p : pts)
@@ -160,6 +151,72 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
   }
   curves.theory_slope = -2.0 * std::pow(curves.blockage_ratio, 3) * curves.capillary_number;  // eq. 3.8
   return curves;
+}
+
+std::string describe(NeutralHeight::Kind kind) {
+  switch (kind) {
+    case NeutralHeight::Kind::stable: return "stable (particles gather)";
+    case NeutralHeight::Kind::unstable: return "unstable";
+    case NeutralHeight::Kind::touching:
+      return "touching (v_p = 0 there, of one sign on both sides)";
+    case NeutralHeight::Kind::at_end:
+      return "at an end of the measured heights (its kind needs the next height)";
+  }
+  return "";
+}
+
+MasterCurve master_curve(const std::vector<MigrationSegment>& segments) {
+  MasterCurve c;
+  std::vector<int> merged;  // stretches averaged into each node
+  for (const auto& s : segments) {
+    if (!c.y_rel.empty() && s.y_rel - c.y_rel.back() < 1e-12) {
+      c.v_p.back() += (s.v_p - c.v_p.back()) / ++merged.back();  // running mean
+      continue;
+    }
+    c.y_rel.push_back(s.y_rel);
+    c.v_p.push_back(s.v_p);
+    merged.push_back(1);
+  }
+  return c;
+}
+
+std::vector<NeutralHeight> neutral_heights(const MasterCurve& curve) {
+  const auto& ys = curve.y_rel;
+  const auto& vs = curve.v_p;
+  const std::size_t n = ys.size();
+  std::vector<NeutralHeight> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (vs[i] == 0.0) {  // on the node itself
+      if (n < 2) continue;
+      const bool has_below = i > 0, has_above = i + 1 < n;
+      NeutralHeight h;
+      h.y_rel = ys[i];
+      h.error =
+          0.5 * std::max(has_below ? ys[i] - ys[i - 1] : 0.0, has_above ? ys[i + 1] - ys[i] : 0.0);
+      // Its kind from the nearest non-zero v_p on either side (past neighbouring zeros).
+      std::size_t below = i, above = i;
+      while (below > 0 && vs[below] == 0.0) --below;
+      while (above + 1 < n && vs[above] == 0.0) ++above;
+      if (vs[below] == 0.0 || vs[above] == 0.0)
+        h.kind = NeutralHeight::Kind::at_end;
+      else if (vs[below] > 0.0 && vs[above] < 0.0)
+        h.kind = NeutralHeight::Kind::stable;
+      else if (vs[below] < 0.0 && vs[above] > 0.0)
+        h.kind = NeutralHeight::Kind::unstable;
+      else
+        h.kind = NeutralHeight::Kind::touching;
+      out.push_back(h);
+      continue;
+    }
+    if (i + 1 < n && vs[i + 1] != 0.0 && (vs[i] > 0.0) != (vs[i + 1] > 0.0)) {
+      NeutralHeight h;
+      h.y_rel = ys[i] + (ys[i + 1] - ys[i]) * vs[i] / (vs[i] - vs[i + 1]);
+      h.error = 0.5 * (ys[i + 1] - ys[i]);
+      h.kind = vs[i] > 0.0 ? NeutralHeight::Kind::stable : NeutralHeight::Kind::unstable;
+      out.push_back(h);
+    }
+  }
+  return out;
 }
 
 namespace {
@@ -195,25 +252,17 @@ QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, dou
   if (!(neutral_tolerance > 0.0 && neutral_tolerance < 1.0))
     throw InputError(
         fmt::format("neutral tolerance = {:g}: must lie in (0, 1)", neutral_tolerance));
-  // The curve's nodes: the stretches by height, stretches at one height averaged.
-  PiecewiseCurve c;
-  std::vector<int> merged;
-  for (const auto& s : curves.segments) {
-    const double v = s.v_p / curves.y_max;
-    if (!std::isfinite(v) || !std::isfinite(s.y_rel))
+  for (const auto& s : curves.segments)
+    if (!std::isfinite(s.v_p) || !std::isfinite(s.y_rel))
       throw InputError(fmt::format(
           "{}: run {} has a non-finite y_p or v_p over t = {:g}-{:g}", option,
           curves.runs.size() > static_cast<std::size_t>(s.run) ? curves.runs[s.run].string()
                                                                : std::to_string(s.run),
           s.t_begin, s.t_end));
-    if (!c.ys.empty() && s.y_rel - c.ys.back() < 1e-12) {
-      c.vs.back() += (v - c.vs.back()) / ++merged.back();  // running mean
-      continue;
-    }
-    c.ys.push_back(s.y_rel);
-    c.vs.push_back(v);
-    merged.push_back(1);
-  }
+  // The neutral heights' curve, in y_p / y_p,max per unit time.
+  const MasterCurve master = master_curve(curves.segments);
+  PiecewiseCurve c{master.y_rel, master.v_p};
+  for (double& v : c.vs) v /= curves.y_max;
   const auto& ys = c.ys;
   const auto& vs = c.vs;
   const std::size_t n = ys.size();
@@ -269,15 +318,19 @@ QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, dou
       const double band = neutral_tolerance * std::max(std::abs(y_n), 0.1);
       path.neutral_height = y_n;
       end = y_n - direction * band;
-      // Stable if v_p points back beyond it; a zero on a node may also be
-      // touched with v_p pointing onwards again past it, or end the curve.
-      const bool has_beyond = direction > 0 ? far + 1 < n : far >= 1;
-      const bool onwards_beyond = has_beyond && ahead(direction > 0 ? vs[far + 1] : vs[far - 1]);
-      const bool stable = crosses || (has_beyond && !onwards_beyond);
+      // Approached along v_p, a crossing is stable; a zero on a node has the
+      // kind neutral_heights gives it (migration.md's list of the same curve).
+      auto kind = NeutralHeight::Kind::stable;
+      if (!crosses)
+        for (const auto& h : neutral_heights(master))
+          if (h.y_rel == ys[far]) kind = h.kind;
       path.ends_at = fmt::format("within {:g} % of the {}neutral height y_p / y_p,max = {:.4f}",
-                                 100.0 * neutral_tolerance, stable ? "stable " : "", y_n);
-      if (!crosses && !has_beyond) path.ends_at += " (v_p = 0 at the last measured height)";
-      if (onwards_beyond) path.ends_at += " (v_p = 0 there, and points onwards again beyond it)";
+                                 100.0 * neutral_tolerance,
+                                 kind == NeutralHeight::Kind::stable ? "stable " : "", y_n);
+      if (kind == NeutralHeight::Kind::at_end)
+        path.ends_at += " (v_p = 0 at the last measured height)";
+      if (kind == NeutralHeight::Kind::touching)
+        path.ends_at += " (v_p = 0 there, and points onwards again beyond it)";
       break;
     }
     if ((direction > 0 && far == n - 1) || (direction < 0 && far == 0)) break;
@@ -333,8 +386,7 @@ void write_migration(const MigrationCurves& c, const fs::path& out,
   else {
     md += "| y_p / y_p,max | +- | kind |\n|---|---|---|\n";
     for (const auto& n : c.neutral)
-      md += fmt::format("| {:.4f} | {:.4f} | {} |\n", n.y_rel, n.error,
-                        n.stable ? "stable (particles gather)" : "unstable");
+      md += fmt::format("| {:.4f} | {:.4f} | {} |\n", n.y_rel, n.error, describe(n.kind));
   }
   md += "\n## Near the centre plane (|y_p / y_p,max| <= 0.1, eq. 3.7)\n\n";
   if (c.slope)

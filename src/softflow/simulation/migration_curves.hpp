@@ -34,13 +34,39 @@ struct MigrationSegment {
   double v_p = 0.0;    ///< (y_p(t_end) - y_p(t_begin)) / (t_end - t_begin)
 };
 
-/// A height where the master curve v_p(y_rel) changes sign, between two
-/// neighbouring segments (linear interpolation); `error` is half their distance.
+/// The master curve v_p(y_rel) that the neutral heights and the quasi-steady
+/// trajectory both read: the stretches' heights, increasing, with the
+/// stretches at one height averaged into one node; linear between nodes.
+struct MasterCurve {
+  std::vector<double> y_rel;  ///< y_p / y_p,max, strictly increasing
+  std::vector<double> v_p;    ///< the mean v_p of the stretches there
+};
+
+/// `segments` sorted by y_rel (as MigrationCurves::segments), merged at equal heights.
+MasterCurve master_curve(const std::vector<MigrationSegment>& segments);
+
+/// A height where the master curve v_p(y_rel) is zero: between two
+/// neighbouring nodes of opposite sign (linear interpolation; `error` is half
+/// their distance), or on a node whose v_p is zero (`error`: half the larger
+/// distance to its neighbours).
 struct NeutralHeight {
+  enum class Kind {
+    stable,    ///< v_p is + below and - above: particles gather there
+    unstable,  ///< v_p is - below and + above
+    touching,  ///< a zero node with v_p of one sign on both sides: approached, then left
+    at_end,    ///< a zero on the first or last node: the side beyond was not measured
+  };
   double y_rel = 0.0;
   double error = 0.0;
-  bool stable = false;  ///< v_p goes from + below to - above: particles gather there
+  Kind kind = Kind::unstable;
+  bool stable() const { return kind == Kind::stable; }
 };
+
+/// How migration.md names a kind.
+std::string describe(NeutralHeight::Kind kind);
+
+/// The zeros of the master curve, lowest first.
+std::vector<NeutralHeight> neutral_heights(const MasterCurve& curve);
 
 struct MigrationCurves {
   std::vector<std::filesystem::path> runs;
@@ -51,7 +77,7 @@ struct MigrationCurves {
   std::vector<MigrationPoint> points;  ///< every kept row, sorted by y_rel
   double segment = 0.0;                 ///< the stretches' length in time
   std::vector<MigrationSegment> segments;  ///< every run's stretches, sorted by y_rel
-  std::vector<NeutralHeight> neutral;   ///< where the segments' v_p changes sign
+  std::vector<NeutralHeight> neutral;      ///< neutral_heights(master_curve(segments))
   /// Least squares v_p = slope * y_rel over |y_rel| <= 0.1 (eq. 3.7), with its
   /// point count and relative rms residual; none if fewer than 2 points.
   std::optional<double> slope;
@@ -68,13 +94,13 @@ struct MigrationCurves {
 /// and what is wrong (no migration.csv, runs of different beta or Ca_e).
 /// Each run's kept rows are cut into stretches of `segment` time units from
 /// its first kept row (a last stretch shorter than half of it joins the one
-/// before); the neutral heights are where their mean v_p changes sign.
+/// before); the neutral heights are the zeros of their master_curve.
 MigrationCurves assemble_migration(const std::vector<std::filesystem::path>& directories,
                                    double transient, double segment = 2.0);
 
 /// The path of a particle that migrates quasi-steadily along the master curve:
-/// dy_p/dt = v_p(y_p), with v_p linear between neighbouring stretches of
-/// `MigrationCurves::segments` (the curve the neutral heights are read from),
+/// dy_p/dt = v_p(y_p), with v_p linear between the nodes of
+/// master_curve(`MigrationCurves::segments`) (the curve the neutral heights are read from),
 /// integrated exactly on each piece (dt = dy / v with v linear in y: a
 /// logarithm). It stands for a time-stepped trajectory when the particle's
 /// shape and the flow around it settle (the transient each run drops, a few
