@@ -23,7 +23,7 @@ from case_runs import validation_main
 
 NODES = 28
 SYMMETRIC_BELOW = 0.20  # y_p0 / H: starts below it are carried from the point-symmetric mesh
-STARTS = [0.35, 0.10, 0.20, 0.15, 0.28, 0.24, 0.32]  # y_p0 / H, in the order they run
+STARTS = (0.35, 0.10, 0.20, 0.15, 0.28, 0.24, 0.32)  # y_p0 / H, in the order they run
 LEVEL = coarse.Level(nodes=NODES, starts=STARTS, symmetric_below=SYMMETRIC_BELOW, shared=(),
                      stem="giesekus_quasi_steady_resolved")
 

@@ -226,6 +226,19 @@ TEST(NeutralHeights, AZeroOnANodeIsListedOnceWithItsKind) {
   zeros = simulation::neutral_heights(master({{0, 0, 1, 0.1, 0.002}, {0, 1, 2, 0.3, 0.0}}));
   ASSERT_EQ(zeros.size(), 1u);
   EXPECT_EQ(zeros[0].kind, Kind::at_end);
+  // Zero from a node on to the last: both at an end, and a trajectory stops at the first.
+  simulation::MigrationCurves c;
+  c.y_max = 1.0;
+  c.segments = {{0, 0, 1, 0.1, 0.002}, {0, 1, 2, 0.3, 0.0}, {0, 2, 3, 0.5, 0.0}};
+  zeros = simulation::neutral_heights(simulation::master_curve(c.segments));
+  ASSERT_EQ(zeros.size(), 2u);
+  EXPECT_EQ(zeros[0].kind, Kind::at_end);
+  EXPECT_EQ(zeros[1].kind, Kind::at_end);
+  const auto path = simulation::quasi_steady_trajectory(c, 0.15);
+  EXPECT_EQ(path.neutral_height, 0.3);
+  EXPECT_NE(path.ends_at.find("v_p = 0 from there to the last measured height"), std::string::npos)
+      << path.ends_at;
+  EXPECT_EQ(path.ends_at.find("stable"), std::string::npos) << path.ends_at;
   // Two zero nodes in a row take their kind from the nearest non-zero sides.
   zeros = simulation::neutral_heights(master(
       {{0, 0, 1, 0.1, -0.002}, {0, 1, 2, 0.2, 0.0}, {0, 2, 3, 0.3, 0.0}, {0, 3, 4, 0.4, 0.003}}));
@@ -237,7 +250,7 @@ TEST(NeutralHeights, AZeroOnANodeIsListedOnceWithItsKind) {
 TEST(NeutralHeights, ReadTheCurveTheTrajectoryIntegrates) {
   // Two runs at one height average to +0.001 there: the same stable height
   // for the list and for the trajectory, where a list of unmerged stretches
-  // would have found a crossing between the two (0.002 and -0.004 of the pair).
+  // would have found a crossing between the two (0.006 and -0.004 of the pair).
   simulation::MigrationCurves c;
   c.y_max = 1.0;
   c.segments = {

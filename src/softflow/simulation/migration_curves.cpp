@@ -310,26 +310,31 @@ QuasiSteadyTrajectory quasi_steady_trajectory(const MigrationCurves& curves, dou
     const std::size_t far = direction > 0 ? j + 1 : j;
     if (!ahead(vs[far])) {
       const std::size_t near = direction > 0 ? j : j + 1;
-      const bool crosses = vs[far] != 0.0;  // else v_p = 0 on the node itself
-      const double y_n =
-          crosses ? ys[near] + (ys[far] - ys[near]) * vs[near] / (vs[near] - vs[far]) : ys[far];
+      // The zero between `near` (v_p onwards) and `far` (zero, or back): the
+      // one of migration.md's list (its height and kind), found as the entry
+      // nearest the linear root so that the two agree to the bit.
+      const double root = vs[far] != 0.0
+                              ? ys[near] + (ys[far] - ys[near]) * vs[near] / (vs[near] - vs[far])
+                              : ys[far];
+      const std::vector<NeutralHeight> zeros = neutral_heights(master);
+      const NeutralHeight zero =
+          *std::min_element(zeros.begin(), zeros.end(), [&](const auto& a, const auto& b) {
+            return std::abs(a.y_rel - root) < std::abs(b.y_rel - root);
+          });
+      const double y_n = zero.y_rel;
       // Near the centre plane a tolerance relative to y_n would shrink to
       // nothing: there it is relative to 0.1 y_p,max.
       const double band = neutral_tolerance * std::max(std::abs(y_n), 0.1);
       path.neutral_height = y_n;
       end = y_n - direction * band;
-      // Approached along v_p, a crossing is stable; a zero on a node has the
-      // kind neutral_heights gives it (migration.md's list of the same curve).
-      auto kind = NeutralHeight::Kind::stable;
-      if (!crosses)
-        for (const auto& h : neutral_heights(master))
-          if (h.y_rel == ys[far]) kind = h.kind;
+      // Approached along v_p, a zero is stable, touching (v_p onwards again
+      // beyond a zero node) or at an end (v_p = 0 on to the last height).
       path.ends_at = fmt::format("within {:g} % of the {}neutral height y_p / y_p,max = {:.4f}",
                                  100.0 * neutral_tolerance,
-                                 kind == NeutralHeight::Kind::stable ? "stable " : "", y_n);
-      if (kind == NeutralHeight::Kind::at_end)
-        path.ends_at += " (v_p = 0 at the last measured height)";
-      if (kind == NeutralHeight::Kind::touching)
+                                 zero.kind == NeutralHeight::Kind::stable ? "stable " : "", y_n);
+      if (zero.kind == NeutralHeight::Kind::at_end)
+        path.ends_at += " (v_p = 0 from there to the last measured height)";
+      if (zero.kind == NeutralHeight::Kind::touching)
         path.ends_at += " (v_p = 0 there, and points onwards again beyond it)";
       break;
     }

@@ -54,7 +54,7 @@ struct NeutralHeight {
     stable,    ///< v_p is + below and - above: particles gather there
     unstable,  ///< v_p is - below and + above
     touching,  ///< a zero node with v_p of one sign on both sides: approached, then left
-    at_end,    ///< a zero on the first or last node: the side beyond was not measured
+    at_end,    ///< a zero node with v_p = 0 from it to an end: the side beyond was not measured
   };
   double y_rel = 0.0;
   double error = 0.0;
