@@ -14,11 +14,13 @@ line the validation scripts share."""
 import argparse
 import concurrent.futures
 import csv
+import errno
 import inspect
 import json
 import os
 import shutil
 import subprocess
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -98,6 +100,28 @@ def restore(work, name, text):
     return True
 
 
+LAUNCH_RETRY_SECONDS, LAUNCH_RETRY_INTERVAL = 600, 10
+
+
+def run_softflow(command):
+    """subprocess.run(command) of softflow, retried every LAUNCH_RETRY_INTERVAL seconds for up to
+    LAUNCH_RETRY_SECONDS while the binary cannot be executed (EACCES, ETXTBSY: a rebuild is
+    relinking it). Without this a rebuild during a study failed, at once, every run the study had
+    not started yet."""
+    waited = 0
+    while True:
+        try:
+            return subprocess.run(command, check=False)
+        except OSError as e:
+            if e.errno not in (errno.EACCES, errno.ETXTBSY) or waited >= LAUNCH_RETRY_SECONDS:
+                raise
+            if waited == 0:
+                print(f"note: cannot execute {command[0]} ({e.strerror}; being rebuilt?): retrying every "
+                      f"{LAUNCH_RETRY_INTERVAL:g} s for up to {LAUNCH_RETRY_SECONDS / 60:g} minutes", flush=True)
+            time.sleep(LAUNCH_RETRY_INTERVAL)
+            waited += LAUNCH_RETRY_INTERVAL
+
+
 def run_case(build, work, name, text, rerun=False):
     directory = os.path.join(work, name)
     path = os.path.join(work, name + ".toml")
@@ -112,13 +136,12 @@ def run_case(build, work, name, text, rerun=False):
         return directory
     if here and os.path.exists(path) and os.path.exists(os.path.join(directory, "checkpoint.h5")):
         # Interrupted (a stop, a crash, a machine that went down): continue from the checkpoint.
-        subprocess.run([os.path.join(build, "softflow"), "restart", directory, "-q", "--force"], check=False)
+        run_softflow([os.path.join(build, "softflow"), "restart", directory, "-q", "--force"])
         keep(work, name, text)
         return directory
     with open(path, "w") as f:
         f.write(text)
-    subprocess.run([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q", "--overwrite"],
-                   check=False)
+    run_softflow([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q", "--overwrite"])
     keep(work, name, text)
     return directory
 
@@ -138,7 +161,7 @@ def run_response(build, work, name, text, frequencies=None, extra=()):
     command = [os.path.join(build, "softflow"), "response", path, "-q", "-o", directory]
     if frequencies:
         command += ["-f", ",".join(f"{w:g}" for w in frequencies)]
-    subprocess.run(command + list(extra), check=False)
+    run_softflow(command + list(extra))
     return directory
 
 

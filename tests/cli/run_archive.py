@@ -14,11 +14,14 @@ With the repository root of case_runs pointed at WORK_DIR:
    to, the binary being absent).
 4. A finished run from before the archive is kept when its script meets it.
 5. A work directory outside output/ (a test's scratch) is never kept.
+6. A binary that cannot be executed yet (a rebuild relinking it) is waited
+   for; one that stays so fails after the retries, naming the error.
 """
 import filecmp
 import os
 import shutil
 import sys
+import threading
 
 from cli_support import fail
 
@@ -95,7 +98,30 @@ def main():
     if os.path.exists(os.path.join(case_runs.ARCHIVE, "study", "other")) or \
             os.path.exists(os.path.join(case_runs.ARCHIVE, "scratch")):
         fail("a work directory outside output/ was archived")
-    print("run archive: kept, restored without running, refused for another text, scratch not kept")
+
+    # 6. a binary being relinked: waited for, then run
+    rebuilt = os.path.join(root, "rebuilt")
+    os.makedirs(rebuilt)
+    wrapper = os.path.join(rebuilt, "softflow")
+    with open(wrapper, "w") as f:
+        f.write(f'#!/bin/sh\nexec "{os.path.abspath(softflow)}" "$@"\n')
+    os.chmod(wrapper, 0o644)  # not executable, as while the linker writes it
+    case_runs.LAUNCH_RETRY_INTERVAL = 0.1
+    timer = threading.Timer(0.5, lambda: os.chmod(wrapper, 0o755))
+    timer.start()
+    directory = case_runs.run_case(rebuilt, study, "late", text)
+    timer.join()
+    if not case_runs.finished(directory):
+        fail("a run whose binary became executable after a wait did not run")
+    os.chmod(wrapper, 0o644)
+    case_runs.LAUNCH_RETRY_SECONDS = 0.3
+    try:
+        case_runs.run_case(rebuilt, study, "never", text)
+        fail("a binary that never became executable did not fail")
+    except PermissionError:
+        pass
+    print("run archive: kept, restored without running, refused for another text, scratch not kept, "
+          "a rebuilt binary waited for")
 
 
 if __name__ == "__main__":
