@@ -52,8 +52,8 @@ def shared(nodes, tau):
 
 
 def jobs():
-    # The finer level first, so that the two cores end together.
-    return [(run_name(n, tau), case_text(n, tau)) for n in reversed(LEVELS) for tau in TAUS]
+    # The coarse level first: the steady parameter there is the one never run.
+    return [(run_name(n, tau), case_text(n, tau)) for n in LEVELS for tau in reversed(TAUS)]
 
 
 def runner(build, work, name, text):
