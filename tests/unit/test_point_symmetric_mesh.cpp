@@ -227,6 +227,42 @@ TEST(PointSymmetricStart, TheMirrorStartsAreEachOthersImagesToTheBit) {
 
 }
 
+// An offset too large for one extension (an element between the object and
+// the wall inverts) is carried in steps, each on the mesh the last left;
+// the mirror starts stay each other's images to the bit, the object rigid.
+TEST(PointSymmetricStart, AnOffsetTooLargeForOneExtensionIsCarriedInSteps) {
+  auto spec = centred_sphere(false);
+  spec.sizing.point_symmetric = true;
+  auto centred = geometry::build_shear_cell(spec);
+  const auto image = mesh::half_turn_images(centred);
+  ASSERT_EQ(image.size(), static_cast<std::size_t>(centred.n_nodes()));
+  // The smallest offset towards the wall (gap 1 at rest) that one extension
+  // cannot take and the steps can.
+  int steps = 0;
+  Vector3d offset;
+  for (double y = 0.40; y < 0.95 && steps <= 1; y += 0.05) {
+    auto trial = centred;
+    offset = Vector3d(0.0, y, 0.0);
+    try {
+      steps = physics::carry_objects(trial, offset);
+    } catch (const MeshError&) {
+      steps = -1;  // too large even in steps before one step failed: no such offset here
+      break;
+    }
+  }
+  ASSERT_GT(steps, 1) << "no offset up to 0.9 needed more than one step on this mesh";
+  auto up = centred, down = centred;
+  EXPECT_EQ(physics::carry_objects(up, offset), steps);
+  EXPECT_EQ(physics::carry_objects(down, -offset), steps);
+  EXPECT_GT(mesh::min_quality(up), 0.0);
+  for (int t = 0; t < centred.n_tets(); ++t)
+    if (centred.tet_region[t] == 1)
+      for (int node : centred.tets[t])
+        EXPECT_LT((up.nodes[node] - centred.nodes[node] - offset).norm(), 1e-12) << "node " << node;
+  for (int i = 0; i < centred.n_nodes(); ++i)
+    ASSERT_EQ(down.nodes[image[i]], mesh::half_turn(up.nodes[i])) << "node " << i;
+}
+
 TEST(PointSymmetricStart, OneObjectTurnedAboutZOnly) {
   auto spec = centred_sphere(false);
   spec.sizing.point_symmetric_start = true;

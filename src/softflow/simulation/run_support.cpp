@@ -153,10 +153,11 @@ void carry_to_start(const io::CaseConfig& config, MeshedCase& meshed) {
   // second step of a particle at beta = 0.2 otherwise.
   const auto relocated =
       mesh::NodeRelocation(meshed.mesh).improve(meshed.mesh.nodes, kStartRelocationQuality);
-  physics::carry_objects(meshed.mesh, offset);
+  const int carry_steps = physics::carry_objects(meshed.mesh, offset);
   if (!is_root()) return;
   auto& r = meshed.report;
   r["point_symmetric_start"] = {{"offset", {offset.x(), offset.y(), offset.z()}},
+                                {"carry_steps", carry_steps},
                                 {"min_quality_gmsh", r["min_quality"]},
                                 {"relocated_nodes", relocated.nodes_moved},
                                 {"min_quality_before", relocated.smallest_quality},

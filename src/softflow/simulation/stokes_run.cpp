@@ -100,12 +100,16 @@ nlohmann::json mesh_case(const io::CaseConfig& config, bool quiet,
   }
   if (!quiet && is_root() && meshed.report.contains("point_symmetric_start")) {
     const auto& c = meshed.report["point_symmetric_start"];
-    fmt::print("point-symmetric start: meshed with the object on the z axis (fingerprint {}, min "
-               "quality {:.3f}; {} nodes relocated symmetrically: {:.3f}), carried by ({:g}, {:g}, "
-               "{:g}) to its centre\n",
-               c["fingerprint_gmsh"].get<std::string>(), c["min_quality_gmsh"].get<double>(),
-               c["relocated_nodes"].get<int>(), c["min_quality_before"].get<double>(),
-               c["offset"][0].get<double>(), c["offset"][1].get<double>(), c["offset"][2].get<double>());
+    fmt::print(
+        "point-symmetric start: meshed with the object on the z axis (fingerprint {}, min "
+        "quality {:.3f}; {} nodes relocated symmetrically: {:.3f}), carried by ({:g}, {:g}, "
+        "{:g}) to its centre{}\n",
+        c["fingerprint_gmsh"].get<std::string>(), c["min_quality_gmsh"].get<double>(),
+        c["relocated_nodes"].get<int>(), c["min_quality_before"].get<double>(),
+        c["offset"][0].get<double>(), c["offset"][1].get<double>(), c["offset"][2].get<double>(),
+        c.value("carry_steps", 1) > 1
+            ? fmt::format(" in {} steps (in one, an element inverts)", c["carry_steps"].get<int>())
+            : "");
   }
   if (output) {
     on_root_sharing_failure([&] {  // rank 0 writes

@@ -354,9 +354,14 @@ void move_nodes(mesh::Mesh& mesh, const std::vector<Eigen::Vector3d>& displaceme
 
 }  // namespace
 
-void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
+namespace {
+
+/// One rigid carry of the objects by `step` (carry_objects' body), the
+/// displacement made exactly equivariant on a point-symmetric mesh.
+void carry_step(mesh::Mesh& mesh, const Eigen::Vector3d& step, const Eigen::Vector3d& offset,
+                int steps) {
   std::vector<Eigen::Vector3d> displacement =
-      extend_once(mesh, std::vector<Eigen::Vector3d>(mesh.n_nodes(), offset));
+      extend_once(mesh, std::vector<Eigen::Vector3d>(mesh.n_nodes(), step));
   // On a point-symmetric mesh the extension is equivariant only to the
   // solver's round-off; averaged with its image (the mirror case's
   // displacement is -R of it) it is so to the bit, so that the mirror
@@ -370,11 +375,57 @@ void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
   move_nodes(mesh, displacement, [&](const std::string& element) {
     return fmt::format(
         "mesh.point_symmetric_start: carrying the object by ({:g}, {:g}, {:g}) from the z axis "
-        "to its centre inverts an element ({}): the offset is too large for the elements "
-        "between the object and the wall; move the object nearer the centre plane, refine the "
-        "mesh there (mesh.wall_size, mesh.growth), or set mesh.point_symmetric_start = false",
-        offset.x(), offset.y(), offset.z(), element);
+        "to its centre inverts an element ({}), even in {} steps: the offset is too large for "
+        "the elements between the object and the wall; move the object nearer the centre plane, "
+        "refine the mesh there (mesh.wall_size, mesh.growth), or set "
+        "mesh.point_symmetric_start = false",
+        offset.x(), offset.y(), offset.z(), element, steps);
   });
+}
+
+}  // namespace
+
+namespace {
+
+/// carry_objects without the mirror rule; `asked`: the offset the message names.
+int carry_in_steps(mesh::Mesh& mesh, const Eigen::Vector3d& offset, const Eigen::Vector3d& asked) {
+  // The whole offset in one extension, as every carry that succeeds so
+  // takes it. Where that inverts an element the offset is taken in 2, 4,
+  // ... 16 equal steps, each extended on the mesh the one before left:
+  // k_e = 1 / V_e (eq. 2.55) then stiffens the elements already squeezed
+  // between the object and the wall, and the next step moves them less.
+  constexpr int kMostSteps = 16;
+  const mesh::Mesh start = mesh;
+  for (int steps = 1;; steps *= 2) {
+    try {
+      for (int s = 0; s < steps; ++s) carry_step(mesh, offset / steps, asked, kMostSteps);
+      return steps;
+    } catch (const MeshError&) {
+      if (steps >= kMostSteps) throw;
+      mesh = start;
+    }
+  }
+}
+
+}  // namespace
+
+int carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset) {
+  // After a first step the carried mesh has no symmetry of its own, and the
+  // solves of a case and of its mirror image (the same systems with the
+  // nodes renumbered) agree only to round-off. So on a point-symmetric mesh
+  // the offsets pointing down (and, in the centre plane, towards -x) are
+  // carried as the image of the carry up, R d(-offset) with R the half turn,
+  // which keeps mirror cases each other's images to the bit in any number
+  // of steps (in one step the two coincide to the bit anyway).
+  if (offset.z() == 0.0 && (offset.y() < 0.0 || (offset.y() == 0.0 && offset.x() < 0.0))) {
+    if (const std::vector<int> image = mesh::half_turn_images(mesh); !image.empty()) {
+      mesh::Mesh up = mesh;
+      const int steps = carry_in_steps(up, -offset, offset);
+      for (int i = 0; i < mesh.n_nodes(); ++i) mesh.nodes[i] = mesh::half_turn(up.nodes[image[i]]);
+      return steps;
+    }
+  }
+  return carry_in_steps(mesh, offset, offset);
 }
 
 void deform_objects(mesh::Mesh& mesh, const std::vector<ObjectDeformation>& deformations) {

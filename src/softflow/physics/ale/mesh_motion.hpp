@@ -173,9 +173,12 @@ class AleMeshMotion {
 /// liquid's elements between them take up the offset. The extension is
 /// equivariant under any symmetry of the mesh: carried by -offset, the
 /// image of a symmetric mesh is the image of the mesh carried by +offset.
-/// Collective. Throws MeshError naming mesh.point_symmetric_start if an
-/// element inverts (an offset too large for the elements around it).
-void carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset);
+/// Where one extension of the whole offset inverts an element, the offset
+/// is taken in 2, 4, ... 16 equal steps, each extended on the mesh the one
+/// before left (k_e = 1/V_e stiffens the squeezed elements). Returns the
+/// number of steps taken. Collective. Throws MeshError naming
+/// mesh.point_symmetric_start if an element inverts even in 16 steps.
+int carry_objects(mesh::Mesh& mesh, const Eigen::Vector3d& offset);
 
 /// A linear deformation of one object about a point: x -> centre + map (x - centre).
 struct ObjectDeformation {
