@@ -146,6 +146,19 @@ def run_case(build, work, name, text, rerun=False):
     return directory
 
 
+def run_linked(build, work, other_work, name, text, other_name=None):
+    """run_case of `text` in the sibling work directory `other_work` (another script's, e.g.
+    output/OTHER_WORK) under `other_name` (default `name`), linked here as work/NAME: one run shared
+    by two studies, made or restored by whichever runs first."""
+    other = os.path.join(os.path.dirname(os.path.abspath(work)), other_work)
+    directory = run_case(build, other, other_name or name, text)
+    link = os.path.join(work, name)
+    os.makedirs(work, exist_ok=True)
+    if not os.path.lexists(link):
+        os.symlink(directory, link)
+    return link
+
+
 def run_response(build, work, name, text, frequencies=None, extra=()):
     """`softflow response` on the case `text` into work/NAME, unless its
     response.csv is there (the command writes its outputs only at its end);

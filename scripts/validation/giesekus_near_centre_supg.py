@@ -28,7 +28,7 @@ import os
 
 import giesekus_neutral_height as neutral_height
 import giesekus_quasi_steady_resolved as resolved
-from case_runs import ROOT, run_case, summary_of, validation_main, write_csv
+from case_runs import ROOT, run_case, run_linked, summary_of, validation_main, write_csv
 from giesekus_trajectory_time_step import TRANSIENT, T_END
 from migration_runs import mean_velocity, read_migration, window_velocities
 
@@ -70,16 +70,10 @@ def runner(build, work, name, text):
     nodes, tau = next((n, t) for n in LEVELS for t in TAUS if run_name(n, t) == name)
     if not shared(nodes, tau):
         return run_case(build, work, name, text)
-    other = os.path.join(os.path.dirname(os.path.abspath(work)), RESOLVED_WORK)
     theirs = resolved.LEVEL.name(START)
     assert resolved.LEVEL.case_text(START) == text.replace(f'name = "{name}"', f'name = "{theirs}"'), \
         "giesekus_quasi_steady_resolved.py's 0.10 H start is no longer this case"
-    directory = run_case(build, other, theirs, resolved.LEVEL.case_text(START))
-    link = os.path.join(work, name)
-    os.makedirs(work, exist_ok=True)
-    if not os.path.lexists(link):
-        os.symlink(directory, link)
-    return link
+    return run_linked(build, work, RESOLVED_WORK, name, resolved.LEVEL.case_text(START), other_name=theirs)
 
 
 def report(work):

@@ -28,7 +28,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import giesekus_neutral_height as neutral_height  # noqa: E402
 import giesekus_trajectory_time_step as step_study  # noqa: E402
-from case_runs import ROOT, read_csv, run_case, summary_of, validation_main, write_csv  # noqa: E402
+from case_runs import ROOT, read_csv, run_case, run_linked, summary_of, validation_main, write_csv  # noqa: E402
 from migration_runs import mean_velocity, quasi_steady_path, read_migration  # noqa: E402
 
 OUT = os.path.join(ROOT, "docs", "validation")
@@ -75,13 +75,7 @@ class Level:
         start = next(s for s in self.starts if self.name(s) == run_name)
         if start not in self.shared:
             return run_case(build, work, run_name, text)
-        other = os.path.join(os.path.dirname(os.path.abspath(work)), STEP_STUDY_WORK)
-        directory = run_case(build, other, run_name, text)
-        link = os.path.join(work, run_name)
-        os.makedirs(work, exist_ok=True)
-        if not os.path.lexists(link):
-            os.symlink(directory, link)
-        return link
+        return run_linked(build, work, STEP_STUDY_WORK, run_name, text)
 
 
 # The 20-node curve: the trajectory's own case.
