@@ -16,6 +16,7 @@ dt = 0.04, each start to t = 6, the curve from t >= 2 in stretches of 2.
 
 Writes docs/validation/giesekus_quasi_steady_resolved.{md,csv,png}.
 Usage: scripts/validation/giesekus_quasi_steady_resolved.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
+import dataclasses
 import os
 
 import giesekus_quasi_steady_trajectory as coarse
@@ -37,25 +38,21 @@ def jobs():
 
 
 def seam_lines(work):
-    """The symmetric 0.20 H start beside gmsh's, once it has run."""
-    both = {level: coarse.finished_starts(work, level) for level in (LEVEL, SEAM)}
-    gmsh = [d for d in both[LEVEL] if d["start"] == 0.20]
-    if not both[SEAM] or not gmsh:
+    """The symmetric 0.20 H start beside gmsh's, once both have run."""
+    seam = coarse.finished_starts(work, SEAM)
+    gmsh = coarse.finished_starts(work, dataclasses.replace(LEVEL, starts=SEAM.starts))
+    if not seam or not gmsh:
         return []
-    s, g = both[SEAM][0], gmsh[0]
-    return ["", f"The seam at 0.20 H: from the point-symmetric mesh (carried in two steps) v_p = {s['v_p']:.4e}, "
+    s, g = seam[0], gmsh[0]
+    return ["", f"The seam at 0.20 H: from the point-symmetric mesh (carried in steps) v_p = {s['v_p']:.4e}, "
             f"on gmsh's mesh {g['v_p']:.4e} ({s['wall_seconds']:.0f} s; not in the curve above)."]
 
 
-if __name__ == "__main__":
-    def report(work, build):
-        # The 20-node curve's runs: in giesekus_quasi_steady_trajectory.py's work directory beside this one.
-        coarse_work = os.path.join(os.path.dirname(os.path.abspath(work)), "giesekus_quasi_steady_trajectory")
-        coarse.report(work, build, LEVEL, reference=(coarse.COARSE, coarse_work))
-        lines = seam_lines(work)
-        if lines:
-            with open(os.path.join(coarse.OUT, LEVEL.stem + ".md"), "a") as f:
-                f.write("\n".join(lines) + "\n")
-            print("\n".join(lines))
+def report(work, build):
+    # The 20-node curve's runs: in giesekus_quasi_steady_trajectory.py's work directory beside this one.
+    coarse_work = os.path.join(os.path.dirname(os.path.abspath(work)), "giesekus_quasi_steady_trajectory")
+    coarse.report(work, build, LEVEL, reference=(coarse.COARSE, coarse_work), extra=seam_lines(work))
 
+
+if __name__ == "__main__":
     validation_main("giesekus_quasi_steady_resolved", jobs, report)

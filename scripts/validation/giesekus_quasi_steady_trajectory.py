@@ -103,9 +103,9 @@ def finished_starts(work, level):
     return done
 
 
-def report(work, build, level=COARSE, reference=None):
+def report(work, build, level=COARSE, reference=None, extra=()):
     """Writes the level's report; `reference`, a (Level, work directory) of a coarser level, adds the
-    comparison of v_p start by start and of the two trajectories."""
+    comparison of v_p start by start and of the two trajectories; `extra`: lines to end it with."""
     done = finished_starts(work, level)
     if len(done) < 2 or done[-1]["start"] != max(level.starts):
         print(f"{len(done)} starts finished; the trajectory needs the {max(level.starts):g} H start and one more")
@@ -120,6 +120,7 @@ def report(work, build, level=COARSE, reference=None):
     write_csv(os.path.join(OUT, level.stem + ".csv"), ["t", "y_p_over_H"],
               [{"t": t, "y_p_over_H": y} for t, y in zip(ts, ys)])
     cost = sum(d["wall_seconds"] for d in done)
+    projected = "the same trajectory" if level == COARSE else "the 20-node trajectory"  # the benchmark's case
     carried = [f"{x:g}" for x in sorted(level.starts) if level.symmetric(x)]
     symmetric_note = (f" (the {' and '.join(carried)} H starts: meshed point-symmetric, carried to their height, not "
                       "remeshed)") if carried else ""
@@ -138,13 +139,12 @@ def report(work, build, level=COARSE, reference=None):
               f"The trajectory: from y_p = {y0:.4f} H at t = {t0:g}, it ends {ends} at t = {ts[-1]:.1f} "
               f"(y_p = {ys[-1]:.4f} H).", "",
               f"Cost: the {len(done)} starts' runs took {cost:.0f} s = {cost / 3600:.2f} h on one core in all "
-              f"(at best {cost / 7200:.2f} h on two, two starts at a time); the same trajectory time-stepped at dt = 0.04: "
+              f"(at best {cost / 7200:.2f} h on two, two starts at a time); {projected} time-stepped at dt = 0.04: "
               f"{TIME_STEPPED_HOURS:g} h projected on one rank (docs/benchmarks/migration_trajectory.md)."]
-    if level != COARSE:
-        lines[-1] = lines[-1].replace("the same trajectory time-stepped", "the 20-node trajectory time-stepped")
     compared = compare_levels(level, reference, done, ts, ys) if reference else None
     if compared:
         lines += ["", *compared["lines"]]
+    lines += list(extra)
     with open(os.path.join(OUT, level.stem + ".md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -352,14 +352,13 @@ void move_nodes(mesh::Mesh& mesh, const std::vector<Eigen::Vector3d>& displaceme
     throw MeshError(inverted(mesh::describe_element(mesh, worst)));
 }
 
-}  // namespace
+/// The most steps carry_objects divides an offset into.
+constexpr int kMostCarrySteps = 16;
 
-namespace {
-
-/// One rigid carry of the objects by `step` (carry_objects' body), the
-/// displacement made exactly equivariant on a point-symmetric mesh.
-void carry_step(mesh::Mesh& mesh, const Eigen::Vector3d& step, const Eigen::Vector3d& offset,
-                int steps) {
+/// One rigid carry of the objects by `step` (of the whole `offset`, which
+/// the message names), the displacement made exactly equivariant on a
+/// point-symmetric mesh.
+void carry_step(mesh::Mesh& mesh, const Eigen::Vector3d& step, const Eigen::Vector3d& offset) {
   std::vector<Eigen::Vector3d> displacement =
       extend_once(mesh, std::vector<Eigen::Vector3d>(mesh.n_nodes(), step));
   // On a point-symmetric mesh the extension is equivariant only to the
@@ -379,13 +378,9 @@ void carry_step(mesh::Mesh& mesh, const Eigen::Vector3d& step, const Eigen::Vect
         "the elements between the object and the wall; move the object nearer the centre plane, "
         "refine the mesh there (mesh.wall_size, mesh.growth), or set "
         "mesh.point_symmetric_start = false",
-        offset.x(), offset.y(), offset.z(), element, steps);
+        offset.x(), offset.y(), offset.z(), element, kMostCarrySteps);
   });
 }
-
-}  // namespace
-
-namespace {
 
 /// carry_objects without the mirror rule; `asked`: the offset the message names.
 int carry_in_steps(mesh::Mesh& mesh, const Eigen::Vector3d& offset, const Eigen::Vector3d& asked) {
@@ -394,14 +389,13 @@ int carry_in_steps(mesh::Mesh& mesh, const Eigen::Vector3d& offset, const Eigen:
   // ... 16 equal steps, each extended on the mesh the one before left:
   // k_e = 1 / V_e (eq. 2.55) then stiffens the elements already squeezed
   // between the object and the wall, and the next step moves them less.
-  constexpr int kMostSteps = 16;
   const mesh::Mesh start = mesh;
   for (int steps = 1;; steps *= 2) {
     try {
-      for (int s = 0; s < steps; ++s) carry_step(mesh, offset / steps, asked, kMostSteps);
+      for (int s = 0; s < steps; ++s) carry_step(mesh, offset / steps, asked);
       return steps;
     } catch (const MeshError&) {
-      if (steps >= kMostSteps) throw;
+      if (steps >= kMostCarrySteps) throw;
       mesh = start;
     }
   }
