@@ -13,6 +13,7 @@
 #include "softflow/common/error.hpp"
 #include "softflow/io/case_config.hpp"
 #include "softflow/physics/stokes/interface_slip.hpp"
+#include "softflow/simulation/run_support.hpp"
 #include "support/input_errors.hpp"
 
 namespace softflow::io {
@@ -172,6 +173,20 @@ TEST(CaseConfig, ConformationSupgTauIsTransientInSolidsAndSteadyInLiquidsByDefau
   EXPECT_EQ(to_toml(parse_case("[[objects]]\n", "case.toml")).find("[conformation]"),
             std::string::npos);
   EXPECT_ERROR("[conformation]\nsupg_tau = \"fast\"\n", "conformation.supg_tau");
+}
+
+TEST(CaseConfig, TheSolversInitialGuessIsExtrapolatedByDefaultAndPrintedOnlyWhenNot) {
+  const CaseConfig plain = parse_case("[[objects]]\n", "case.toml");
+  EXPECT_EQ(plain.initial_guess, InitialGuess::extrapolated);
+  EXPECT_TRUE(simulation::solver_settings(plain).extrapolated_guess);
+  EXPECT_EQ(to_toml(plain).find("initial_guess"),
+            std::string::npos);  // resolved cases as before the key
+  const CaseConfig previous =
+      parse_case("[[objects]]\n[solver]\ninitial_guess = \"previous\"\n", "case.toml");
+  EXPECT_EQ(previous.initial_guess, InitialGuess::previous);
+  EXPECT_FALSE(simulation::solver_settings(previous).extrapolated_guess);
+  EXPECT_EQ(parse_case(to_toml(previous), "case.toml").initial_guess, InitialGuess::previous);
+  EXPECT_ERROR("[solver]\ninitial_guess = \"zero\"\n", "solver.initial_guess");
 }
 
 TEST(CaseConfig, StepsAreAdaptiveByDefaultWhereAvailableAndConstantOneKeyAway) {

@@ -25,6 +25,9 @@ namespace softflow::io {
 /// la::kDirectSolverLimit unknowns, iterative above.
 enum class SolverType { automatic, direct, iterative };
 
+/// [solver] initial_guess: where the iterative solver starts each step.
+enum class InitialGuess { extrapolated, previous };
+
 /// How the walls move in time (SPEC §1); physics::WallMotion has the formulas.
 enum class FlowType { steady, start_up, cessation, oscillatory };
 
@@ -242,6 +245,7 @@ struct CaseConfig {
   SolverType solver = SolverType::automatic;  ///< [solver] type
   double rtol = 1e-8;                      ///< [solver] rtol (iterative solver)
   int max_iterations = 500;                ///< [solver] max_iterations (iterative solver)
+  InitialGuess initial_guess = InitialGuess::extrapolated;  ///< [solver] initial_guess
   std::string petsc_options;               ///< [solver] petsc_options, passed to PETSc as is
   /// [output] directory; default "output/<name>". Relative paths are taken
   /// from the working directory, not from the case file's folder.

@@ -324,26 +324,43 @@ Table<CaseConfig> mesh_table() {
 }
 
 Table<CaseConfig> solver_table() {
-  return {"solver", "The Stokes solver; options go to PETSc under the prefix stokes_.", false,
-          {choice("type", field(&CaseConfig::solver), SolverType::automatic,
-                  {{"auto", SolverType::automatic,
-                    "direct when the run is long enough to repay the factorisation (about "
-                    "100 (unknowns / 95000)^1.5 steps: docs/benchmarks/solver_crossover.md) and "
-                    "below 150000 unknowns (LU memory: 3.5 GB at 124k, 19 GB at 366k), iterative "
-                    "otherwise; the run prints which and why"},
-                   {"direct", SolverType::direct, "LU (MUMPS)"},
-                   {"iterative", SolverType::iterative, "GMRES with a Schur-complement fieldsplit"}},
-                  "how the saddle-point system is solved"),
-           number("rtol", field(&CaseConfig::rtol), 1e-8, Range::open(0, 1),
-                  "relative residual tolerance of the iterative solver"),
-           integer("max_iterations", field(&CaseConfig::max_iterations), 500,
-                   Range::at_least(1), "iteration limit of the iterative solver"),
-           text("petsc_options", field(&CaseConfig::petsc_options), "",
-                "extra PETSc options, passed as is, e.g. \"-stokes_ksp_monitor\", separated by "
-                "spaces; each word is an option (-name) or the one value of the option before "
-                "it (\"-stokes_ksp_type gmres\"): any other word, which PETSc would skip "
-                "silently, is an error",
-                petsc_options_problem)}};
+  return {
+      "solver",
+      "The Stokes solver; options go to PETSc under the prefix stokes_.",
+      false,
+      {choice("type", field(&CaseConfig::solver), SolverType::automatic,
+              {{"auto", SolverType::automatic,
+                "direct when the run is long enough to repay the factorisation (about "
+                "100 (unknowns / 95000)^1.5 steps: docs/benchmarks/solver_crossover.md) and "
+                "below 150000 unknowns (LU memory: 3.5 GB at 124k, 19 GB at 366k), iterative "
+                "otherwise; the run prints which and why"},
+               {"direct", SolverType::direct, "LU (MUMPS)"},
+               {"iterative", SolverType::iterative, "GMRES with a Schur-complement fieldsplit"}},
+              "how the saddle-point system is solved"),
+       number("rtol", field(&CaseConfig::rtol), 1e-8, Range::open(0, 1),
+              "relative residual tolerance of the iterative solver"),
+       integer("max_iterations", field(&CaseConfig::max_iterations), 500, Range::at_least(1),
+               "iteration limit of the iterative solver"),
+       choice("initial_guess", field(&CaseConfig::initial_guess), InitialGuess::extrapolated,
+              {{"extrapolated", InitialGuess::extrapolated,
+                "the line through the last two steps' solutions, a step on: O(dt^2) from "
+                "the answer where the flow changes smoothly (docs/stokes_engine.md: the "
+                "iterations it saves)"},
+               {"previous", InitialGuess::previous,
+                "the last step's solution (softflow before 2026-12-07)"}},
+              "where the Krylov solver starts each time step (the iterative method's, and "
+              "the direct method's GMRES on kept LU factors); the answer is the same to the "
+              "solver's tolerance")
+           // Printed only when not the default: resolved cases (case.toml, checkpoints)
+           // of runs from before the key stay as they were.
+           .printed_if(
+               [](const CaseConfig& c) { return c.initial_guess != InitialGuess::extrapolated; }),
+       text("petsc_options", field(&CaseConfig::petsc_options), "",
+            "extra PETSc options, passed as is, e.g. \"-stokes_ksp_monitor\", separated by "
+            "spaces; each word is an option (-name) or the one value of the option before "
+            "it (\"-stokes_ksp_type gmres\"): any other word, which PETSc would skip "
+            "silently, is an error",
+            petsc_options_problem)}};
 }
 
 Table<CaseConfig> output_table() {

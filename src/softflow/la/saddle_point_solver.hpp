@@ -84,6 +84,12 @@ struct SaddlePointSettings {
   bool relaxing_phase = false;
   double rtol = 1e-8;
   int max_iterations = 500;
+  /// In a time loop, the Krylov initial guess (the iterative method's, and
+  /// the direct method's GMRES on kept factors): the line through the last
+  /// two solutions extrapolated a step on (as the interface's predictor,
+  /// eq. 2.49), or else the last solution. The relative tolerance is on
+  /// ||b||, so a guess closer to the answer saves iterations.
+  bool extrapolated_guess = true;
   /// Direct method in a time loop: keep the LU factors of an earlier matrix
   /// and precondition GMRES with them while the mesh moves little
   /// (PLATFORM.md: 4-6 iterations at 1-5 % mesh motion instead of a new

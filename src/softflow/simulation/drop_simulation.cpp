@@ -219,6 +219,7 @@ void DropSimulation::restart_time_histories() {
   // cessation converged at order 1.0 in dt).
   interfaces_->restart_histories();
   moving_mesh_->restart_history();  // the mesh velocity by BDF1
+  stokes_->restart_guess_history();
   for (auto& module : modules_) module->restart_time_history();
 }
 
@@ -230,6 +231,10 @@ StateRecord DropSimulation::save_step_state() const {
 
 void DropSimulation::restore_step_state(const StateRecord& state) {
   registry_.restore(state, {"stokes"});
+  // The Stokes system is not rolled back (its last solution, the rejected
+  // step's, is still a fair guess), but the line through it and x_n would
+  // extrapolate past the retried step's end: start the line again.
+  stokes_->restart_guess_history();
 }
 
 StepReport DropSimulation::current_report() {
@@ -475,7 +480,7 @@ int DropSimulation::solve_stokes(const InterfacePositions& x_hat, double dt,
       interfaces_->semi_implicit_tension(x_hat, dt, mesh_.n_nodes(), fluid_at_interface());
   const StepContext now = context(dt, steps_ + 1);
   for (auto& module : modules_) module->contribute(problem, now);
-  auto result = stokes_->solve(problem, physics::SolutionLayout::distributed);
+  auto result = stokes_->solve(problem, physics::SolutionLayout::distributed, dt);
   set_solution(std::move(result.distributed));
   stages.stokes_assembly = result.assembly_seconds;
   stages.stokes_solve = result.solve.seconds;

@@ -246,6 +246,7 @@ la::SaddlePointSettings solver_settings(const io::CaseConfig& config) {
   }
   s.rtol = config.rtol;
   s.max_iterations = config.max_iterations;
+  s.extrapolated_guess = config.initial_guess == io::InitialGuess::extrapolated;
   s.planned_steps = planned_step_count(config);
   s.relaxing_phase = io::has_relaxing_phase(config);
   return s;

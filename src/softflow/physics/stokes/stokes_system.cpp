@@ -19,6 +19,7 @@
 #include "softflow/physics/stokes/schur_estimate.hpp"
 #include "softflow/physics/stokes/stokes_kernels.hpp"
 #include "softflow/physics/stokes/viscoelastic_terms.hpp"
+#include "softflow/time/bdf.hpp"
 
 namespace softflow::physics {
 
@@ -634,7 +635,36 @@ void StokesSystem::apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x)
   }
 }
 
-StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout layout) {
+la::Vector StokesSystem::initial_guess(std::optional<double> step) const {
+  if (!settings_.extrapolated_guess || !step || !older_solution_ || previous_step_ <= 0.0)
+    return {};
+  // x_n + (dt / dt_{n-1}) (x_n - x_{n-1}) (eq. 2.49's predictor): where the
+  // solution changes smoothly in time it is O(dt^2) from x_{n+1}, the last
+  // solution O(dt).
+  const auto e = time::extrapolation(2, *step, previous_step_);
+  la::Vector guess;
+  check(VecDuplicate(previous_solution_.get(), guess.out()), "VecDuplicate");
+  check(VecAXPBYPCZ(guess.get(), e.current, e.previous, 0.0, previous_solution_.get(),
+                    older_solution_.get()),
+        "VecAXPBYPCZ");
+  return guess;
+}
+
+void StokesSystem::keep_solution(Vec x, std::optional<double> step) {
+  // Both kept solutions must have ended steps for their line to be one in time.
+  if (step && previous_solution_ && previous_step_ > 0.0) {
+    if (!older_solution_) check(VecDuplicate(x, older_solution_.out()), "VecDuplicate");
+    check(VecCopy(previous_solution_.get(), older_solution_.get()), "VecCopy");
+  } else {
+    older_solution_.reset();
+  }
+  if (!previous_solution_) check(VecDuplicate(x, previous_solution_.out()), "VecDuplicate");
+  check(VecCopy(x, previous_solution_.get()), "VecCopy");
+  previous_step_ = step.value_or(0.0);
+}
+
+StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout layout,
+                                 std::optional<double> step) {
   if (problem.semi_implicit_tension.active() &&
       (static_cast<int>(problem.semi_implicit_tension.node_normal.size()) < mesh_.n_nodes() ||
        static_cast<int>(problem.semi_implicit_tension.predicted_normal_velocity.size()) <
@@ -648,7 +678,8 @@ StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout la
     throw SolverError(fmt::format("StokesProblem: {} viscosities for {} regions",
                                   problem.viscosity.size(), mesh_.n_objects + 1));
   const auto start = std::chrono::steady_clock::now();
-  auto [rhs, x] = assemble_system(mesh_, problem, previous_solution_.get());
+  la::Vector guess = initial_guess(step);
+  auto [rhs, x] = assemble_system(mesh_, problem, guess ? guess.get() : previous_solution_.get());
   StokesResult result;
   result.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -657,8 +688,7 @@ StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout la
   result.solve = solver_->solve(rhs.get(), x.get(), static_cast<bool>(previous_solution_));
   if (solver_->n_setups() > setups) record_factorization(problem);
   if (gauge_after_solve()) apply_gauge(problem, x.get());
-  if (!previous_solution_) check(VecDuplicate(x.get(), previous_solution_.out()), "VecDuplicate");
-  check(VecCopy(x.get(), previous_solution_.get()), "VecCopy");
+  keep_solution(x.get(), step);
   if (layout == SolutionLayout::gathered) result.solution = la::gather_to_all(x.get());
   result.distributed = std::move(x);
   return result;
@@ -868,6 +898,9 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
   // vector as an uninterrupted one.
   out.set(prefix + "initial_guess", previous_solution_ ? la::gather_to_all(previous_solution_.get())
                                                       : std::vector<double>{});
+  out.set(prefix + "older_solution",
+          older_solution_ ? la::gather_to_all(older_solution_.get()) : std::vector<double>{});
+  out.set(prefix + "previous_step", previous_step_);
   out.set(prefix + "refactor_next", solver_->refactor_next());
   out.set(prefix + "n_factorizations", solver_->n_setups());
   out.set(prefix + "fewest_iterations", solver_->fewest_iterations());
@@ -892,18 +925,25 @@ void StokesSystem::save_state(StateRecord& out, const std::string& prefix) const
 }
 
 void StokesSystem::restore_state(const StateRecord& in, const std::string& prefix) {
-  // Checkpoints from before the guess was kept: the next solve starts from zero.
-  previous_solution_.reset();
-  if (in.contains(prefix + "initial_guess")) {
-    const auto& guess = in.get_array(prefix + "initial_guess");
-    if (!guess.empty() && static_cast<PetscInt>(guess.size()) != dofs_.n_dofs())
-      throw InputError(fmt::format("the saved state's {}initial_guess has {} values for {} unknowns",
-                                   prefix, guess.size(), dofs_.n_dofs()));
-    if (!guess.empty()) {
-      previous_solution_ = la::make_vector(range_.size(), dofs_.n_dofs());
-      la::scatter_from_all(previous_solution_.get(), guess);
+  // Checkpoints from before the guess was kept: the next solve starts from
+  // zero; from before the older solution was: from the last one.
+  auto read_solution = [&](const std::string& key) {
+    la::Vector v;
+    if (!in.contains(prefix + key)) return v;
+    const auto& values = in.get_array(prefix + key);
+    if (!values.empty() && static_cast<PetscInt>(values.size()) != dofs_.n_dofs())
+      throw InputError(fmt::format("the saved state's {}{} has {} values for {} unknowns", prefix,
+                                   key, values.size(), dofs_.n_dofs()));
+    if (!values.empty()) {
+      v = la::make_vector(range_.size(), dofs_.n_dofs());
+      la::scatter_from_all(v.get(), values);
     }
-  }
+    return v;
+  };
+  previous_solution_ = read_solution("initial_guess");
+  older_solution_ = read_solution("older_solution");
+  previous_step_ =
+      in.contains(prefix + "previous_step") ? in.get_double(prefix + "previous_step") : 0.0;
   // Either method rebuilds the preconditioner an uninterrupted run would
   // still be using (the direct method's factors, the iterative method's
   // sub-matrices and AMG hierarchy).

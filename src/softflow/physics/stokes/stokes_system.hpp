@@ -101,9 +101,19 @@ class StokesSystem {
   /// The solver, for saving and restoring its preconditioner reuse state (restarts).
   [[nodiscard]] la::SaddlePointSolver& solver() { return *solver_; }
 
-  /// Assembles the problem on the current mesh and solves it.
-  StokesResult solve(const StokesProblem& problem,
-                     SolutionLayout layout = SolutionLayout::gathered);
+  /// Assembles the problem on the current mesh and solves it. `step`: the
+  /// time step this solve ends, in a time loop; the initial guess is then
+  /// extrapolated from the last two solutions when they were steps too
+  /// (settings().extrapolated_guess), else it is the last solution.
+  StokesResult solve(const StokesProblem& problem, SolutionLayout layout = SolutionLayout::gathered,
+                     std::optional<double> step = std::nullopt);
+  /// A jump of the walls before the next solve: its guess and the next one's
+  /// are the last solution alone (a line through solutions on both sides of
+  /// the jump points nowhere); the line starts again after them.
+  void restart_guess_history() {
+    older_solution_.reset();
+    previous_step_ = 0.0;
+  }
   /// Whether assembling sends matrix rows to other ranks (it does not:
   /// each rank assembles its own rows of every element it shares).
   [[nodiscard]] bool assembly_crosses_ranks() const {
@@ -195,6 +205,11 @@ class StokesSystem {
   /// The conformation's record (MatrixRecord::conformation) as a field of
   /// this mesh, for assembling the matrix it was part of.
   [[nodiscard]] fem::Field conformation_field(const std::vector<double>& owned_values) const;
+  /// The extrapolated initial guess of a solve ending a step `step`, or null
+  /// (solve then starts from the last solution).
+  [[nodiscard]] la::Vector initial_guess(std::optional<double> step) const;
+  /// Keeps x as the last solution, and the one before as the older if both ended steps.
+  void keep_solution(Vec x, std::optional<double> step);
   void apply_dirichlet(const StokesProblem& problem, Vec rhs, Vec x);
   /// Whether the pressure level is set after the solve instead of by a
   /// constrained unknown: the iterative method without slip. Pinning one
@@ -293,6 +308,10 @@ class StokesSystem {
   /// is not remeshed), and a step changes the solution by O(dt): a few
   /// Krylov iterations fewer per step.
   la::Vector previous_solution_;
+  /// The solution before it (null unless both ended time steps), and the
+  /// step between the two: the extrapolated guess's line.
+  la::Vector older_solution_;
+  double previous_step_ = 0.0;
   /// 1 at every pressure unknown, 0 elsewhere (gauge_after_solve()).
   la::Vector pressure_constant_;
   std::optional<MatrixRecord> analysis_, factors_;  // analysis_: the direct method's

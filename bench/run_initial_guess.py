@@ -1,0 +1,151 @@
+#!/usr/bin/python3
+"""The iterative Stokes solver's initial guess ([solver] initial_guess): the
+last step's solution against the line through the last two extrapolated a
+step on. The relative tolerance is on ||b||, so a closer guess needs fewer
+Krylov iterations for the same answer.
+
+Cases, each run with both guesses, alternating so that the machine's load hits
+both alike (iterations do not depend on the load; seconds do):
+  - giesekus_migration: issue 35's Giesekus start (20 equator nodes, 0.28 H,
+    p = 4.5, dt = 0.04) to t = STEPS_MIGRATION * 0.04;
+  - newtonian_drop / particle: step_cost.py's unit drop (lambda = 1, Ca = 0.1)
+    and neo-Hookean particle (Ca_e = 0.1), 28 equator nodes, box 30, dt = 0.02.
+Every case on the iterative path ([solver] type = "iterative"), and the
+particle also on the direct one (GMRES preconditioned by LU factors kept
+across steps). Reports Stokes
+iterations per step (all steps; the second half, after the start-up), seconds
+per step (Stokes solve; whole step) and how far the answers differ.
+
+Writes docs/benchmarks/initial_guess.{md,json}.
+Usage: bench/run_initial_guess.py [build_dir] [--repeats N] [--work DIR]"""
+import argparse
+import csv
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+import step_cost
+from step_cost import OUT, ROOT, STAGES
+
+sys.path.insert(0, os.path.join(ROOT, "scripts", "validation"))
+import giesekus_quasi_steady_trajectory as coarse  # noqa: E402
+from case_runs import run_softflow  # noqa: E402
+
+GUESSES = ("previous", "extrapolated")
+STEPS_MIGRATION = 50
+START = 0.28  # y_p0 / H
+
+
+def migration_case():
+    text = coarse.COARSE.case_text(START)
+    end = "end = 6.0\n"
+    assert text.count(end) == 1, "the Giesekus start's case changed"
+    return text.replace(end, f"end = {STEPS_MIGRATION * coarse.DT:g}\n")
+
+
+def unit_case(obj):
+    return step_cost.case_text("unit", "", obj)
+
+
+DROP = "viscosity_ratio = 1.0\ncapillary_number = 0.1\n"
+PARTICLE = 'model = "neo_hookean"\nelastic_capillary_number = 0.1\n'
+# name: (case text, solver type)
+CASES = {
+    "giesekus_migration": (migration_case, "iterative"),
+    "newtonian_drop": (lambda: unit_case(DROP), "iterative"),
+    "particle": (lambda: unit_case(PARTICLE), "iterative"),
+    "particle_direct": (lambda: unit_case(PARTICLE), "direct"),  # GMRES on LU factors kept across steps
+}
+
+
+def with_guess(text, name, guess, solver):
+    """The case under its own name, with the given solver and guess."""
+    lines = [line for line in text.splitlines() if not line.startswith("name = ")]
+    body = "\n".join(lines).replace("[case]", f'[case]\nname = "{name}"', 1)
+    assert "[solver]" not in body
+    return body + f'\n[solver]\ntype = "{solver}"\ninitial_guess = "{guess}"\n'
+
+
+def run_once(build, work, case, guess):
+    name = f"{case}_{guess}"
+    directory = os.path.join(work, name)
+    subprocess.run(["rm", "-rf", directory], check=True)
+    os.makedirs(work, exist_ok=True)
+    path = os.path.join(work, name + ".toml")
+    with open(path, "w") as f:
+        text, solver = CASES[case]
+        f.write(with_guess(text(), name, guess, solver))
+    run_softflow([os.path.join(build, "softflow"), "run", path, "-o", directory, "-q"]).check_returncode()
+    summary = json.load(open(os.path.join(directory, "summary.json")))
+    rows = list(csv.DictReader(open(os.path.join(directory, "timeseries.csv"))))
+    iterations = [int(r["stokes_iterations"]) for r in rows if int(r["step"]) > 0]
+    last = rows[-1]
+    per_step = summary["seconds_per_step"]
+    return {"unknowns": summary["unknowns"], "iterations": statistics.mean(iterations),
+            "iterations_late": statistics.mean(iterations[len(iterations) // 2:]),
+            "stokes_solve": per_step["stokes_solve"], "step": sum(per_step.get(s, 0.0) for s in STAGES),
+            "steps": len(iterations), "factorizations": summary["stokes_factorizations"],
+            "answer": {k: float(last[k]) for k in ("D", "xc", "yc", "zc", "vc", "volume")}}
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--repeats", type=int, default=1)
+    parser.add_argument("--work", default=os.path.join(ROOT, "output", "bench_initial_guess"))
+    parser.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES),
+                        help="measure these again; the other rows are kept from the last JSON")
+    args = parser.parse_args()
+    runs = {(c, g): [] for c in args.cases for g in GUESSES}
+    for _ in range(args.repeats):
+        for case in args.cases:
+            for guess in GUESSES:
+                runs[(case, guess)].append(run_once(args.build, args.work, case, guess))
+    table = {}
+    json_path = os.path.join(OUT, "initial_guess.json")
+    if os.path.exists(json_path):
+        table = json.load(open(json_path))
+    md = ["# The iterative Stokes solver's initial guess (`[solver] initial_guess`)", "",
+          "Generated by `bench/run_initial_guess.py`: each case with the last step's "
+          "solution (`previous`) and with the line through the last two extrapolated a step on "
+          "(`extrapolated`), alternating, the number of runs each in the column (medians); rtol 1e-8 on ||b||. "
+          f"giesekus_migration: issue 35's Giesekus start (20 equator nodes, {START:g} H, p = 4.5), "
+          f"{STEPS_MIGRATION} steps of dt = {coarse.DT:g}; newtonian_drop, particle: a unit drop "
+          f"(lambda = 1, Ca = 0.1) and a neo-Hookean particle (Ca_e = 0.1), 28 equator nodes, box 30, "
+          f"{step_cost.STEPS} steps of dt = {step_cost.DT:g}; particle_direct: the particle on the direct path "
+          "(GMRES on LU factors kept across steps). Seconds: this 2-core machine, possibly beside "
+          "other runs (see the commit); iterations do not depend on the load. Answers at the last step: the "
+          "largest difference of D, the centre and its y velocity between the two guesses.", "",
+          "| case | runs | unknowns | Stokes its / step, previous -> extrapolated | second half | "
+          "Stokes solve s / step | whole step s / step | step ratio | preconditioner builds | "
+          "answers differ by |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for case in args.cases:
+        med = {g: {k: statistics.median(r[k] for r in runs[(case, g)])
+                   for k in ("unknowns", "iterations", "iterations_late", "stokes_solve", "step",
+                             "factorizations")} for g in GUESSES}
+        a, b = (runs[(case, g)][0]["answer"] for g in GUESSES)
+        differ = max(abs(a[k] - b[k]) for k in ("D", "xc", "yc", "zc", "vc"))
+        table[case] = {"runs": args.repeats, "median": med, "answer_difference": differ,
+                       "answers": {"previous": a, "extrapolated": b}}
+    for case in CASES:
+        if case not in table:
+            continue
+        med, differ, n = table[case]["median"], table[case]["answer_difference"], table[case]["runs"]
+        p, e = med["previous"], med["extrapolated"]
+        md.append(f"| {case} | {n} | {int(e['unknowns'])} | {p['iterations']:.1f} -> {e['iterations']:.1f} | "
+                  f"{p['iterations_late']:.1f} -> {e['iterations_late']:.1f} | "
+                  f"{p['stokes_solve']:.2f} -> {e['stokes_solve']:.2f} | {p['step']:.2f} -> {e['step']:.2f} | "
+                  f"{e['step'] / p['step']:.2f} | {int(p['factorizations'])} / {int(e['factorizations'])} | "
+                  f"{differ:.1e} |")
+    os.makedirs(OUT, exist_ok=True)
+    with open(os.path.join(OUT, "initial_guess.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    with open(json_path, "w") as f:
+        json.dump(table, f, indent=1)
+    print("\n".join(md))
+
+
+if __name__ == "__main__":
+    main()
