@@ -31,10 +31,11 @@ LEVEL = coarse.Level(nodes=NODES, starts=STARTS, symmetric_below=SYMMETRIC_BELOW
 # The carry to 0.20 H takes two steps (it inverted an element in one), so the
 # 0.20 H start from the symmetric mesh tells whether the jump is gmsh's mesh's.
 SEAM = coarse.Level(nodes=NODES, starts=(0.20,), symmetric_below=0.21, shared=(), stem=LEVEL.stem)
-# gmsh's mesh's own part at a start above the seam: the mirror start -0.28 H
-# on gmsh's mesh of it (not the half turn's image of +0.28 H's). The flow is
-# point-symmetric, so v_p(-y) = -v_p(y) but for what the two meshes add.
-MIRROR = coarse.Level(nodes=NODES, starts=(-0.28,), symmetric_below=-1.0, shared=(), stem=LEVEL.stem)
+# What gmsh's meshes add: mirror starts on gmsh's mesh of them (not the half
+# turn's image of the +y start's). The flow is point-symmetric, so
+# v_p(-y) = -v_p(y) but for what the two meshes add. -0.20 H: is the seam
+# gmsh's meshes' or the carried mesh's (quality 0.090)?
+MIRROR = coarse.Level(nodes=NODES, starts=(-0.28, -0.20), symmetric_below=-1.0, shared=(), stem=LEVEL.stem)
 # Is 28 nodes the level the target asks for (v_p to 10 %) in the Giesekus liquid
 # too? One start on 40 nodes where 20 -> 28 moved v_p the most (0.75 at 0.28 H).
 FINE = coarse.Level(nodes=40, starts=(0.28,), symmetric_below=0.0, shared=(), stem=LEVEL.stem)
@@ -72,16 +73,19 @@ def seam_lines(work):
 
 
 def mirror_lines(work):
-    """The mirror start beside its image's, once both have run: their mean is gmsh's meshes' part."""
-    mirror = coarse.finished_starts(work, MIRROR)
-    image = coarse.finished_starts(work, dataclasses.replace(LEVEL, starts=tuple(-s for s in MIRROR.starts)))
-    if not mirror or not image:
-        return []
-    m, i = mirror[0], image[0]
-    return ["", f"The mirror start {m['start']:g} H on gmsh's mesh of it ({m['wall_seconds']:.0f} s): v_p = "
-            f"{m['v_p']:.4e} against {i['v_p']:.4e} from {i['start']:g} H. The flow is point-symmetric, so "
-            f"the meshes' part is their mean, (v_p(y) + v_p(-y)) / 2 = {(m['v_p'] + i['v_p']) / 2:+.2e}, "
-            f"and the mirror-averaged v_p is {(i['v_p'] - m['v_p']) / 2:.4e}."]
+    """Each mirror start beside its image's, once both have run: their mean is what the two meshes add."""
+    images = {d["start"]: d for d in coarse.finished_starts(
+        work, dataclasses.replace(LEVEL, starts=tuple(-s for s in MIRROR.starts)))}
+    lines = []
+    for m in coarse.finished_starts(work, MIRROR):
+        i = images.get(-m["start"])
+        if i is None:
+            continue
+        lines += ["", f"The mirror start {m['start']:g} H on gmsh's mesh of it ({m['wall_seconds']:.0f} s): v_p = "
+                  f"{m['v_p']:.4e} against {i['v_p']:.4e} from {i['start']:g} H. The flow is point-symmetric, so "
+                  f"the two meshes' part is their mean, (v_p(y) + v_p(-y)) / 2 = {(m['v_p'] + i['v_p']) / 2:+.2e}, "
+                  f"and the mirror-averaged v_p is {(i['v_p'] - m['v_p']) / 2:.4e}."]
+    return lines
 
 
 def fine_lines(work):
