@@ -61,49 +61,51 @@ def jobs():
     return LEVEL.jobs() + SEAM.jobs() + [(FINE.name(s), fine_text(s)) for s in FINE.starts] + MIRROR.jobs()
 
 
+def beside_gmsh(work, other, height=lambda start: start):
+    """(other's finished start, this level's gmsh start at height(start)) wherever both have run."""
+    heights = tuple(height(x) for x in other.starts)
+    gmsh = {d["start"]: d for d in coarse.finished_starts(work, dataclasses.replace(LEVEL, starts=heights,
+                                                                                    symmetric_below=0.0))}
+    return [(d, gmsh[height(d["start"])]) for d in coarse.finished_starts(work, other) if height(d["start"]) in gmsh]
+
+
 def seam_lines(work):
-    """The symmetric 0.20 H start beside gmsh's, once both have run."""
-    seam = coarse.finished_starts(work, SEAM)
-    gmsh = coarse.finished_starts(work, dataclasses.replace(LEVEL, starts=SEAM.starts))
-    if not seam or not gmsh:
-        return []
-    s, g = seam[0], gmsh[0]
-    return ["", f"The seam at 0.20 H: from the point-symmetric mesh (carried in steps) v_p = {s['v_p']:.4e}, "
-            f"on gmsh's mesh {g['v_p']:.4e} ({s['wall_seconds']:.0f} s; not in the curve above)."]
+    """The symmetric 0.20 H start beside gmsh's."""
+    return [line for s, g in beside_gmsh(work, SEAM) for line in (
+        "", f"The seam at 0.20 H: from the point-symmetric mesh (carried in steps) v_p = {s['v_p']:.4e}, "
+        f"on gmsh's mesh {g['v_p']:.4e} ({s['wall_seconds']:.0f} s; not in the curve above).")]
+
+
+def mirror_velocity(m, i):
+    """v_p of start i without what gmsh's meshes of it and of its mirror start m add (the flow is point-symmetric)."""
+    return (i["v_p"] - m["v_p"]) / 2
 
 
 def mirror_lines(work):
-    """Each mirror start beside its image's, once both have run: their mean is what the two meshes add."""
-    images = {d["start"]: d for d in coarse.finished_starts(
-        work, dataclasses.replace(LEVEL, starts=tuple(-s for s in MIRROR.starts)))}
+    """Each mirror start beside its image's: their mean is what the two meshes add."""
     lines = []
-    for m in coarse.finished_starts(work, MIRROR):
-        i = images.get(-m["start"])
-        if i is None:
-            continue
+    for m, i in beside_gmsh(work, MIRROR, height=lambda start: -start):
         lines += ["", f"The mirror start {m['start']:g} H on gmsh's mesh of it ({m['wall_seconds']:.0f} s): v_p = "
                   f"{m['v_p']:.4e} against {i['v_p']:.4e} from {i['start']:g} H. The flow is point-symmetric, so "
                   f"the two meshes' part is their mean, (v_p(y) + v_p(-y)) / 2 = {(m['v_p'] + i['v_p']) / 2:+.2e}, "
-                  f"and the mirror-averaged v_p is {(i['v_p'] - m['v_p']) / 2:.4e}."]
+                  f"and the mirror-averaged v_p is {mirror_velocity(m, i):.4e}."]
     return lines
 
 
 def fine_lines(work):
-    """The 40-node start beside the same start on 28 and 20 nodes, once it has run."""
-    fine = coarse.finished_starts(work, FINE)
-    here = coarse.finished_starts(work, dataclasses.replace(LEVEL, starts=FINE.starts))
-    if not fine or not here:
-        return []
-    f, m = fine[0], here[0]
-    line = (f"One start on 40 equator nodes ({f['start']:g} H, gmsh's mesh, {f['unknowns']} unknowns, "
-            f"{f['wall_seconds']:.0f} s): v_p = {f['v_p']:.4e}, against {m['v_p']:.4e} on 28 nodes "
-            f"(28 -> 40: {100 * (f['v_p'] / m['v_p'] - 1):+.1f} %)")
-    mirror = {d["start"]: d for d in coarse.finished_starts(work, MIRROR)}.get(-f["start"])
-    if mirror:  # the 28-node value without what gmsh's two meshes add
-        averaged = (m["v_p"] - mirror["v_p"]) / 2
-        line += (f"; against the mirror-averaged 28-node value {averaged:.4e}: "
-                 f"{100 * (f['v_p'] / averaged - 1):+.1f} %")
-    return ["", line + "."]
+    """The 40-node start beside the same start on 28 nodes."""
+    lines = []
+    mirrors = {-m["start"]: m for m, _ in beside_gmsh(work, MIRROR, height=lambda start: -start)}
+    for f, m in beside_gmsh(work, FINE):
+        line = (f"One start on 40 equator nodes ({f['start']:g} H, gmsh's mesh, {f['unknowns']} unknowns, "
+                f"{f['wall_seconds']:.0f} s): v_p = {f['v_p']:.4e}, against {m['v_p']:.4e} on 28 nodes "
+                f"(28 -> 40: {100 * (f['v_p'] / m['v_p'] - 1):+.1f} %)")
+        if f["start"] in mirrors:
+            averaged = mirror_velocity(mirrors[f["start"]], m)
+            line += (f"; against the mirror-averaged 28-node value {averaged:.4e}: "
+                     f"{100 * (f['v_p'] / averaged - 1):+.1f} %")
+        lines += ["", line + "."]
+    return lines
 
 
 def report(work, build):
