@@ -28,6 +28,10 @@ namespace {
 using physics::Vec3;
 using Clock = std::chrono::steady_clock;
 
+// A step's saved state: where the Stokes guess history stood (no part of
+// the registry has this name).
+constexpr const char* kGuessMarkKey = "step/stokes_guess_mark";
+
 }  // namespace
 
 DropSimulation::DropSimulation(const io::CaseConfig& config, mesh::Mesh mesh)
@@ -226,15 +230,17 @@ void DropSimulation::restart_time_histories() {
 StateRecord DropSimulation::save_step_state() const {
   StateRecord state(StateRecord::Scope::this_rank);  // in memory: nothing gathered
   registry_.save(state, {"stokes"});
+  // The Stokes system is not saved (its matrices and preconditioner stay),
+  // only where its guess history stood.
+  state.set(kGuessMarkKey, static_cast<double>(stokes_->guess_history_mark()));
   return state;
 }
 
 void DropSimulation::restore_step_state(const StateRecord& state) {
   registry_.restore(state, {"stokes"});
-  // The Stokes system is not rolled back (its last solution, the rejected
-  // step's, is still a fair guess), but the line through it and x_n would
-  // extrapolate past the retried step's end: start the line again.
-  stokes_->restart_guess_history();
+  // The rejected step's solve leaves the guess history: the retried step
+  // extrapolates from x_n along x_{n-1}, x_n with its own step.
+  stokes_->rewind_guess_history(static_cast<long>(state.get_double(kGuessMarkKey)));
 }
 
 StepReport DropSimulation::current_report() {

@@ -650,17 +650,39 @@ la::Vector StokesSystem::initial_guess(std::optional<double> step) const {
   return guess;
 }
 
+namespace {
+
+la::Vector copy_of(Vec x) {
+  la::Vector v;
+  check(VecDuplicate(x, v.out()), "VecDuplicate");
+  check(VecCopy(x, v.get()), "VecCopy");
+  return v;
+}
+
+}  // namespace
+
 void StokesSystem::keep_solution(Vec x, std::optional<double> step) {
+  // The history before this solve, for rewind_guess_history.
+  undo_previous_ = std::move(previous_solution_);
+  undo_older_ = std::move(older_solution_);
+  undo_step_ = previous_step_;
+  ++solves_;
   // Both kept solutions must have ended steps for their line to be one in time.
-  if (step && previous_solution_ && previous_step_ > 0.0) {
-    if (!older_solution_) check(VecDuplicate(x, older_solution_.out()), "VecDuplicate");
-    check(VecCopy(previous_solution_.get(), older_solution_.get()), "VecCopy");
-  } else {
-    older_solution_.reset();
-  }
-  if (!previous_solution_) check(VecDuplicate(x, previous_solution_.out()), "VecDuplicate");
-  check(VecCopy(x, previous_solution_.get()), "VecCopy");
+  if (step && undo_previous_ && undo_step_ > 0.0) older_solution_ = copy_of(undo_previous_.get());
+  previous_solution_ = copy_of(x);
   previous_step_ = step.value_or(0.0);
+}
+
+void StokesSystem::rewind_guess_history(long mark) {
+  if (solves_ == mark) return;
+  if (solves_ == mark + 1) {
+    previous_solution_ = std::move(undo_previous_);
+    older_solution_ = std::move(undo_older_);
+    previous_step_ = undo_step_;
+    solves_ = mark;
+    return;
+  }
+  restart_guess_history();
 }
 
 StokesResult StokesSystem::solve(const StokesProblem& problem, SolutionLayout layout,

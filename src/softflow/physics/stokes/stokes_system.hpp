@@ -114,6 +114,13 @@ class StokesSystem {
     older_solution_.reset();
     previous_step_ = 0.0;
   }
+  /// The guess history's place: the solves so far (kept in a step's saved state).
+  [[nodiscard]] long guess_history_mark() const { return solves_; }
+  /// Back to `mark` after a rejected or failed step: if one solve came
+  /// since, its place in the history is undone, so that the retried step
+  /// extrapolates along the solutions before it with its own step; if none,
+  /// nothing changes; more than one (not a single step) restarts the line.
+  void rewind_guess_history(long mark);
   /// Whether assembling sends matrix rows to other ranks (it does not:
   /// each rank assembles its own rows of every element it shares).
   [[nodiscard]] bool assembly_crosses_ranks() const {
@@ -312,6 +319,10 @@ class StokesSystem {
   /// step between the two: the extrapolated guess's line.
   la::Vector older_solution_;
   double previous_step_ = 0.0;
+  /// Solves so far, and the history as it was before the last one (rewind_guess_history).
+  long solves_ = 0;
+  la::Vector undo_previous_, undo_older_;
+  double undo_step_ = 0.0;
   /// 1 at every pressure unknown, 0 elsewhere (gauge_after_solve()).
   la::Vector pressure_constant_;
   std::optional<MatrixRecord> analysis_, factors_;  // analysis_: the direct method's
