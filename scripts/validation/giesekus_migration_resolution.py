@@ -17,7 +17,7 @@ import csv
 import os
 
 from case_runs import summary_of, validation_main  # noqa: E402
-from migration_runs import read_migration, window_velocities  # noqa: E402
+from migration_runs import read_migration, refined_mesh, window_velocities  # noqa: E402
 from giesekus_migration import HEIGHT, case_name, case_text  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -31,11 +31,7 @@ FIGURES = os.path.join(ROOT, "output", "validation_giesekus_migration")
 
 def text(name, nodes, definition, end):
     base = case_text(START, definition).replace(f'name = "{case_name(START, definition)}"', f'name = "{name}"')
-    base = base.replace("equator_nodes = 20", f"equator_nodes = {nodes}")
-    base = base.replace("far_size = 2.0", f"far_size = {2.0 * 20 / nodes:.6g}")
-    base = base.replace("wall_size = 0.5", f"wall_size = {0.5 * 20 / nodes:.6g}")
-    base = base.replace("growth = 0.4", f"growth = {0.4 * 20 / nodes:.6g}")
-    return base.replace("end = 15.0", f"end = {end}")
+    return refined_mesh(base, nodes).replace("end = 15.0", f"end = {end}")
 
 
 def jobs():

@@ -21,6 +21,7 @@ import os
 
 import giesekus_quasi_steady_trajectory as coarse
 from case_runs import validation_main
+from migration_runs import refined_mesh
 
 NODES = 28
 SYMMETRIC_BELOW = 0.20  # y_p0 / H: starts below it are carried from the point-symmetric mesh
@@ -44,20 +45,11 @@ GMSH_LOW = coarse.Level(nodes=NODES, starts=(0.10,), symmetric_below=0.0, shared
 FINE = coarse.Level(nodes=40, starts=(0.28,), symmetric_below=0.0, shared=(), stem=LEVEL.stem)
 
 
-
-
-def mesh_section(nodes):
-    """The [mesh] keys of a level: the 20-node mesh refined as a whole by 20 / nodes."""
-    scale = 20 / nodes  # written as giesekus_migration_resolution.py writes its levels
-    return (f"[mesh]\nequator_nodes = {nodes}\nfar_size = {2.0 * scale:.6g}\n"
-            f"growth = {0.4 * scale:.6g}\nwall_size = {0.5 * scale:.6g}\n")
-
-
 def fine_text(start):
-    """The 28-node start's case on 40 nodes, the whole mesh refined alike (as delta_s_resolution.py's levels)."""
+    """The 28-node start's case on 40 nodes, the whole mesh refined alike (migration_runs.refined_mesh)."""
     text = LEVEL.case_text(start).replace(f'name = "{LEVEL.name(start)}"', f'name = "{FINE.name(start)}"')
-    assert text.count(mesh_section(NODES)) == 1, "the 28-node mesh is no longer the 20-node one refined by 20/28"
-    return text.replace(mesh_section(NODES), mesh_section(FINE.nodes))
+    assert refined_mesh(text, NODES) == text, "the 28-node mesh is no longer the 20-node one refined by 20/28"
+    return refined_mesh(text, FINE.nodes)
 
 
 def jobs():

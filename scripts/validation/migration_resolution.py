@@ -14,7 +14,7 @@ import csv
 import os
 
 from case_runs import validation_main  # noqa: E402
-from migration_runs import mean_velocity, read_migration  # noqa: E402
+from migration_runs import mean_velocity, read_migration, refined_mesh  # noqa: E402
 from confined_migration import HEIGHT, TRANSIENT, case_text  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -27,11 +27,7 @@ REFERENCE = os.path.join(ROOT, "output", "validation_confined_migration", "yp0_0
 
 
 def text(name, nodes, dt):
-    base = case_text(name, START)
-    base = base.replace("equator_nodes = 20", f"equator_nodes = {nodes}")
-    base = base.replace("far_size = 2.0", f"far_size = {2.0 * 20 / nodes:.6g}")
-    base = base.replace("wall_size = 0.5", f"wall_size = {0.5 * 20 / nodes:.6g}")
-    base = base.replace("growth = 0.4", f"growth = {0.4 * 20 / nodes:.6g}")
+    base = refined_mesh(case_text(name, START), nodes)
     base = base.replace("step = 0.04", f"step = {dt}").replace("end = 15.0", f"end = {T_END}")
     return base
 

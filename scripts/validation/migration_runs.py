@@ -3,9 +3,24 @@ at several heights): what scripts/validation/confined_migration.py and
 giesekus_migration.py share. Heights in units of H, velocities in gamma_dot H."""
 import csv
 import os
+import re
 import subprocess
 
 from case_runs import ROOT, read_csv, summary_of
+
+
+# The migration figures' mesh on 20 equator nodes; a finer level refines it as a
+# whole by 20 / N: the interface, far and wall sizes and the growth alike.
+BASE_MESH = {"far_size": 2.0, "growth": 0.4, "wall_size": 0.5}
+
+
+def refined_mesh(text, nodes):
+    """The case `text` with its [mesh] sizes those of `nodes` equator nodes (BASE_MESH refined by 20 / nodes)."""
+    values = {"equator_nodes": f"{nodes}", **{k: f"{v * 20 / nodes:.6g}" for k, v in BASE_MESH.items()}}
+    for key, value in values.items():
+        text, count = re.subn(rf"^{key} = .*$", f"{key} = {value}", text, flags=re.MULTILINE)
+        assert count == 1, f"the case has {count} lines of {key}"
+    return text
 
 
 def read_migration(directory, height):
