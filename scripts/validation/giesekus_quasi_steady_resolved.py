@@ -19,9 +19,14 @@ Usage: scripts/validation/giesekus_quasi_steady_resolved.py [build_dir] [work_di
 import dataclasses
 import os
 
-import giesekus_quasi_steady_trajectory as coarse
-from case_runs import validation_main
-from migration_runs import refined_mesh
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import giesekus_quasi_steady_trajectory as coarse  # noqa: E402
+from case_runs import validation_main  # noqa: E402
+from migration_runs import mean_velocity, mirror_averaged_run, quasi_steady_path, read_migration, refined_mesh  # noqa: E402
 
 NODES = 28
 SYMMETRIC_BELOW = 0.20  # y_p0 / H: starts below it are carried from the point-symmetric mesh
@@ -120,10 +125,87 @@ def fine_lines(work):
     return lines
 
 
+def mirror_averaged_curve(work, build):
+    """The 28-node curve on gmsh's meshes only: at each height the start averaged with its mirror start
+    (migration_runs.mirror_averaged_run) where that ran, the start alone elsewhere; its quasi-steady
+    trajectory from the 0.35 H start as the curve's. None until the 0.35 H start and one more have run."""
+    heights = tuple(sorted(set(LEVEL.starts) | set(GMSH_LOW.starts)))
+    gmsh = coarse.finished_starts(work, dataclasses.replace(LEVEL, starts=heights, symmetric_below=0.0))
+    if len(gmsh) < 2 or gmsh[-1]["start"] != max(LEVEL.starts):
+        return None
+    mirrors = {-m["start"]: m for m in coarse.finished_starts(work, MIRROR)}
+    starts = []
+    for d in gmsh:
+        m = mirrors.get(d["start"])
+        directory = (mirror_averaged_run(d["directory"], m["directory"],
+                                         os.path.join(work, "mirror_averaged", os.path.basename(d["directory"])))
+                     if m else d["directory"])
+        series = read_migration(directory, coarse.HEIGHT)
+        after = [y for t, y in zip(series["t"], series["y"]) if t >= coarse.TRANSIENT]
+        starts.append({"start": d["start"], "directory": directory, "mirrored": m is not None, "series": series,
+                       "v_p": mean_velocity(series, coarse.TRANSIENT), "y_mean": sum(after) / len(after)})
+    top = starts[-1]["series"]
+    q = quasi_steady_path(build, [d["directory"] for d in starts], os.path.join(work, "curves_mirror_averaged"),
+                          (top["t"], top["y"]), coarse.TRANSIENT, coarse.STRETCH, coarse.Y_MAX_OVER_H)
+    return {"starts": starts, **q}
+
+
+def mirror_curve_lines(curve, ts, ys):
+    """The gmsh-only curve's starts, neutral heights and trajectory beside the curve above's (ts, ys)."""
+    if curve is None:
+        return []
+    lines = ["", f"The same curve on gmsh's meshes only ({NODES} nodes; no carried start): each height's start "
+             "averaged with its mirror start where that ran (`migration_runs.mirror_averaged_run`: the point-symmetric "
+             "mean of the two runs, step by step), the start alone elsewhere (there the meshes' part is not removed; "
+             "it was +0.9e-5 to +3.1e-5 where measured, above):", "",
+             "| y_p0 / H | v_p, t = 2-6 | from |", "|---|---|---|"]
+    for d in curve["starts"]:
+        lines.append(f"| {d['start']:g} | {d['v_p']:.4e} | {'start and mirror, averaged' if d['mirrored'] else 'the start alone'} |")
+    lines += ["", f"Neutral heights of this curve: {curve['neutral']}", "",
+              f"Its trajectory: from y_p = {curve['y0']:.4f} H at t = {curve['t0']:g}, it ends {curve['ends']} at "
+              f"t = {curve['t'][-1]:.1f} (y_p = {curve['y'][-1]:.4f} H).", "",
+              "Time to each height, this curve beside the curve above (carried starts below 0.20 H):", "",
+              "| y_p / H | curve above | gmsh only, mirror-averaged | ratio |", "|---|---|---|---|"]
+    for y in (0.30, 0.25, 0.20, 0.15, 0.12, 0.10):
+        a, b = coarse.time_at(ts, ys, y), coarse.time_at(curve["t"], curve["y"], y)
+        if a is not None and b is not None:
+            lines.append(f"| {y:.2f} | {a:.1f} | {b:.1f} | {b / a:.3f} |")
+    return lines
+
+
+def plot_mirror_curve(work, curve, ts, ys):
+    """docs/validation/STEM_mirror_averaged.png: the two 28-node curves' v_p and trajectories."""
+    fig, (ax_v, ax_y) = plt.subplots(1, 2, figsize=(11, 4))
+    above = coarse.finished_starts(work, LEVEL)
+    ax_v.plot([d["y_mean"] for d in above], [d["v_p"] for d in above], "o", color="gray", mfc="none",
+              label="curve with carried starts below 0.20 H")
+    ax_v.plot([d["y_mean"] for d in curve["starts"]],
+              [d["v_p"] for d in curve["starts"]], "ko", label="gmsh only, mirror-averaged")
+    ax_v.axhline(0.0, color="gray", lw=0.5)
+    ax_v.set_xlabel("mean y_p / H over t = 2-6")
+    ax_v.set_ylabel("v_p / (gamma_dot H), t = 2-6")
+    ax_v.legend(fontsize=7)
+    ax_y.plot(ts, ys, ":", color="gray", lw=1.5, label="curve with carried starts")
+    ax_y.plot(curve["t"], curve["y"], "k-", lw=1.5, label="gmsh only, mirror-averaged")
+    ax_y.set_xlabel("gamma_dot t")
+    ax_y.set_ylabel("y_p / H")
+    ax_y.legend(fontsize=7)
+    fig.suptitle(f"Giesekus, p = 4.5, {NODES} equator nodes: the quasi-steady trajectory from 0.35 H")
+    fig.tight_layout()
+    fig.savefig(os.path.join(coarse.OUT, LEVEL.stem + "_mirror_averaged.png"), dpi=120)
+
+
 def report(work, build):
     # The 20-node curve's runs: in giesekus_quasi_steady_trajectory.py's work directory beside this one.
     coarse_work = os.path.join(os.path.dirname(os.path.abspath(work)), "giesekus_quasi_steady_trajectory")
-    coarse.report(work, build, LEVEL, reference=(coarse.COARSE, coarse_work), extra=seam_lines(work) + mirror_lines(work) + fine_lines(work))
+    curve = mirror_averaged_curve(work, build)
+
+    def extra(ts, ys):
+        if curve:
+            plot_mirror_curve(work, curve, ts, ys)
+        return seam_lines(work) + mirror_lines(work) + fine_lines(work) + mirror_curve_lines(curve, ts, ys)
+
+    coarse.report(work, build, LEVEL, reference=(coarse.COARSE, coarse_work), extra=extra)
 
 
 if __name__ == "__main__":

@@ -105,7 +105,8 @@ def finished_starts(work, level):
 
 def report(work, build, level=COARSE, reference=None, extra=()):
     """Writes the level's report; `reference`, a (Level, work directory) of a coarser level, adds the
-    comparison of v_p start by start and of the two trajectories; `extra`: lines to end it with."""
+    comparison of v_p start by start and of the two trajectories; `extra`: lines to end it with, or a
+    function of the level's trajectory (its t and y_p / H lists) that returns them."""
     done = finished_starts(work, level)
     if len(done) < 2 or done[-1]["start"] != max(level.starts):
         print(f"{len(done)} starts finished; the trajectory needs the {max(level.starts):g} H start and one more")
@@ -144,7 +145,7 @@ def report(work, build, level=COARSE, reference=None, extra=()):
     compared = compare_levels(level, reference, done, ts, ys) if reference else None
     if compared:
         lines += ["", *compared["lines"]]
-    lines += list(extra)
+    lines += list(extra(ts, ys) if callable(extra) else extra)
     with open(os.path.join(OUT, level.stem + ".md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -4,6 +4,7 @@ giesekus_migration.py share. Heights in units of H, velocities in gamma_dot H.""
 import csv
 import os
 import re
+import shutil
 import subprocess
 
 from case_runs import ROOT, read_csv, summary_of
@@ -79,7 +80,7 @@ def combine(build, work, runs, transient, name="combined"):
 
 def write_series(path, runs):
     with open(path, "w", newline="") as f:
-        w = csv.writer(f)
+        w = csv.writer(f, lineterminator="\n")
         w.writerow(["y_p0_over_H", "t", "y_p_over_H", "v_p_over_gamma_dot_H", "delta_S"])
         for s, (_, r) in runs.items():
             for row in zip(r["t"], r["y"], r["v"], r["dS"]):
@@ -122,6 +123,28 @@ def plot_trajectories(ax, runs, y_max, transient, prefix="", linestyle="-", mark
     ax[0].axhspan(y_max, 0.5, color="0.85")
     ax[0].set(xlabel="gamma_dot t", ylabel="y_p / H", ylim=(0, 0.5))
     ax[1].set(xlabel="y_p / H", ylabel="v_p / (gamma_dot H)")
+
+
+def mirror_averaged_run(run, mirror, out):
+    """A run directory `out` holding the point-symmetric mean of the run `run` and of its mirror start
+    `mirror` (started at -y_p0 on a mesh of its own): the shear flow between walls is symmetric under the
+    half turn about the z axis, which takes y_p, v_p and Delta S to minus themselves, so the mean
+    (q(run) - q(mirror)) / 2 keeps the particle's migration and drops what the two meshes add. Row by
+    row at the times both runs have; case.toml is `run`'s (what `softflow migration` reads besides)."""
+    def rows(directory):
+        return {round(float(r["t"]), 9): r for r in read_csv(os.path.join(directory, "migration.csv"))
+                if r["object"] == "1"}
+    a, b = rows(run), rows(mirror)
+    os.makedirs(out, exist_ok=True)
+    shutil.copyfile(os.path.join(run, "case.toml"), os.path.join(out, "case.toml"))
+    odd = ("y_p", "y_p_rel", "v_p", "delta_s")
+    with open(os.path.join(out, "migration.csv"), "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(("step", "t", "object") + odd)
+        for t in sorted(set(a) & set(b)):
+            w.writerow([a[t]["step"], a[t]["t"], 1] +
+                       [repr(0.5 * (float(a[t][k]) - float(b[t][k]))) for k in odd])
+    return out
 
 
 def quasi_steady_path(build, runs, out, top, transient, stretch, y_max):
