@@ -46,6 +46,10 @@ MIRROR = coarse.Level(nodes=NODES, starts=(-0.28, -0.20, -0.10, -0.15), symmetri
 # At 0.20 H the carried mesh is the outlier: what do gmsh's meshes add at
 # 0.10 and 0.15 H, where the curve's starts are carried? The gmsh starts, beside their mirrors.
 GMSH_LOW = coarse.Level(nodes=NODES, starts=(0.10, 0.15), symmetric_below=0.0, shared=(), stem=LEVEL.stem)
+# And on the 20-node curve's mesh: is its 0.10 H start's -3.3e-4 (the carried
+# start: +3e-6) gmsh's meshes' part, or the particle's? Its mirror start.
+MIRROR_COARSE = coarse.Level(nodes=coarse.COARSE.nodes, starts=(-0.10,), symmetric_below=-1.0, shared=(),
+                             stem=coarse.COARSE.stem)
 # Is 28 nodes the level the target asks for (v_p to 10 %) in the Giesekus liquid
 # too? One start on 40 nodes where 20 -> 28 moved v_p the most (0.75 at 0.28 H).
 FINE = coarse.Level(nodes=40, starts=(0.28,), symmetric_below=0.0, shared=(), stem=LEVEL.stem)
@@ -60,7 +64,7 @@ def fine_text(start):
 
 def jobs():
     return (LEVEL.jobs() + SEAM.jobs() + [(FINE.name(s), fine_text(s)) for s in FINE.starts] + MIRROR.jobs()
-            + GMSH_LOW.jobs())
+            + GMSH_LOW.jobs() + MIRROR_COARSE.jobs())
 
 
 def beside_gmsh(work, other, height=lambda start: start):
@@ -106,6 +110,20 @@ def mirror_lines(work):
         carried_cell = f"{c['v_p']:.4e}" if c else ""
         lines.append(f"| {i['start']:g} | {i['v_p']:.4e} | {m['v_p']:.4e} | {(m['v_p'] + i['v_p']) / 2:+.2e} | "
                      f"{mirror_velocity(m, i):.4e} | {carried_cell} | {m['wall_seconds']:.0f} |")
+    return lines
+
+
+def coarse_mirror_lines(work, coarse_work):
+    """The 20-node curve's start beside its mirror start, run here."""
+    lines = []
+    starts = {d["start"]: d for d in coarse.finished_starts(coarse_work, coarse.COARSE)}
+    for m in coarse.finished_starts(work, MIRROR_COARSE):
+        i = starts.get(-m["start"])
+        if i:
+            lines += ["", f"On the 20-node curve's mesh the same: the mirror start {m['start']:g} H on gmsh's mesh of "
+                      f"it ({m['unknowns']} unknowns, {m['wall_seconds']:.0f} s) gives v_p = {m['v_p']:.4e} against "
+                      f"{i['v_p']:.4e} from {i['start']:g} H: the meshes' part {(m['v_p'] + i['v_p']) / 2:+.2e}, the "
+                      f"mirror-averaged v_p {mirror_velocity(m, i):.4e}."]
     return lines
 
 
@@ -203,7 +221,8 @@ def report(work, build):
     def extra(ts, ys):
         if curve:
             plot_mirror_curve(work, curve, ts, ys)
-        return seam_lines(work) + mirror_lines(work) + fine_lines(work) + mirror_curve_lines(curve, ts, ys)
+        return (seam_lines(work) + mirror_lines(work) + coarse_mirror_lines(work, coarse_work) + fine_lines(work)
+                + mirror_curve_lines(curve, ts, ys))
 
     coarse.report(work, build, LEVEL, reference=(coarse.COARSE, coarse_work), extra=extra)
 
