@@ -53,8 +53,8 @@ MIRROR_COARSE = coarse.Level(nodes=coarse.COARSE.nodes, starts=(-0.10,), symmetr
 # Is 28 nodes the level the target asks for (v_p to 10 %) in the Giesekus liquid
 # too? One start on 40 nodes where 20 -> 28 moved v_p the most (0.75 at 0.28 H).
 # Near the centre plane the mirror-averaged v_p at 0.10 H moves from -4.0e-4 (20
-# nodes) to -1.18e-4 (28): the 0.10 H start on 40 nodes too (its mirror next).
-FINE = coarse.Level(nodes=40, starts=(0.28, 0.10), symmetric_below=0.0, shared=(), stem=LEVEL.stem)
+# nodes) to -1.18e-4 (28): the 0.10 H start and its mirror on 40 nodes too.
+FINE = coarse.Level(nodes=40, starts=(0.28, 0.10, -0.10), symmetric_below=-1.0, shared=(), stem=LEVEL.stem)
 
 
 def fine_text(start):
@@ -131,10 +131,11 @@ def coarse_mirror_lines(work, coarse_work):
 
 
 def fine_lines(work):
-    """The 40-node start beside the same start on 28 nodes."""
+    """The 40-node starts beside the same starts on 28 nodes, mirror-averaged where both levels have the mirror."""
     lines = []
     mirrors = {-m["start"]: m for m, _ in beside_gmsh(work, MIRROR, height=lambda start: -start)}
-    for f, m in beside_gmsh(work, FINE):
+    fine = {d["start"]: d for d in coarse.finished_starts(work, FINE)}
+    for f, m in beside_gmsh(work, dataclasses.replace(FINE, starts=tuple(x for x in FINE.starts if x > 0))):
         line = (f"One start on 40 equator nodes ({f['start']:g} H, gmsh's mesh, {f['unknowns']} unknowns, "
                 f"{f['wall_seconds']:.0f} s): v_p = {f['v_p']:.4e}, against {m['v_p']:.4e} on 28 nodes "
                 f"(28 -> 40: {100 * (f['v_p'] / m['v_p'] - 1):+.1f} %)")
@@ -142,6 +143,13 @@ def fine_lines(work):
             averaged = mirror_velocity(mirrors[f["start"]], m)
             line += (f"; against the mirror-averaged 28-node value {averaged:.4e}: "
                      f"{100 * (f['v_p'] / averaged - 1):+.1f} %")
+            if -f["start"] in fine:
+                fm = fine[-f["start"]]
+                fine_averaged = mirror_velocity(fm, f)
+                line += (f". Its mirror start on 40 nodes ({fm['wall_seconds']:.0f} s) gives {fm['v_p']:.4e}: the "
+                         f"meshes' part {(fm['v_p'] + f['v_p']) / 2:+.2e}, the mirror-averaged v_p "
+                         f"{fine_averaged:.4e}, {100 * (fine_averaged / averaged - 1):+.1f} % from 28 nodes' "
+                         "mirror average")
         lines += ["", line + "."]
     return lines
 
