@@ -172,7 +172,8 @@ def mirror_averaged_curve(work, build):
         series = read_migration(directory, coarse.HEIGHT)
         after = [y for t, y in zip(series["t"], series["y"]) if t >= coarse.TRANSIENT]
         starts.append({"start": d["start"], "directory": directory, "mirrored": m is not None, "series": series,
-                       "v_p": mean_velocity(series, coarse.TRANSIENT), "y_mean": sum(after) / len(after)})
+                       "v_p": mean_velocity(series, coarse.TRANSIENT), "y_mean": sum(after) / len(after),
+                       "wall_seconds": d["wall_seconds"] + (m["wall_seconds"] if m else 0.0)})
     top = starts[-1]["series"]
     q = quasi_steady_path(build, [d["directory"] for d in starts], os.path.join(work, "curves_mirror_averaged"),
                           (top["t"], top["y"]), coarse.TRANSIENT, coarse.STRETCH, coarse.Y_MAX_OVER_H)
@@ -193,6 +194,9 @@ def mirror_curve_lines(curve, ts, ys):
     lines += ["", f"Neutral heights of this curve: {curve['neutral']}", "",
               f"Its trajectory: from y_p = {curve['y0']:.4f} H at t = {curve['t0']:g}, it ends {curve['ends']} at "
               f"t = {curve['t'][-1]:.1f} (y_p = {curve['y'][-1]:.4f} H).", "",
+              f"Cost: its {sum(1 + d['mirrored'] for d in curve['starts'])} runs took "
+              f"{sum(d['wall_seconds'] for d in curve['starts']) / 3600:.2f} h on one core in all (each beside other "
+              "work on the 2-core machine).", "",
               "Time to each height, this curve beside the curve above (carried starts below 0.20 H):", "",
               "| y_p / H | curve above | gmsh only, mirror-averaged | ratio |", "|---|---|---|---|"]
     for y in (0.30, 0.25, 0.20, 0.15, 0.12, 0.10):
