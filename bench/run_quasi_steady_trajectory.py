@@ -16,9 +16,15 @@ read instead: their own wall times (each measured beside the other run of its
 pair), and the wall clock of the whole is reconstructed by handing the runs, in
 the script's order, to `--jobs` workers as each frees, as the script does.
 
-Writes docs/benchmarks/quasi_steady_trajectory.{md,json} (one row per level;
-a level measured again replaces its row).
-Usage: bench/run_quasi_steady_trajectory.py [build_dir] [--nodes 20|28] [--work DIR] [--jobs N] [--from-runs DIR]"""
+--mirror-averaged measures the 28-node curve on gmsh's meshes only instead
+(giesekus_quasi_steady_resolved.py's GMSH_CURVE): each start averaged with its
+mirror start where one runs, four more runs, none carried from the
+point-symmetric mesh (whose error near the centre plane the mirror pairs found).
+
+Writes docs/benchmarks/quasi_steady_trajectory.{md,json} (one row per level
+and curve; a level measured again replaces its row).
+Usage: bench/run_quasi_steady_trajectory.py [build_dir] [--nodes 20|28] [--mirror-averaged] [--work DIR] [--jobs N]
+                                            [--from-runs DIR]"""
 import argparse
 import concurrent.futures
 import json
@@ -39,8 +45,11 @@ TARGET_HOURS = 4.0
 TARGET_NODES = resolved.NODES  # the level the convergence study asks for
 
 
-def run_here(build, work, level, jobs):
-    """Runs the level's starts `jobs` at a time; returns each run's directory and the whole's wall clock."""
+CARRIED, MIRRORED = "carried below 0.20 H", "gmsh only, mirror-averaged"  # the 28-node curves
+
+
+def run_here(build, work, level_jobs, jobs):
+    """Runs the (name, case text) list `jobs` at a time; returns the whole's wall clock."""
     os.makedirs(work, exist_ok=True)
 
     def one(job):
@@ -54,7 +63,7 @@ def run_here(build, work, level, jobs):
 
     began = time.monotonic()
     with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
-        list(pool.map(one, level.jobs()))
+        list(pool.map(one, level_jobs))
     return time.monotonic() - began, "measured"
 
 
@@ -67,32 +76,41 @@ def reconstructed_wall(seconds, jobs):
     return max(free)
 
 
-def measure(build, level, work, jobs, from_runs):
+def curve_of(level, mirrored):
+    return MIRRORED if mirrored else (CARRIED if level.symmetric_below > 0.0 else "gmsh's meshes")
+
+
+def measure(build, level, work, jobs, from_runs, mirrored=False):
+    level_jobs = resolved.gmsh_curve_jobs() if mirrored else level.jobs()  # in the order they run
     if from_runs:
         work = from_runs
     else:
-        wall, how = run_here(build, work, level, jobs)
+        wall, how = run_here(build, work, level_jobs, jobs)
     starts = []
-    for s in level.starts:  # the order they run
-        directory = os.path.join(work, level.name(s))
+    for name, _ in level_jobs:
+        directory = os.path.join(work, name)
         summary = summary_of(directory)
         if summary.get("status") != "completed":
             sys.exit(f"{directory}: not a completed run (status {summary.get('status')!r}); run "
                      f"scripts/validation/{level.stem}.py first, or leave out --from-runs")
         rows = [r for r in read_csv(os.path.join(directory, "timeseries.csv")) if r["object"] == "1"]
-        starts.append({"y_p0": s, "directory": directory, "unknowns": summary["unknowns"],
+        starts.append({"run": name, "directory": directory, "unknowns": summary["unknowns"],
                        "wall_seconds": summary["wall_seconds"],
                        "stokes_iterations_per_step": summary["stokes_iterations_per_step"],
                        "steps": len(rows)})
     if from_runs:
         wall, how = reconstructed_wall([x["wall_seconds"] for x in starts], jobs), "reconstructed"
-    top = read_migration(next(x["directory"] for x in starts if x["y_p0"] == max(level.starts)), coarse.HEIGHT)
     began = time.monotonic()
-    q = quasi_steady_path(build, sorted((x["directory"] for x in starts)),
-                          os.path.join(work, "bench_curves"), (top["t"], top["y"]), coarse.TRANSIENT,
-                          coarse.STRETCH, coarse.Y_MAX_OVER_H)
+    if mirrored:
+        q = resolved.mirror_averaged_curve(work, build)
+    else:
+        top = read_migration(os.path.join(work, level.name(max(level.starts))), coarse.HEIGHT)
+        q = quasi_steady_path(build, sorted((x["directory"] for x in starts)),
+                              os.path.join(work, "bench_curves"), (top["t"], top["y"]), coarse.TRANSIENT,
+                              coarse.STRETCH, coarse.Y_MAX_OVER_H)
     command_seconds = time.monotonic() - began
-    return {"equator_nodes": level.nodes, "starts": starts, "jobs": jobs, "runs_wall_clock_seconds": wall,
+    return {"equator_nodes": level.nodes, "curve": curve_of(level, mirrored), "starts": starts, "jobs": jobs,
+            "runs_wall_clock_seconds": wall,
             "wall_clock_is": how, "core_seconds": sum(x["wall_seconds"] for x in starts),
             "command_seconds": command_seconds, "trajectory_time_units": q["t"][-1] - q["t"][0],
             "trajectory_from": q["y0"], "trajectory_to": q["y"][-1], "ends": q["ends"],
@@ -106,22 +124,32 @@ def main():
     parser.add_argument("--work", default=None, help="where the runs go (default output/bench_quasi_steady_NODES)")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--from-runs", default=None, help="a validation script's work directory of finished runs")
+    parser.add_argument("--mirror-averaged", action="store_true",
+                        help=f"the {resolved.NODES}-node curve on gmsh's meshes only, mirror starts averaged in")
     args = parser.parse_args()
     level = LEVELS[args.nodes]
+    if args.mirror_averaged and level is not resolved.LEVEL:
+        sys.exit(f"--mirror-averaged: the mirror starts exist for the {resolved.NODES}-node curve only, "
+                 f"not for --nodes {args.nodes}")
     work = args.work or os.path.join(ROOT, "output", f"bench_quasi_steady_{args.nodes}")
-    result = measure(os.path.abspath(args.build), level, work, args.jobs, args.from_runs)
+    result = measure(os.path.abspath(args.build), level, work, args.jobs, args.from_runs, args.mirror_averaged)
     print(json.dumps(result, indent=1))
 
     json_path = os.path.join(OUT, "quasi_steady_trajectory.json")
     results = json.load(open(json_path)) if os.path.exists(json_path) else []
-    results = sorted([r for r in results if r["equator_nodes"] != level.nodes] + [result],
-                     key=lambda r: r["equator_nodes"])
+    for r in results:  # rows written before the gmsh-only curve: the level's own
+        r.setdefault("curve", curve_of(LEVELS[r["equator_nodes"]], False))
+
+    def key(r):
+        return r["equator_nodes"], r["curve"]
+    results = sorted([r for r in results if key(r) != key(result)] + [result], key=key)
     with open(json_path, "w") as f:
         json.dump(results, f, indent=1)
     md = ["# Wall time per quasi-steady Giesekus migration trajectory (issue 35)", "",
           "Generated by `bench/run_quasi_steady_trajectory.py`: beta = 0.2, Ca_e = 0.1 (p = 4.5), Wi = 0.5, "
-          "alpha_m = 0.2, dt = 0.04, step-limited SUPG parameter; the master curve of seven starts "
-          "(0.10-0.35 H) each run to t = 6 on one rank, `jobs` at a time on the 2-core machine, then `softflow "
+          "alpha_m = 0.2, dt = 0.04, step-limited SUPG parameter; the master curve of starts at seven heights "
+          "(0.10-0.35 H; on 28 nodes either carried from the point-symmetric mesh below 0.20 H, or all on gmsh's "
+          "meshes with mirror starts at -0.10, -0.15, -0.20 and -0.28 H averaged in) each run to t = 6 on one rank, `jobs` at a time on the 2-core machine, then `softflow "
           "migration --trajectory-from` from the 0.35 H start's first stretch (docs/validation/"
           "giesekus_quasi_steady_trajectory.md, giesekus_quasi_steady_resolved.md). Wall clock: measured around "
           "the runs, or reconstructed from each run's own wall time (measured beside whatever else ran then: on "
@@ -129,15 +157,16 @@ def main():
           "handing the runs in order to `jobs` workers, as the validation scripts do. Target: "
           f"{TARGET_HOURS:g} hours on this machine, on the mesh the convergence study asks for ({TARGET_NODES} nodes: "
           "docs/validation/delta_s_resolution.md).", "",
-          "| equator nodes | jobs | unknowns | Stokes iterations per step | core hours | wall clock [h] | wall clock is | "
-          "trajectory [time units] | from -> to [H] | ends | within 4 h |",
-          "|---|---|---|---|---|---|---|---|---|---|---|"]
+          "| equator nodes | curve | runs | jobs | unknowns | Stokes iterations per step | core hours | wall clock [h] | "
+          "wall clock is | trajectory [time units] | from -> to [H] | ends | within 4 h |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         unknowns = [x["unknowns"] for x in r["starts"]]
         its = [x["stokes_iterations_per_step"] for x in r["starts"]]
         within = ("yes" if r["hours"] <= TARGET_HOURS else "no") if r["equator_nodes"] == TARGET_NODES else \
             "n/a (not the target's mesh)"
-        md.append(f"| {r['equator_nodes']} | {r['jobs']} | {min(unknowns)}-{max(unknowns)} | "
+        md.append(f"| {r['equator_nodes']} | {r['curve']} | {len(r['starts'])} | {r['jobs']} | "
+                  f"{min(unknowns)}-{max(unknowns)} | "
                   f"{min(its):.1f}-{max(its):.1f} | "
                   f"{r['core_seconds'] / 3600:.2f} | {r['hours']:.2f} | {r['wall_clock_is']} | "
                   f"{r['trajectory_time_units']:.1f} | {r['trajectory_from']:.4f} -> {r['trajectory_to']:.4f} | "

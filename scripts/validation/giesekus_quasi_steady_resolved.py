@@ -154,12 +154,22 @@ def fine_lines(work):
     return lines
 
 
+# The curve on gmsh's meshes only: LEVEL's heights, every start on gmsh's mesh
+# (GMSH_LOW's below 0.20 H), averaged with MIRROR's starts where those ran.
+GMSH_CURVE = dataclasses.replace(LEVEL, symmetric_below=0.0)
+
+
+def gmsh_curve_jobs():
+    """The gmsh-only curve's runs, in the order this script's jobs() would run them."""
+    names = {GMSH_CURVE.name(s) for s in GMSH_CURVE.starts} | {MIRROR.name(s) for s in MIRROR.starts}
+    return [(name, text) for name, text in jobs() if name in names]
+
+
 def mirror_averaged_curve(work, build):
     """The 28-node curve on gmsh's meshes only: at each height the start averaged with its mirror start
     (migration_runs.mirror_averaged_run) where that ran, the start alone elsewhere; its quasi-steady
     trajectory from the 0.35 H start as the curve's. None until the 0.35 H start and one more have run."""
-    heights = tuple(sorted(set(LEVEL.starts) | set(GMSH_LOW.starts)))
-    gmsh = coarse.finished_starts(work, dataclasses.replace(LEVEL, starts=heights, symmetric_below=0.0))
+    gmsh = coarse.finished_starts(work, GMSH_CURVE)
     if len(gmsh) < 2 or gmsh[-1]["start"] != max(LEVEL.starts):
         return None
     mirrors = {-m["start"]: m for m in coarse.finished_starts(work, MIRROR)}
