@@ -131,7 +131,8 @@ def main():
     if args.mirror_averaged and level is not resolved.LEVEL:
         sys.exit(f"--mirror-averaged: the mirror starts exist for the {resolved.NODES}-node curve only, "
                  f"not for --nodes {args.nodes}")
-    work = args.work or os.path.join(ROOT, "output", f"bench_quasi_steady_{args.nodes}")
+    work = args.work or os.path.join(ROOT, "output", f"bench_quasi_steady_{args.nodes}"
+                                                       + ("_mirror" if args.mirror_averaged else ""))
     result = measure(os.path.abspath(args.build), level, work, args.jobs, args.from_runs, args.mirror_averaged)
     print(json.dumps(result, indent=1))
 

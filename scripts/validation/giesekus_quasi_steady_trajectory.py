@@ -201,8 +201,8 @@ def compare_levels(level, reference, done, ts, ys):
             lines.append(f"| {d['start']:g} | {r['v_p']:.4e} | {d['v_p']:.4e} | {d['v_p'] / r['v_p']:.3f} | {mesh} |")
     if any(level.symmetric(d["start"]) for d in done):
         lines += ["", "Where the finer level's start is carried from the point-symmetric mesh, its ratio holds the "
-                  f"{ref_level.nodes}-node gmsh mesh's bias (~3e-4 gamma_dot H near the centre plane, "
-                  "giesekus_neutral_height.md) as well as the mesh error."]
+                  "carried mesh's own error (O(carry), odd in y_p, so no mirror start exposes it) as well as the "
+                  "mesh error; gmsh's mirror pairs below measure it, against their mirror average."]
     lines += ["", "Time from the trajectories' starts to each height (t = 0: the start run's t = 0):", "",
               f"| y_p / H | {ref_level.nodes} nodes | {level.nodes} nodes | ratio |", "|---|---|---|---|"]
     for y in (0.30, 0.25, 0.20, 0.15, 0.12, 0.10):

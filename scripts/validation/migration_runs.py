@@ -130,18 +130,20 @@ def mirror_averaged_run(run, mirror, out):
     `mirror` (started at -y_p0 on a mesh of its own): the shear flow between walls is symmetric under the
     half turn about the z axis, which takes y_p, v_p and Delta S to minus themselves, so the mean
     (q(run) - q(mirror)) / 2 keeps the particle's migration and drops what the two meshes add. Row by
-    row at the times both runs have; case.toml is `run`'s (what `softflow migration` reads besides)."""
+    row: the two runs must have the same times; case.toml is `run`'s (what `softflow migration` reads besides)."""
     def rows(directory):
         return {round(float(r["t"]), 9): r for r in read_csv(os.path.join(directory, "migration.csv"))
                 if r["object"] == "1"}
     a, b = rows(run), rows(mirror)
+    if set(a) != set(b):  # both at the same fixed step to the same end, or they are no pair
+        raise ValueError(f"{run} and {mirror} have different times ({len(a)} and {len(b)} rows): not a mirror pair")
     os.makedirs(out, exist_ok=True)
     shutil.copyfile(os.path.join(run, "case.toml"), os.path.join(out, "case.toml"))
     odd = ("y_p", "y_p_rel", "v_p", "delta_s")
     with open(os.path.join(out, "migration.csv"), "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(("step", "t", "object") + odd)
-        for t in sorted(set(a) & set(b)):
+        for t in sorted(a):
             w.writerow([a[t]["step"], a[t]["t"], 1] +
                        [repr(0.5 * (float(a[t][k]) - float(b[t][k]))) for k in odd])
     return out
