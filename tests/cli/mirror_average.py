@@ -1,0 +1,113 @@
+"""A migration start averaged with its mirror start (scripts/validation/
+migration_runs.mirror_averaged_run, issue 35), read by `softflow migration`.
+
+The shear flow between walls is symmetric under the half turn about the
+vorticity axis, which takes y_p, v_p and Delta S to minus themselves; a
+mesh's own drift need not be. Written here: two heights (y_p / y_p,max = 0.9
+and 0.5), each a start and its mirror start (-0.9, -0.5) whose particles
+migrate towards the centre plane at 0.01 y_p,max per unit time while their
+meshes add the same +0.004 y_p,max per unit time to both (the even part
+that a mirror start exposes).
+
+1. The averaged migration.csv is the migration alone: y_p / y_p,max =
+   y0 - 0.01 t row by row, v_p and Delta S likewise.
+2. `softflow migration` along the two averaged runs: the quasi-steady
+   trajectory from 0.85 is the straight line at 0.01 to the lowest
+   stretch's middle (0.41) at t = 44; along the +y starts alone, whose speed
+   is 0.006, to their lowest stretch's middle (0.446) at t = 67.3 (so the
+   check tells the two apart).
+3. A start and a run at other times are refused (ValueError naming both).
+
+usage: mirror_average.py SOFTFLOW WORKDIR SCRIPTS_DIR
+"""
+import csv
+import os
+import re
+import shutil
+import sys
+
+from cli_support import fail, run
+
+softflow, work, scripts = sys.argv[1:4]
+sys.dont_write_bytecode = True
+sys.path.insert(0, scripts)
+from migration_runs import mirror_averaged_run  # noqa: E402
+
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+Y_MAX, SPEED, MESHES = 1.5, -0.01, 0.004  # y_p,max = H/2 - R; d(y_p / y_p,max)/dt: the migration, the meshes' part
+DELTA_S, DELTA_S_MESHES = -0.01, 0.003
+
+
+def write_run(name, y_rel0, steps=251):
+    """A run from y_p / y_p,max = y_rel0: the migration (odd in y_p) plus the meshes' drift (even)."""
+    directory = os.path.join(work, name)
+    os.makedirs(directory)
+    sign = 1.0 if y_rel0 > 0 else -1.0
+    with open(os.path.join(directory, "case.toml"), "w") as f:
+        f.write("[cell]\nlength = 8.0\nheight = 5.0\nwidth = 8.0\n"
+                f"[[objects]]\ncentre = [0.0, {y_rel0 * Y_MAX}, 0.0]\ncapillary_number = 0.2\n")
+    with open(os.path.join(directory, "migration.csv"), "w") as f:
+        f.write("step,t,object,y_p,y_p_rel,v_p,delta_s\n")
+        for step in range(steps):
+            t = 0.04 * step
+            speed = sign * SPEED + MESHES
+            y_rel = y_rel0 + speed * t
+            f.write(f"{step},{t:.10g},1,{y_rel * Y_MAX:.12g},{y_rel:.12g},{speed * Y_MAX:.12g},"
+                    f"{sign * DELTA_S + DELTA_S_MESHES:.12g}\n")
+    return directory
+
+
+averaged = []
+for y0 in (0.9, 0.5):
+    start, mirror = write_run(f"start_{y0}", y0), write_run(f"mirror_{y0}", -y0)
+    averaged.append(mirror_averaged_run(start, mirror, os.path.join(work, "averaged", f"start_{y0}")))
+
+# 1. The averaged rows.
+for directory, y0 in zip(averaged, (0.9, 0.5)):
+    rows = list(csv.DictReader(open(os.path.join(directory, "migration.csv"))))
+    if len(rows) != 251:
+        fail(f"{directory}: {len(rows)} averaged rows, expected 251")
+    for r in rows:
+        t = float(r["t"])
+        expected = {"y_p_rel": y0 + SPEED * t, "y_p": (y0 + SPEED * t) * Y_MAX, "v_p": SPEED * Y_MAX,
+                    "delta_s": DELTA_S}
+        for key, value in expected.items():
+            if abs(float(r[key]) - value) > 1e-9:
+                fail(f"{directory} at t = {t:g}: {key} = {r[key]}, expected {value} (the migration alone)")
+print("the averaged runs hold the migration alone (the meshes' part dropped)")
+
+
+# 2. softflow migration along the averaged runs, and along the +y starts alone.
+def trajectory_end(runs, out):
+    run([softflow, "migration", *runs, "--transient", "2", "--trajectory-from", "0.85", "-o", out])
+    text = open(os.path.join(out, "migration.md")).read()
+    found = re.search(r"after t = ([0-9.]+)", text)
+    if not found:
+        fail(f"{out}/migration.md names no trajectory end:\n{text}")
+    return float(found.group(1))
+
+
+os.environ["SOFTFLOW_PLOTS"] = "0"
+end = trajectory_end(averaged, os.path.join(work, "curves_averaged"))
+if abs(end - 44.0) > 0.05:
+    fail(f"along the averaged runs the trajectory ends at t = {end}, expected 44 (0.44 at 0.01)")
+plain = trajectory_end([os.path.join(work, "start_0.9"), os.path.join(work, "start_0.5")],
+                       os.path.join(work, "curves_plain"))
+drift = SPEED + MESHES  # the +y start's own speed; its lowest stretch's middle at t = 9
+expected_plain = (0.85 - (0.5 + 9 * drift)) / -drift
+if abs(plain - expected_plain) > 0.05:
+    fail(f"along the +y starts alone the trajectory ends at t = {plain}, expected {expected_plain:.1f}")
+print(f"softflow migration along the averaged runs: t = {end:g} (the +y starts alone: {plain:g})")
+
+# 3. Runs at other times are no pair.
+short = write_run("mirror_short", -0.9, steps=200)
+try:
+    mirror_averaged_run(os.path.join(work, "start_0.9"), short, os.path.join(work, "averaged", "refused"))
+    fail("a mirror start with other times was averaged")
+except ValueError as e:
+    if "start_0.9" not in str(e) or "mirror_short" not in str(e):
+        fail(f"the refusal does not name both runs: {e}")
+if os.path.exists(os.path.join(work, "averaged", "refused")):
+    fail("the refused pair left a directory behind")
+print("a pair at other times is refused")
