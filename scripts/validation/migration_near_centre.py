@@ -52,14 +52,15 @@ def y_max(beta):
     return (1.0 - beta) / 2.0
 
 
-def case_name(beta, ca, symmetric=True):
-    return f"beta{beta:.2f}_ca{ca:.2f}" + ("" if symmetric else "_plain")
+def case_name(beta, ca, symmetric=True, mirror=False):
+    return f"beta{beta:.2f}_ca{ca:.2f}" + ("" if symmetric else "_plain") + ("_mirror" if mirror else "")
 
 
-def case_text(beta, ca, symmetric=True):
-    y0 = START * y_max(beta) * height(beta)
+def case_text(beta, ca, symmetric=True, mirror=False):
+    """The start at y_p / y_p,max = START, or with `mirror` at -START (migration_near_centre_mirror.py)."""
+    y0 = (-1.0 if mirror else 1.0) * START * y_max(beta) * height(beta)
     return f"""[case]
-name = "{case_name(beta, ca, symmetric)}"
+name = "{case_name(beta, ca, symmetric, mirror)}"
 [cell]
 length = 20.0
 width = 20.0
