@@ -5,18 +5,18 @@ migration_near_centre.py's starts are carried from the point-symmetric mesh to
 y_p / y_p,max = 0.1, read as free of gmsh's mesh drift. The Giesekus curve's
 mirror pairs showed that a carried start has an error of its own, of the order
 of the carry and odd in y_p, which symmetry cannot expose
-(docs/confinement.md, "The curve on gmsh's meshes only"). Here the one start
+(docs/confinement.md, "The curve on gmsh's meshes only"). Here the start
 that also ran on gmsh's plain mesh (beta = 0.2, Ca_e = 0.1, 20 equator nodes,
-t = 10) gets its mirror start, at -y_p0 on gmsh's own mesh of it. The flow is
+t = 10) gets its mirror start, at -y_p0 on gmsh's own mesh of it, and beta = 0.1
+both. The flow is
 point-symmetric, so the mean of the two is what their meshes add and the
 mirror average (v_p(y) - v_p(-y)) / 2 is the migration, to set beside the
 point-symmetric start's.
 
-The mirror start runs here, with migration_near_centre.py's case at -y_p0,
-and the plain start once more beside it with today's binary (its first run
-predates the archive of finished runs and several solver changes); the
-point-symmetric start is read from that script's record
-(docs/validation/migration_near_centre.csv), as is the plain start's first run.
+Both starts run here, with migration_near_centre.py's case at +-y_p0 (beta =
+0.2's plain start once more, with today's binary: its first run predates the
+archive of finished runs); the point-symmetric starts are read from that
+script's record (docs/validation/migration_near_centre.csv). Also beta = 0.1.
 Writes docs/validation/migration_near_centre_mirror.md.
 Usage: scripts/validation/migration_near_centre_mirror.py [build_dir] [work_dir] [--jobs N] [--report-only]"""
 import os
@@ -27,64 +27,77 @@ from migration_runs import mean_velocity, read_migration
 
 OUT = os.path.join(ROOT, "docs", "validation")
 RECORD = os.path.join(OUT, "migration_near_centre.csv")
-BETA, CA_E = 0.2, 0.1
+# (beta, Ca_e), in the order they run: beta = 0.2 ran on gmsh's plain mesh
+# before; beta = 0.1 did not (its carried start: 0.38 of eq. 3.8 on 20 nodes,
+# 0.054 on 28).
+CASES = [(0.2, 0.1), (0.1, 0.1)]
 
 
 def jobs():
-    return [(near_centre.case_name(BETA, CA_E, False, mirror), near_centre.case_text(BETA, CA_E, False, mirror))
-            for mirror in (True, False)]
+    return [(near_centre.case_name(beta, ca, False, mirror), near_centre.case_text(beta, ca, False, mirror))
+            for beta, ca in CASES for mirror in (True, False)]
 
 
-def finished(work, name):
-    """(mean v_p over t >= TRANSIENT, summary) of a completed run in work, else None."""
-    directory = os.path.join(work, name)
+def finished(work, beta, ca, mirror):
+    """(mean v_p over t >= TRANSIENT, mean y_p / y_p,max, summary) of a completed run in work, else None."""
+    directory = os.path.join(work, near_centre.case_name(beta, ca, False, mirror))
     summary = summary_of(directory)
     if summary.get("status") != "completed":
         return None
-    return mean_velocity(read_migration(directory, near_centre.height(BETA)), near_centre.TRANSIENT), summary
+    r = read_migration(directory, near_centre.height(beta))
+    y_rel = sum(r["y"]) / len(r["y"]) / near_centre.y_max(beta)
+    return mean_velocity(r, near_centre.TRANSIENT), y_rel, summary
 
 
-def recorded(mesh):
-    """migration_near_centre.py's row of this (beta, Ca_e) on `mesh`."""
-    return next(r for r in read_csv(RECORD) if float(r["beta"]) == BETA and float(r["Ca_e"]) == CA_E
-                and r["mesh"] == mesh and r["status"] == "completed")
+def recorded(beta, ca, mesh):
+    """migration_near_centre.py's completed row of this (beta, Ca_e) on `mesh`, or None."""
+    return next((r for r in read_csv(RECORD) if float(r["beta"]) == beta and float(r["Ca_e"]) == ca
+                 and r["mesh"] == mesh and r["status"] == "completed"), None)
+
+
+def case_lines(work, beta, ca):
+    mirror, plain = finished(work, beta, ca, True), finished(work, beta, ca, False)
+    if not (mirror and plain):
+        print(f"beta {beta}, Ca_e {ca}: the plain start and its mirror have not both completed")
+        return []
+    (v_mirror, _, s_mirror), (v_plain, y_plain, s_plain) = mirror, plain
+    law = near_centre.eq_3_8(beta, ca, y_plain)
+    first, symmetric = recorded(beta, ca, "plain"), recorded(beta, ca, "point-symmetric start")
+    averaged, meshes = 0.5 * (v_plain - v_mirror), 0.5 * (v_plain + v_mirror)
+    plain_note = f" (its first run, before: {float(first['mean_v_p_over_gamma_dot_H']):.4e})" if first else ""
+    lines = ["", f"## beta = {beta}, Ca_e = {ca} (H = {near_centre.height(beta):g}, y_p0 = "
+             f"{near_centre.START * near_centre.y_max(beta) * near_centre.height(beta):.2f} R)", "",
+             "| start | mesh | mean v_p | / eq. 3.8 | unknowns | wall [s] |", "|---|---|---|---|---|---|",
+             f"| +y_p0 | gmsh's (plain){plain_note} | {v_plain:.4e} | {v_plain / law:.3f} | {s_plain['unknowns']} | "
+             f"{s_plain['wall_seconds']:.0f} |",
+             f"| -y_p0 | gmsh's own mesh of it (mirror start) | {v_mirror:.4e} | {v_mirror / -law:.3f} (of -eq. 3.8) | "
+             f"{s_mirror['unknowns']} | {s_mirror['wall_seconds']:.0f} |"]
+    if symmetric:
+        lines.append(f"| +y_p0 | point-symmetric, carried (migration_near_centre.py) | "
+                     f"{float(symmetric['mean_v_p_over_gamma_dot_H']):.4e} | {float(symmetric['ratio']):.3f} | "
+                     f"{symmetric['unknowns']} | {float(symmetric['wall_seconds']):.0f} |")
+    line = (f"What the two gmsh meshes add (their mean): {meshes:+.3e}. The mirror-averaged v_p: {averaged:.4e}, "
+            f"{averaged / law:.3f} of eq. 3.8")
+    if symmetric:
+        line += (f", against {float(symmetric['ratio']):.3f} from the point-symmetric start (each against eq. 3.8 "
+                 f"at its own mean height): the carried start is off the mirror average by "
+                 f"{float(symmetric['mean_v_p_over_gamma_dot_H']) - averaged:+.3e}")
+    return lines + ["", line + "."]
 
 
 def report(work):
-    (mirror_name, _), (plain_name, _) = jobs()
-    runs = {name: finished(work, name) for name in (mirror_name, plain_name)}
-    if not runs[mirror_name]:
-        print(f"{mirror_name}: not completed yet")
+    body = [line for beta, ca in CASES for line in case_lines(work, beta, ca)]
+    if not body:
         return
-    mirror, summary = runs[mirror_name]
-    first, symmetric = recorded("plain"), recorded("point-symmetric start")
-    v_first, v_symmetric = float(first["mean_v_p_over_gamma_dot_H"]), float(symmetric["mean_v_p_over_gamma_dot_H"])
-    law = float(first["eq_3_8"])
-    if runs[plain_name]:
-        v_plain, plain_summary = runs[plain_name]
-        plain = {"unknowns": plain_summary["unknowns"], "wall_seconds": plain_summary["wall_seconds"],
-                 "run": f"rerun here (its first run: {v_first:.4e})"}
-    else:
-        v_plain, plain = v_first, {**first, "run": "the record's first run (not rerun yet)"}
-    averaged, meshes = 0.5 * (v_plain - mirror), 0.5 * (v_plain + mirror)
-    lines = ["# Fig. 3.10's near-centre start against its mirror start", "",
-             "Generated by `scripts/validation/migration_near_centre_mirror.py`: beta = 0.2, Ca_e = 0.1, "
-             f"y_p / y_p,max = +-{near_centre.START} (R = 1, H = 10), 20 equator nodes, dt = {near_centre.DT}, "
-             f"t = 0 ... {near_centre.T_END:g}; v_p in gamma_dot H, the slope of y_p(t) over t >= "
-             f"{near_centre.TRANSIENT:g}; eq. 3.8 at the plain start's mean height. The plain and point-symmetric "
-             "starts are migration_near_centre.py's (its record, migration_near_centre.csv).", "",
-             "| start | mesh | mean v_p | / eq. 3.8 | unknowns | wall [s] |", "|---|---|---|---|---|---|",
-             f"| +y_p0 | gmsh's (plain), {plain['run']} | {v_plain:.4e} | {v_plain / law:.3f} | {plain['unknowns']} | "
-             f"{float(plain['wall_seconds']):.0f} |",
-             f"| -y_p0 | gmsh's own mesh of it (mirror start) | {mirror:.4e} | {mirror / -law:.3f} (of -eq. 3.8) | "
-             f"{summary['unknowns']} | {summary['wall_seconds']:.0f} |",
-             f"| +y_p0 | point-symmetric, carried | {v_symmetric:.4e} | {float(symmetric['ratio']):.3f} | "
-             f"{symmetric['unknowns']} | {float(symmetric['wall_seconds']):.0f} |", "",
-             f"What the two gmsh meshes add (their mean): {meshes:+.3e}. The mirror-averaged v_p: {averaged:.4e}, "
-             f"{averaged / law:.3f} of eq. 3.8, against {float(symmetric['ratio']):.3f} from the point-symmetric start "
-             "(each against eq. 3.8 at its own mean height): the "
-             f"carried start is off the mirror average by {v_symmetric - averaged:+.3e} (the mirror average keeps "
-             "the part of gmsh's meshes' error that is odd in y_p, which only refinement measures)."]
+    lines = ["# Fig. 3.10's near-centre starts against their mirror starts", "",
+             "Generated by `scripts/validation/migration_near_centre_mirror.py`: migration_near_centre.py's case at "
+             f"y_p / y_p,max = +-{near_centre.START} on gmsh's own meshes (R = 1, 20 equator nodes, dt = "
+             f"{near_centre.DT}, t = 0 ... {near_centre.T_END:g}); v_p in gamma_dot H, the slope of y_p(t) over "
+             f"t >= {near_centre.TRANSIENT:g}; eq. 3.8 at the plain start's mean height. The flow is point-symmetric, "
+             "so the mean of the start and its mirror start is what their meshes add and the mirror average "
+             "(v_p(y) - v_p(-y)) / 2 the migration; it keeps the part of the meshes' error that is odd in y_p, "
+             "which only refinement measures. The point-symmetric starts are migration_near_centre.py's record "
+             "(migration_near_centre.csv).", *body]
     with open(os.path.join(OUT, "migration_near_centre_mirror.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
