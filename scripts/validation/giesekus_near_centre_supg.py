@@ -35,9 +35,9 @@ import os
 
 import giesekus_neutral_height as neutral_height
 import giesekus_quasi_steady_resolved as resolved
-from case_runs import ROOT, run_case, run_linked, summary_of, validation_main, write_csv
+from case_runs import ROOT, run_case, run_linked, validation_main, write_csv
 from giesekus_trajectory_time_step import TRANSIENT, T_END
-from migration_runs import mean_velocity, read_migration, window_velocities
+from migration_runs import completed_run, mean_velocity, mirror_parts, window_velocities
 
 OUT = os.path.join(ROOT, "docs", "validation")
 CA_E, START = 0.1, 0.10
@@ -101,15 +101,6 @@ def runner(build, work, name, text):
     return run_linked(build, work, RESOLVED_WORK, name, resolved.LEVEL.case_text(START), other_name=theirs)
 
 
-def finished_velocity(directory):
-    """(v_p over t = 2-6, wall seconds) of a completed run reaching T_END, else None."""
-    summary = summary_of(directory)
-    if summary.get("status") != "completed":
-        return None
-    r = read_migration(directory, HEIGHT)
-    return (mean_velocity(r, TRANSIENT), summary["wall_seconds"]) if r["t"][-1] >= T_END - 1e-9 else None
-
-
 def gmsh_pair_lines(work):
     """The start and its mirror on gmsh's 28-node meshes, step-limited (the resolved curve's) and auto."""
     resolved_work = os.path.join(os.path.dirname(os.path.abspath(work)), RESOLVED_WORK)
@@ -118,9 +109,10 @@ def gmsh_pair_lines(work):
              GMSH_TAU: [os.path.join(work, gmsh_run_name(s)) for s in GMSH_STARTS]}
     rows = {}
     for tau, directories in pairs.items():
-        v = [finished_velocity(d) for d in directories]
-        if all(v):
-            rows[tau] = (v[0][0], v[1][0], 0.5 * (v[0][0] - v[1][0]), 0.5 * (v[0][0] + v[1][0]))
+        runs = [completed_run(d, HEIGHT, T_END) for d in directories]
+        if all(runs):
+            up, down = (mean_velocity(r, TRANSIENT) for r, _ in runs)
+            rows[tau] = (up, down, *mirror_parts(up, down))
     if not rows:
         return []
     lines = ["", f"On gmsh's own {GMSH_NODES}-node meshes instead of the carried one: the 0.10 H start and its mirror "
@@ -144,12 +136,10 @@ def report(work):
             if shared(nodes, tau) and not os.path.exists(directory):  # not linked yet: read it where it is
                 directory = os.path.join(os.path.dirname(os.path.abspath(work)), RESOLVED_WORK,
                                          resolved.LEVEL.name(START))
-            summary = summary_of(directory)
-            if summary.get("status") != "completed":
+            run = completed_run(directory, HEIGHT, T_END)
+            if not run:
                 continue
-            r = read_migration(directory, HEIGHT)
-            if r["t"][-1] < T_END - 1e-9:
-                continue
+            r, summary = run
             rows.append({"equator_nodes": nodes, "supg_tau": tau, "unknowns": summary["unknowns"],
                          "v_p_t2_6": mean_velocity(r, TRANSIENT),
                          **{f"v_p_t{a:g}_{b:g}": v for (a, b), v in zip(UNITS, window_velocities(r, UNITS))},

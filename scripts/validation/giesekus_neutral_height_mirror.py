@@ -19,8 +19,8 @@ Usage: scripts/validation/giesekus_neutral_height_mirror.py [build_dir] [work_di
 import os
 
 import giesekus_neutral_height as neutral_height
-from case_runs import ROOT, summary_of, validation_main
-from migration_runs import mean_velocity, read_migration
+from case_runs import ROOT, validation_main
+from migration_runs import completed_run, mean_velocity, mirror_parts
 
 OUT = os.path.join(ROOT, "docs", "validation")
 CA_E, START, TRANSIENT = 0.02, 0.10, 2.0  # p = 22.5; y_p0 / H; v_p over t >= TRANSIENT (to t = 6)
@@ -34,11 +34,8 @@ def jobs():
 
 def velocity(work, start, nodes):
     """(v_p over t >= TRANSIENT, summary) of the completed run, else None."""
-    directory = os.path.join(work, neutral_height.run_name(CA_E, start, nodes))
-    summary = summary_of(directory)
-    if summary.get("status") != "completed":
-        return None
-    return mean_velocity(read_migration(directory, neutral_height.HEIGHT), TRANSIENT), summary
+    run = completed_run(os.path.join(work, neutral_height.run_name(CA_E, start, nodes)), neutral_height.HEIGHT)
+    return (mean_velocity(run[0], TRANSIENT), run[1]) if run else None
 
 
 def report(work):
@@ -46,8 +43,9 @@ def report(work):
     for nodes, tau in LEVELS:
         up, down = velocity(work, START, nodes), velocity(work, -START, nodes)
         if up and down:
-            rows.append(f"| {nodes} | {tau} | {up[0]:.3e} | {down[0]:.3e} | {0.5 * (up[0] + down[0]):+.2e} | "
-                        f"{0.5 * (up[0] - down[0]):.3e} | {up[1]['wall_seconds']:.0f} / {down[1]['wall_seconds']:.0f} |")
+            averaged, meshes = mirror_parts(up[0], down[0])
+            rows.append(f"| {nodes} | {tau} | {up[0]:.3e} | {down[0]:.3e} | {meshes:+.2e} | "
+                        f"{averaged:.3e} | {up[1]['wall_seconds']:.0f} / {down[1]['wall_seconds']:.0f} |")
     if not rows:
         print("no pair has completed")
         return

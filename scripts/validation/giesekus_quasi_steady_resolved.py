@@ -28,7 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import giesekus_quasi_steady_trajectory as coarse  # noqa: E402
 from case_runs import validation_main  # noqa: E402
-from migration_runs import mean_velocity, mirror_averaged_run, quasi_steady_path, read_migration, refined_mesh  # noqa: E402
+from migration_runs import (mean_velocity, mirror_averaged_run, mirror_parts, quasi_steady_path,  # noqa: E402
+                            read_migration, refined_mesh)
 
 NODES = 28
 SYMMETRIC_BELOW = 0.20  # y_p0 / H: starts below it are carried from the point-symmetric mesh
@@ -87,9 +88,14 @@ def seam_lines(work):
         f"on gmsh's mesh {g['v_p']:.4e} ({s['wall_seconds']:.0f} s; not in the curve above).")]
 
 
-def mirror_velocity(m, i):
-    """v_p of start i without what gmsh's meshes of it and of its mirror start m add (the flow is point-symmetric)."""
-    return (i["v_p"] - m["v_p"]) / 2
+def mirror_velocities(m, i):
+    """(v_p of start i mirror-averaged with its mirror start m, what their two meshes add): migration_runs.mirror_parts."""
+    return mirror_parts(i["v_p"], m["v_p"])
+
+
+def mirror_pairs(work):
+    """(mirror start, its image's gmsh start) wherever both have run."""
+    return beside_gmsh(work, MIRROR, height=lambda start: -start)
 
 
 def carried_starts(work):
@@ -100,7 +106,7 @@ def carried_starts(work):
 
 def mirror_lines(work):
     """Each mirror start beside its image's: their mean is what the two meshes add; and the carried start."""
-    pairs = beside_gmsh(work, MIRROR, height=lambda start: -start)
+    pairs = mirror_pairs(work)
     if not pairs:
         return []
     carried = carried_starts(work)
@@ -113,8 +119,9 @@ def mirror_lines(work):
     for m, i in sorted(pairs, key=lambda pair: pair[1]["start"]):
         c = carried.get(i["start"])
         carried_cell = f"{c['v_p']:.4e}" if c else ""
-        lines.append(f"| {i['start']:g} | {i['v_p']:.4e} | {m['v_p']:.4e} | {(m['v_p'] + i['v_p']) / 2:+.2e} | "
-                     f"{mirror_velocity(m, i):.4e} | {carried_cell} | {m['wall_seconds']:.0f} |")
+        averaged, meshes = mirror_velocities(m, i)
+        lines.append(f"| {i['start']:g} | {i['v_p']:.4e} | {m['v_p']:.4e} | {meshes:+.2e} | "
+                     f"{averaged:.4e} | {carried_cell} | {m['wall_seconds']:.0f} |")
     return lines
 
 
@@ -125,31 +132,32 @@ def coarse_mirror_lines(work, coarse_work):
     for m in coarse.finished_starts(work, MIRROR_COARSE):
         i = starts.get(-m["start"])
         if i:
+            averaged, meshes = mirror_velocities(m, i)
             lines += ["", f"On the 20-node curve's mesh the same: the mirror start {m['start']:g} H on gmsh's mesh of "
                       f"it ({m['unknowns']} unknowns, {m['wall_seconds']:.0f} s) gives v_p = {m['v_p']:.4e} against "
-                      f"{i['v_p']:.4e} from {i['start']:g} H: the meshes' part {(m['v_p'] + i['v_p']) / 2:+.2e}, the "
-                      f"mirror-averaged v_p {mirror_velocity(m, i):.4e}."]
+                      f"{i['v_p']:.4e} from {i['start']:g} H: the meshes' part {meshes:+.2e}, the "
+                      f"mirror-averaged v_p {averaged:.4e}."]
     return lines
 
 
 def fine_lines(work):
     """The 40-node starts beside the same starts on 28 nodes, mirror-averaged where both levels have the mirror."""
     lines = []
-    mirrors = {-m["start"]: m for m, _ in beside_gmsh(work, MIRROR, height=lambda start: -start)}
+    mirrors = {-m["start"]: m for m, _ in mirror_pairs(work)}
     fine = {d["start"]: d for d in coarse.finished_starts(work, FINE)}
     for f, m in beside_gmsh(work, dataclasses.replace(FINE, starts=tuple(x for x in FINE.starts if x > 0))):
         line = (f"The start on 40 equator nodes ({f['start']:g} H, gmsh's mesh, {f['unknowns']} unknowns, "
                 f"{f['wall_seconds']:.0f} s): v_p = {f['v_p']:.4e}, against {m['v_p']:.4e} on 28 nodes "
                 f"(28 -> 40: {100 * (f['v_p'] / m['v_p'] - 1):+.1f} %)")
         if f["start"] in mirrors:
-            averaged = mirror_velocity(mirrors[f["start"]], m)
+            averaged = mirror_velocities(mirrors[f["start"]], m)[0]
             line += (f"; against the mirror-averaged 28-node value {averaged:.4e}: "
                      f"{100 * (f['v_p'] / averaged - 1):+.1f} %")
             if -f["start"] in fine:
                 fm = fine[-f["start"]]
-                fine_averaged = mirror_velocity(fm, f)
+                fine_averaged, fine_meshes = mirror_velocities(fm, f)
                 line += (f". Its mirror start on 40 nodes ({fm['wall_seconds']:.0f} s) gives {fm['v_p']:.4e}: the "
-                         f"meshes' part {(fm['v_p'] + f['v_p']) / 2:+.2e}, the mirror-averaged v_p "
+                         f"meshes' part {fine_meshes:+.2e}, the mirror-averaged v_p "
                          f"{fine_averaged:.4e}, {100 * (fine_averaged / averaged - 1):+.1f} % from 28 nodes' "
                          "mirror average")
         lines += ["", line + "."]
@@ -196,7 +204,7 @@ def mirror_curve_lines(work, curve, ts, ys):
     """The gmsh-only curve's starts, neutral heights and trajectory beside the curve above's (ts, ys)."""
     if curve is None:
         return []
-    parts = [(m["v_p"] + i["v_p"]) / 2 for m, i in beside_gmsh(work, MIRROR, height=lambda start: -start)]
+    parts = [mirror_velocities(m, i)[1] for m, i in mirror_pairs(work)]
     lines = ["", f"The same curve on gmsh's meshes only ({NODES} nodes; no carried start): each height's start "
              "averaged with its mirror start where that ran (`migration_runs.mirror_averaged_run`: the point-symmetric "
              "mean of the two runs, step by step), the start alone elsewhere (there the meshes' part is not removed; "

@@ -22,8 +22,8 @@ Usage: scripts/validation/migration_near_centre_mirror.py [build_dir] [work_dir]
 import os
 
 import migration_near_centre as near_centre
-from case_runs import ROOT, read_csv, summary_of, validation_main
-from migration_runs import mean_velocity, read_migration, refined_mesh
+from case_runs import ROOT, read_csv, validation_main
+from migration_runs import completed_run, mean_velocity, mirror_parts, refined_mesh
 
 OUT = os.path.join(ROOT, "docs", "validation")
 RECORD = os.path.join(OUT, "migration_near_centre.csv")
@@ -54,11 +54,10 @@ def jobs():
 
 def finished(work, beta, ca, nodes, mirror):
     """(mean v_p over t >= TRANSIENT, mean y_p / y_p,max, summary) of a completed run in work, else None."""
-    directory = os.path.join(work, run_name(beta, ca, nodes, mirror))
-    summary = summary_of(directory)
-    if summary.get("status") != "completed":
+    run = completed_run(os.path.join(work, run_name(beta, ca, nodes, mirror)), near_centre.height(beta))
+    if not run:
         return None
-    r = read_migration(directory, near_centre.height(beta))
+    r, summary = run
     y_rel = sum(r["y"]) / len(r["y"]) / near_centre.y_max(beta)
     return mean_velocity(r, near_centre.TRANSIENT), y_rel, summary
 
@@ -79,7 +78,7 @@ def case_lines(work, beta, ca, nodes):
     # migration_near_centre.py's record is of its 20-node runs
     first, symmetric = (recorded(beta, ca, "plain"), recorded(beta, ca, "point-symmetric start")) if nodes == 20 \
         else (None, None)
-    averaged, meshes = 0.5 * (v_plain - v_mirror), 0.5 * (v_plain + v_mirror)
+    averaged, meshes = mirror_parts(v_plain, v_mirror)
     plain_note = f" (its first run, before: {float(first['mean_v_p_over_gamma_dot_H']):.4e})" if first else ""
     lines = ["", f"## beta = {beta}, Ca_e = {ca}, {nodes} equator nodes (H = {near_centre.height(beta):g}, y_p0 = "
              f"{near_centre.START * near_centre.y_max(beta) * near_centre.height(beta):.2f} R)", "",

@@ -35,6 +35,22 @@ def read_migration(directory, height):
     }
 
 
+def completed_run(directory, height, t_end=None):
+    """(read_migration's series, summary.json) of a completed run, or None while it runs, or if it stopped
+    before `t_end` (e.g. at a wall gap)."""
+    summary = summary_of(directory)
+    if summary.get("status") != "completed":
+        return None
+    r = read_migration(directory, height)
+    return None if t_end is not None and r["t"][-1] < t_end - 1e-9 else (r, summary)
+
+
+def mirror_parts(value, mirror_value):
+    """(the mirror average, what the two meshes add) of a quantity odd under the flow's half turn about the
+    z axis (y_p, v_p, Delta S), from a start and its mirror start at -y_p0 on a mesh of its own."""
+    return 0.5 * (value - mirror_value), 0.5 * (value + mirror_value)
+
+
 def mean_velocity(r, transient, t_end=float("inf")):
     """The slope of y_p(t) between the first row at t >= transient and the last
     at t <= t_end (the mean v_p after the transient), or None without two rows."""
@@ -80,7 +96,7 @@ def combine(build, work, runs, transient, name="combined"):
 
 def write_series(path, runs):
     with open(path, "w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
+        w = csv.writer(f)
         w.writerow(["y_p0_over_H", "t", "y_p_over_H", "v_p_over_gamma_dot_H", "delta_S"])
         for s, (_, r) in runs.items():
             for row in zip(r["t"], r["y"], r["v"], r["dS"]):
@@ -145,7 +161,7 @@ def mirror_averaged_run(run, mirror, out):
         w.writerow(("step", "t", "object") + odd)
         for t in sorted(a):
             w.writerow([a[t]["step"], a[t]["t"], 1] +
-                       [repr(0.5 * (float(a[t][k]) - float(b[t][k]))) for k in odd])
+                       [repr(mirror_parts(float(a[t][k]), float(b[t][k]))[0]) for k in odd])
     return out
 
 
