@@ -326,6 +326,13 @@ int main(int argc, char** argv) {
                         "also integrate the quasi-steady trajectory dy_p/dt = v_p(y_p) along the "
                         "master curve from this y_p / y_p,max, to a stable neutral height or the "
                         "end of the measured heights (migration_trajectory.csv)");
+  bool migration_mirror = false;
+  migration->add_flag(
+      "--mirror", migration_mirror,
+      "the runs are pairs, a start at +y_p0 and its mirror start at -y_p0 on a mesh of "
+      "its own, at the same times: the curves are each pair's point-symmetric mean "
+      "(q(+) - q(-)) / 2, which drops what the two meshes add in common, and "
+      "migration.md lists that part");
   migration->add_option("-o,--output", migration_out, "where the curves go")->capture_default_str();
 
   double lambda = 1.0, ca = 0.1;
@@ -478,7 +485,10 @@ int main(int argc, char** argv) {
   if (*migration) {  // no PETSc: post-processing of finished runs
     try {
       std::vector<std::filesystem::path> dirs(migration_runs.begin(), migration_runs.end());
-      const auto curves = softflow::simulation::assemble_migration(dirs, migration_transient, migration_segment);
+      const auto curves = softflow::simulation::assemble_migration(
+          dirs, migration_transient, migration_segment,
+          migration_mirror ? softflow::simulation::RunPairing::mirror
+                           : softflow::simulation::RunPairing::separate);
       std::optional<softflow::simulation::QuasiSteadyTrajectory> trajectory;
       if (migration_from) trajectory = softflow::simulation::quasi_steady_trajectory(curves, *migration_from);
       softflow::simulation::write_migration(curves, migration_out, trajectory);

@@ -17,6 +17,11 @@ that a mirror start exposes).
    is 0.006, to their lowest stretch's middle (0.446) at t = 67.3 (so the
    check tells the two apart).
 3. A start and a run at other times are refused (ValueError naming both).
+4. `softflow migration --mirror` on the raw starts and mirror starts gives
+   the averaged runs' trajectory and curves, lists each pair's meshes' part
+   (+0.004 y_p,max per unit time), and refuses, with exit code 1 and the
+   run named, a start without its mirror start, a centred start and a pair
+   at other times, writing nothing.
 
 usage: mirror_average.py SOFTFLOW WORKDIR SCRIPTS_DIR
 """
@@ -79,8 +84,8 @@ print("the averaged runs hold the migration alone (the meshes' part dropped)")
 
 
 # 2. softflow migration along the averaged runs, and along the +y starts alone.
-def trajectory_end(runs, out):
-    run([softflow, "migration", *runs, "--transient", "2", "--trajectory-from", "0.85", "-o", out])
+def trajectory_end(runs, out, *options):
+    run([softflow, "migration", *runs, *options, "--transient", "2", "--trajectory-from", "0.85", "-o", out])
     text = open(os.path.join(out, "migration.md")).read()
     found = re.search(r"after t = ([0-9.]+)", text)
     if not found:
@@ -111,3 +116,41 @@ except ValueError as e:
 if os.path.exists(os.path.join(work, "averaged", "refused")):
     fail("the refused pair left a directory behind")
 print("a pair at other times is refused")
+
+# 4. The same pairing inside softflow migration.
+pairs = [os.path.join(work, n) for n in ("start_0.9", "mirror_0.5", "start_0.5", "mirror_0.9")]  # any order
+paired_out = os.path.join(work, "curves_paired")
+paired = trajectory_end(pairs, paired_out, "--mirror")
+if abs(paired - end) > 1e-9 * end:
+    fail(f"--mirror: the trajectory ends at t = {paired}, the averaged runs' at {end}")
+for name in ("migration_curves.csv", "migration_trajectory.csv"):
+    a = list(csv.DictReader(open(os.path.join(paired_out, name))))
+    b = list(csv.DictReader(open(os.path.join(work, "curves_averaged", name))))
+    if len(a) != len(b) or any(abs(float(x[k]) - float(y[k])) > 1e-9 for x, y in zip(a, b) for k in x
+                               if k != "run"):
+        fail(f"--mirror: {name} differs from the averaged runs' one")
+md = open(os.path.join(paired_out, "migration.md")).read()
+listed = re.findall(r"^\| \d \| \S*start_(0\.\d) \| \S*mirror_(0\.\d) \| ([-0-9.]+) \| \d+ \|"
+                    r" ([-0-9.e]+) \| ([-0-9.e]+) \| ([-0-9.e]+) \| ([-0-9.e]+) \|$", md, re.M)
+if sorted(x[:2] for x in listed) != [("0.5", "0.5"), ("0.9", "0.9")]:
+    fail(f"--mirror: migration.md does not list the two pairs:\n{md}")
+for start, _, y0, v_start, v_mirror, v_mean, v_meshes in listed:
+    expected = {"y_p0 / y_p,max": (float(y0), float(start)), "start": (float(v_start), (SPEED + MESHES) * Y_MAX),
+                "mirror": (float(v_mirror), (-SPEED + MESHES) * Y_MAX), "mean": (float(v_mean), SPEED * Y_MAX),
+                "meshes' part": (float(v_meshes), MESHES * Y_MAX)}
+    for key, (value, want) in expected.items():
+        if abs(value - want) > 1e-3 * abs(want):
+            fail(f"--mirror: pair {start}: {key} {value}, expected {want}")
+print(f"softflow migration --mirror on the raw pairs: t = {paired:g}, the meshes' part listed")
+
+refused_out = os.path.join(work, "curves_refused")
+centred = write_run("centred", 0.0)
+for runs, named in (([pairs[0], pairs[1], pairs[2]], "start_0.9"),  # 0.9 without its mirror start
+                    ([pairs[0], pairs[3], centred], "centred"),
+                    ([pairs[0], short], "mirror_short")):
+    result = run([softflow, "migration", *runs, "--mirror", "--transient", "2", "-o", refused_out], expect=1)
+    if named not in result.stderr or "--mirror" not in result.stderr:
+        fail(f"--mirror refusal does not name {named} and the option: {result.stderr}")
+    if os.path.exists(refused_out):
+        fail("a refused --mirror left output behind")
+print("--mirror refuses an unpaired start, a centred start and a pair at other times")

@@ -52,10 +52,104 @@ double field(const std::map<std::string, double>& row, const std::string& name, 
   return it->second;
 }
 
+/// One run's rows of object 1 from t >= transient, in time order.
+std::vector<MigrationPoint> kept_rows(const fs::path& dir, double transient) {
+  const fs::path file = dir / "migration.csv";
+  std::vector<MigrationPoint> rows;
+  for (const auto& row : read_csv(file)) {
+    if (field(row, "object", file) != 1.0) continue;
+    MigrationPoint p;
+    p.t = field(row, "t", file);
+    if (p.t < transient) continue;
+    p.y_p = field(row, "y_p", file);
+    p.y_rel = field(row, "y_p_rel", file);
+    p.v_p = field(row, "v_p", file);
+    p.delta_s = field(row, "delta_s", file);
+    rows.push_back(p);
+  }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const auto& a, const auto& b) { return a.t < b.t; });
+  return rows;
+}
+
+/// The slope of y_p(t) between the first and the last row.
+double mean_velocity(const std::vector<MigrationPoint>& rows) {
+  if (rows.size() < 2) return std::nan("");
+  return (rows.back().y_p - rows.front().y_p) / (rows.back().t - rows.front().t);
+}
+
+/// A run as assemble_migration reads it.
+struct StartRun {
+  fs::path dir;
+  double y0 = 0.0;  ///< the object's centre height in the case
+  std::vector<MigrationPoint> rows;
+};
+
+/// Row by row, the point-symmetric mean (q(start) - q(mirror)) / 2 of the
+/// quantities odd under the half turn about z (y_p, y_p / y_p,max, v_p, Delta S).
+std::vector<MigrationPoint> mirror_mean(const StartRun& start, const StartRun& mirror) {
+  const auto& a = start.rows;
+  const auto& b = mirror.rows;
+  const auto same_time = [](double s, double t) {
+    return std::abs(s - t) <= 1e-9 * std::max(1.0, std::abs(t));
+  };
+  std::size_t k = 0;
+  while (k < std::min(a.size(), b.size()) && same_time(a[k].t, b[k].t)) ++k;
+  if (k < a.size() || k < b.size())
+    throw InputError(fmt::format(
+        "--mirror: {} and its mirror start {} have different times after --transient ({} and {} "
+        "rows{}): a "
+        "pair is averaged row by row, so run both with the same time step to the same end",
+        start.dir.string(), mirror.dir.string(), a.size(), b.size(),
+        k < std::min(a.size(), b.size())
+            ? fmt::format("; row {}: t = {:g} and {:g}", k, a[k].t, b[k].t)
+            : ""));
+  std::vector<MigrationPoint> mean(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    mean[i].t = a[i].t;
+    mean[i].y_p = 0.5 * (a[i].y_p - b[i].y_p);
+    mean[i].y_rel = 0.5 * (a[i].y_rel - b[i].y_rel);
+    mean[i].v_p = 0.5 * (a[i].v_p - b[i].v_p);
+    mean[i].delta_s = 0.5 * (a[i].delta_s - b[i].delta_s);
+  }
+  return mean;
+}
+
+/// The starts at +y_p0 each with its one mirror start at -y_p0, in the order given.
+std::vector<std::pair<std::size_t, std::size_t>> mirror_partners(const std::vector<StartRun>& runs,
+                                                                 double y_max) {
+  const double tolerance = 1e-6 * y_max;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  std::vector<int> partner(runs.size(), -1);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const StartRun& r = runs[i];
+    if (std::abs(r.y0) <= tolerance)
+      throw InputError(
+          fmt::format("--mirror: {} starts on the centre plane (y_p0 = {:g}), its own mirror "
+                      "image: --mirror pairs starts at +y_p0 and -y_p0",
+                      r.dir.string(), r.y0));
+    for (std::size_t j = 0; j < i; ++j)
+      if (std::abs(runs[j].y0 - r.y0) <= tolerance)
+        throw InputError(
+            fmt::format("--mirror: {} and {} both start at y_p0 = {:g}: give one start and one "
+                        "mirror start per height",
+                        runs[j].dir.string(), r.dir.string(), r.y0));
+    for (std::size_t j = 0; j < runs.size(); ++j)
+      if (std::abs(runs[j].y0 + r.y0) <= tolerance) partner[i] = static_cast<int>(j);
+    if (partner[i] < 0)
+      throw InputError(
+          fmt::format("--mirror: {} starts at y_p0 = {:g} and no run given starts at {:g}, "
+                      "its mirror start",
+                      r.dir.string(), r.y0, -r.y0));
+    if (r.y0 > 0.0) pairs.emplace_back(i, static_cast<std::size_t>(partner[i]));
+  }
+  return pairs;
+}
+
 }  // namespace
 
 MigrationCurves assemble_migration(const std::vector<fs::path>& directories, double transient,
-                                   double segment) {
+                                   double segment, RunPairing pairing) {
   if (directories.empty()) throw InputError("softflow migration: give the run directories to combine");
   if (!(transient >= 0.0))
     throw InputError(fmt::format("--transient = {:g}: must be a time >= 0", transient));
@@ -64,6 +158,7 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
   MigrationCurves curves;
   curves.transient = transient;
   curves.segment = segment;
+  std::vector<StartRun> starts;
   for (std::size_t r = 0; r < directories.size(); ++r) {
     const fs::path& dir = directories[r];
     const auto config = io::read_case_file(dir / "case.toml");
@@ -89,21 +184,30 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
                       dir.string(), beta, ca_e, y_max, directories.front().string(),
                       curves.blockage_ratio, curves.capillary_number, curves.y_max));
     }
-    curves.runs.push_back(dir);
-    const fs::path file = dir / "migration.csv";
-    for (const auto& row : read_csv(file)) {
-      if (field(row, "object", file) != 1.0) continue;
-      MigrationPoint p;
-      p.run = static_cast<int>(r);
-      p.t = field(row, "t", file);
-      if (p.t < transient) continue;
-      p.y_p = field(row, "y_p", file);
-      p.y_rel = field(row, "y_p_rel", file);
-      p.v_p = field(row, "v_p", file);
-      p.delta_s = field(row, "delta_s", file);
-      if (std::isfinite(p.v_p) && std::isfinite(p.y_rel)) curves.points.push_back(p);
+    starts.push_back({dir, object.geometry.centre.y(), kept_rows(dir, transient)});
+  }
+  // The series the curves are made of: each run, or each mirror pair's mean.
+  std::vector<std::vector<MigrationPoint>> series;
+  if (pairing == RunPairing::mirror) {
+    for (const auto& [s, m] : mirror_partners(starts, curves.y_max)) {
+      const StartRun& start = starts[s];
+      const StartRun& mirror = starts[m];
+      series.push_back(mirror_mean(start, mirror));
+      curves.runs.push_back(start.dir);
+      curves.mirror_pairs.push_back({start.dir, mirror.dir, start.y0 / curves.y_max,
+                                     mean_velocity(start.rows), mean_velocity(mirror.rows)});
+    }
+  } else {
+    for (auto& start : starts) {
+      curves.runs.push_back(start.dir);
+      series.push_back(std::move(start.rows));
     }
   }
+  for (std::size_t r = 0; r < series.size(); ++r)
+    for (MigrationPoint p : series[r]) {
+      p.run = static_cast<int>(r);
+      if (std::isfinite(p.v_p) && std::isfinite(p.y_rel)) curves.points.push_back(p);
+    }
   // Each run's stretches, from its rows in time order (as in migration.csv).
   for (std::size_t r = 0; r < curves.runs.size(); ++r) {
     std::vector<MigrationPoint> rows;
@@ -372,13 +476,32 @@ void write_migration(const MigrationCurves& c, const fs::path& out,
                        p.v_p, p.delta_s);
   std::string md = fmt::format(
       "# Migration master curves\n\nbeta = 2R/H = {:.4g}, Ca_e = {:g}; rows with t < {:g} dropped "
-      "(the initial transient); {} points from {} runs. Generated by `softflow migration`.\n\n"
-      "| run | directory | points kept |\n|---|---|---|\n",
-      c.blockage_ratio, c.capillary_number, c.transient, c.points.size(), c.runs.size());
-  for (std::size_t r = 0; r < c.runs.size(); ++r)
-    md += fmt::format("| {} | {} | {} |\n", r, c.runs[r].string(),
-                      std::count_if(c.points.begin(), c.points.end(),
-                                    [r](const MigrationPoint& p) { return p.run == static_cast<int>(r); }));
+      "(the initial transient); {} points from {} {}. Generated by `softflow migration`.\n\n",
+      c.blockage_ratio, c.capillary_number, c.transient, c.points.size(), c.runs.size(),
+      c.mirror_pairs.empty() ? "runs" : "mirror pairs");
+  const auto kept = [&](std::size_t r) {
+    return std::count_if(c.points.begin(), c.points.end(),
+                         [r](const MigrationPoint& p) { return p.run == static_cast<int>(r); });
+  };
+  if (c.mirror_pairs.empty()) {
+    md += "| run | directory | points kept |\n|---|---|---|\n";
+    for (std::size_t r = 0; r < c.runs.size(); ++r)
+      md += fmt::format("| {} | {} | {} |\n", r, c.runs[r].string(), kept(r));
+  } else {
+    md +=
+        "Each run below is a start and its mirror start (`--mirror`): the curves are their "
+        "point-symmetric means, (q(start) - q(mirror)) / 2 row by row, which drop what the two "
+        "meshes add in common, (q(start) + q(mirror)) / 2; an error odd in y_p stays. Mean v_p: "
+        "the slope of y_p(t) over each run's kept rows.\n\n"
+        "| run | start | mirror start | y_p0 / y_p,max | points kept | mean v_p, start | mean v_p, "
+        "mirror | mirror-averaged | the meshes' part |\n|---|---|---|---|---|---|---|---|---|\n";
+    for (std::size_t r = 0; r < c.mirror_pairs.size(); ++r) {
+      const auto& m = c.mirror_pairs[r];
+      md += fmt::format("| {} | {} | {} | {:.4f} | {} | {:.4g} | {:.4g} | {:.4g} | {:.4g} |\n", r,
+                        m.start.string(), m.mirror.string(), m.y_rel0, kept(r), m.v_start,
+                        m.v_mirror, m.v_mirror_averaged(), m.v_meshes());
+    }
+  }
   md += fmt::format("\n## Mean migration over stretches of {:g} time units\n\n"
                     "The slope of y_p(t) over each stretch (the per-step v_p swings with the "
                     "particle's tank-treading); the neutral heights below are where it changes "
