@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "softflow/common/error.hpp"
 #include "softflow/fem/field.hpp"
 #include "support/verification/curved_box.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
@@ -63,6 +64,29 @@ TEST(Field, LinearFieldsAreExactInP2OnCurvedAndInP1OnStraightElements) {
         }
       EXPECT_LT(error, 1e-12) << space->describe();
     }
+}
+
+TEST(Field, AFullTensorOnP2FillsThePointValuesCapacityAndMoreComponentsAreRefused) {
+  // Values at points have a fixed capacity (fem::kMaxFieldComponents, no heap):
+  // the largest field, nine components on P2, still evaluates exactly.
+  const fem::TetTabulation tab(4);
+  const auto mesh = curved_box(2);
+  auto space = std::make_shared<fem::Space>(mesh, 2, fem::Continuity::continuous);
+  fem::Field tensor(mesh, "grad_u", space, fem::kMaxFieldComponents);
+  Eigen::Matrix<double, 9, 3> slope;
+  for (int c = 0; c < 9; ++c) slope.row(c) << c + 1.0, -0.5 * c, 2.0 - c;
+  tensor.interpolate([&](const Vector3d& x, int) -> VectorXd { return slope * x; });
+  double error = 0.0;
+  for (int t : tensor.owned_elements())
+    for (const auto& p : fem::quadrature_points(mesh, tab, t)) {
+      const fem::PointValue v = tensor.value(p);
+      ASSERT_EQ(v.size(), 9);
+      error = std::max(error, (v - slope * p.x).cwiseAbs().maxCoeff());
+      error = std::max(error, (tensor.gradient(p) - slope).cwiseAbs().maxCoeff());
+    }
+  EXPECT_LT(error, 1e-12);
+  EXPECT_THROW(fem::Field(mesh, "too_many", space, fem::kMaxFieldComponents + 1), Error);
+  EXPECT_THROW(fem::Field(mesh, "none", space, 0), Error);
 }
 
 TEST(Field, QuadraticsAreExactOnStraightElementsAndConvergeOnCurvedOnes) {

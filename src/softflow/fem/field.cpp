@@ -55,9 +55,26 @@ std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const Tet
   return points;
 }
 
+namespace {
+
+/// Values at points have room for kMaxFieldComponents (field.hpp).
+int checked_components(const std::string& name, int components) {
+  if (components < 1 || components > kMaxFieldComponents)
+    throw Error(fmt::format("Field '{}': {} components; a field has 1 to {} (a full tensor)", name,
+                            components, kMaxFieldComponents));
+  return components;
+}
+
+}  // namespace
+
 Field::Field(const mesh::Mesh& mesh, std::string name, std::shared_ptr<const Space> space,
              int components)
-    : mesh_(mesh), name_(std::move(name)), dofs_(mesh, {{name_, std::move(space), components}}) {
+    : mesh_(mesh),
+      name_(std::move(name)),
+      dofs_(mesh, {{name_, std::move(space), checked_components(name_, components)}}) {
+  if (this->space().n_element_nodes() > 10)
+    throw Error(fmt::format("Field '{}': a space of {} nodes per element; at most 10 (P2)", name_,
+                            this->space().n_element_nodes()));
   // The node range every dof map uses: every field then has the same node
   // ranges, so a scalar operator of the space can be solved once and copied
   // into each component locally, and its elements are this rank's own.
@@ -167,9 +184,9 @@ void Field::scatter(std::span<const double> all) {
   update_ghosts();
 }
 
-Eigen::VectorXd Field::element_coefficients(int tet) const {
+ElementCoefficients Field::element_coefficients(int tet) const {
   const auto d = dofs_.element_dofs(tet);
-  Eigen::VectorXd c(d.size());
+  ElementCoefficients c(d.size());
   for (std::size_t i = 0; i < d.size(); ++i) {
     const int l = local_index(d[i]);
     if (l < 0)
@@ -189,35 +206,35 @@ std::span<const double> shape_values(const TetTabulation& tab, int q, int degree
 
 }  // namespace
 
-Eigen::VectorXd Field::value(const QuadraturePoint& p) const {
+PointValue Field::value(const QuadraturePoint& p) const {
   const int n_c = components(), n_k = space().n_element_nodes();
-  const Eigen::VectorXd c = element_coefficients(p.tet);
+  const ElementCoefficients c = element_coefficients(p.tet);
   const auto n = shape_values(*p.tab, p.q, space().degree());
-  Eigen::VectorXd v = Eigen::VectorXd::Zero(n_c);
+  PointValue v = PointValue::Zero(n_c);
   for (int k = 0; k < n_k; ++k) v += n[k] * c.segment(k * n_c, n_c);
   return v;
 }
 
-Eigen::MatrixXd Field::gradient(const QuadraturePoint& p) const {
+PointGradient Field::gradient(const QuadraturePoint& p) const {
   const int n_c = components(), n_k = space().n_element_nodes();
-  const Eigen::VectorXd c = element_coefficients(p.tet);
+  const ElementCoefficients c = element_coefficients(p.tet);
   // grad N = (grad_xi N) J^{-1}, one row per function.
-  Eigen::MatrixXd g;
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::ColMajor, 10, 3> g;
   if (space().degree() == 2) {
     g = p.tab->p2_grad[p.q] * p.map.inverse_jacobian;
   } else {
     g = element::p1_tet_gradients() * p.map.inverse_jacobian;
   }
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n_c, 3);
+  PointGradient out = PointGradient::Zero(n_c, 3);
   for (int k = 0; k < n_k; ++k)
     for (int comp = 0; comp < n_c; ++comp) out.row(comp) += c(k * n_c + comp) * g.row(k);
   return out;
 }
 
-Eigen::VectorXd Field::value_at_reference(int tet, const Eigen::Vector3d& xi) const {
+PointValue Field::value_at_reference(int tet, const Eigen::Vector3d& xi) const {
   const int n_c = components();
-  const Eigen::VectorXd c = element_coefficients(tet);
-  Eigen::VectorXd v = Eigen::VectorXd::Zero(n_c);
+  const ElementCoefficients c = element_coefficients(tet);
+  PointValue v = PointValue::Zero(n_c);
   if (space().degree() == 2) {
     const auto n = element::p2_tet_values(xi);
     for (int k = 0; k < 10; ++k) v += n[k] * c.segment(k * n_c, n_c);

@@ -42,6 +42,23 @@ std::vector<int> owned_elements(const mesh::Mesh& mesh);
 /// partition boundary belong to both sides). Fields are ghosted for them.
 std::vector<int> elements_touching(const mesh::Mesh& mesh, int first_node, int last_node);
 
+/// A field has at most this many components (a full 3 x 3 tensor), so its
+/// values at a point and an element's coefficients have a fixed capacity and
+/// live on the stack: evaluation at quadrature points, in every element loop
+/// of every step, allocates nothing (the heap's share of a 40-node Giesekus
+/// step was about a tenth, measured with perf).
+inline constexpr int kMaxFieldComponents = 9;
+inline constexpr int kMaxElementCoefficients = 10 * kMaxFieldComponents;  // P2's 10 nodes
+/// u_h at a point (one entry per component).
+using PointValue =
+    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxFieldComponents, 1>;
+/// grad u_h at a point (one row per component).
+using PointGradient =
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::ColMajor, kMaxFieldComponents, 3>;
+/// One element's coefficients (nodes x components, node-major).
+using ElementCoefficients =
+    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxElementCoefficients, 1>;
+
 /// The quadrature points of tetrahedron `tet` on the current mesh.
 std::vector<QuadraturePoint> quadrature_points(const mesh::Mesh& mesh, const TetTabulation& tab,
                                                int tet);
@@ -98,14 +115,14 @@ class Field {
   void restore(const StateRecord& record, const std::string& key, int columns = 1);
 
   /// Coefficients of element `tet` (n_element_nodes x components, node-major).
-  [[nodiscard]] Eigen::VectorXd element_coefficients(int tet) const;
+  [[nodiscard]] ElementCoefficients element_coefficients(int tet) const;
   /// u_h at a quadrature point of an element of this rank's (components).
-  [[nodiscard]] Eigen::VectorXd value(const QuadraturePoint& p) const;
+  [[nodiscard]] PointValue value(const QuadraturePoint& p) const;
   /// grad u_h there: row c = gradient of component c, through the curved
   /// map's Jacobian (isoparametric: exact for fields linear in x).
-  [[nodiscard]] Eigen::MatrixXd gradient(const QuadraturePoint& p) const;
+  [[nodiscard]] PointGradient gradient(const QuadraturePoint& p) const;
   /// u_h at reference point xi of element `tet`.
-  [[nodiscard]] Eigen::VectorXd value_at_reference(int tet, const Eigen::Vector3d& xi) const;
+  [[nodiscard]] PointValue value_at_reference(int tet, const Eigen::Vector3d& xi) const;
 
   /// The element of this rank's that contains x, and x's reference
   /// coordinates in it (Newton on the curved map); nothing if none does.

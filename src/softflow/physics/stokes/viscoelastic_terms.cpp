@@ -26,12 +26,12 @@ PointPrediction predict_at(const ViscoelasticCoupling& coupling, const fem::Quad
   const auto& model = coupling.models.at(p.region);
   const auto& bdf = coupling.bdf;
   const auto& e = coupling.extrapolation;
-  const Eigen::VectorXd c_n = coupling.conformation->value(p);
-  Eigen::VectorXd extrapolated = e.current * c_n;
-  Eigen::VectorXd history = -(bdf.a1 / bdf.a0) * c_n;
-  Eigen::MatrixXd grad_c_components = e.current * coupling.conformation->gradient(p);  // 6 x 3
+  const fem::PointValue c_n = coupling.conformation->value(p);
+  fem::PointValue extrapolated = e.current * c_n;
+  fem::PointValue history = -(bdf.a1 / bdf.a0) * c_n;
+  fem::PointGradient grad_c_components = e.current * coupling.conformation->gradient(p);  // 6 x 3
   if (coupling.previous_conformation && (bdf.a2 != 0.0 || e.previous != 0.0)) {
-    const Eigen::VectorXd c_previous = coupling.previous_conformation->value(p);
+    const fem::PointValue c_previous = coupling.previous_conformation->value(p);
     extrapolated += e.previous * c_previous;
     history -= (bdf.a2 / bdf.a0) * c_previous;
     grad_c_components += e.previous * coupling.previous_conformation->gradient(p);

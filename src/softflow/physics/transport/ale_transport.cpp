@@ -113,7 +113,7 @@ void AleTransport::step(const fem::Field& u, const fem::Field* mesh_velocity, co
       w_grad = grad * w[q];
       test = phi + tau * w_grad;  // Petrov-Galerkin test functions
       ke.noalias() += p.weight * test * (c.a0 / dt * phi + w_grad).transpose();
-      Eigen::VectorXd known = -(c.a1 * s_.value(p)) / dt;
+      fem::PointValue known = -(c.a1 * s_.value(p)) / dt;
       if (c.a2 != 0.0) known -= c.a2 * previous_.value(p) / dt;
       if (source) known += source(p);
       fe.noalias() += p.weight * test * known.transpose();

@@ -49,7 +49,7 @@ enum class SupgTau { steady, transient };
 /// (state_part()).
 class AleTransport {
  public:
-  using Source = std::function<Eigen::VectorXd(const fem::QuadraturePoint&)>;
+  using Source = std::function<fem::PointValue(const fem::QuadraturePoint&)>;
   /// Values g(x, region) imposed at the constrained nodes after each step.
   using BoundaryValues = std::function<Eigen::VectorXd(const Eigen::Vector3d&, int region)>;
 

@@ -16,8 +16,10 @@ namespace softflow::physics::viscoelastic {
 /// Components of a symmetric tensor in a field: xx, yy, zz, xy, yz, xz
 /// (the order ParaView reads six-component symmetric tensors in).
 inline constexpr int kSymmetricComponents = 6;
-[[nodiscard]] Eigen::VectorXd pack_symmetric(const Mat3& a);
-[[nodiscard]] Mat3 unpack_symmetric(const Eigen::VectorXd& v);
+using SymmetricPacked = Eigen::Matrix<double, kSymmetricComponents, 1>;
+[[nodiscard]] SymmetricPacked pack_symmetric(const Mat3& a);
+/// From any contiguous six entries (a field's value at a point, a column of its gradient).
+[[nodiscard]] Mat3 unpack_symmetric(const Eigen::Ref<const Eigen::VectorXd>& v);
 
 /// The source r of the log-conformation transport
 ///
