@@ -327,12 +327,11 @@ int main(int argc, char** argv) {
                         "master curve from this y_p / y_p,max, to a stable neutral height or the "
                         "end of the measured heights (migration_trajectory.csv)");
   bool migration_mirror = false;
-  migration->add_flag(
-      "--mirror", migration_mirror,
-      "the runs are pairs, a start at +y_p0 and its mirror start at -y_p0 on a mesh of "
-      "its own, at the same times: the curves are each pair's point-symmetric mean "
-      "(q(+) - q(-)) / 2, which drops what the two meshes add in common, and "
-      "migration.md lists that part");
+  migration->add_flag("--mirror", migration_mirror,
+                      "pair each start at +y_p0 with its mirror start at -y_p0 on a mesh of "
+                      "its own, at the same times: the curves are each pair's point-symmetric mean "
+                      "(q(+) - q(-)) / 2, which drops what the two meshes add in common, and "
+                      "migration.md lists that part (a run without its mirror start enters alone)");
   migration->add_option("-o,--output", migration_out, "where the curves go")->capture_default_str();
 
   double lambda = 1.0, ca = 0.1;

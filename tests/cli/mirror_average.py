@@ -18,10 +18,11 @@ that a mirror start exposes).
    check tells the two apart).
 3. A start and a run at other times are refused (ValueError naming both).
 4. `softflow migration --mirror` on the raw starts and mirror starts gives
-   the averaged runs' trajectory and curves, lists each pair's meshes' part
-   (+0.004 y_p,max per unit time), and refuses, with exit code 1 and the
-   run named, a start without its mirror start, a centred start and a pair
-   at other times, writing nothing.
+   the averaged runs' trajectory and curves and lists each pair's meshes'
+   part (+0.004 y_p,max per unit time); a start given without its mirror
+   start enters alone, listed so; a centred start, two starts at one height
+   and a pair at other times are refused with exit code 1, the run named,
+   nothing written.
 
 usage: mirror_average.py SOFTFLOW WORKDIR SCRIPTS_DIR
 """
@@ -143,14 +144,25 @@ for start, _, y0, v_start, v_mirror, v_mean, v_meshes in listed:
             fail(f"--mirror: pair {start}: {key} {value}, expected {want}")
 print(f"softflow migration --mirror on the raw pairs: t = {paired:g}, the meshes' part listed")
 
+mixed_out = os.path.join(work, "curves_mixed")  # 0.9 without its mirror start: alone
+run([softflow, "migration", pairs[0], pairs[1], pairs[2], "--mirror", "--transient", "2", "-o", mixed_out])
+md = open(os.path.join(mixed_out, "migration.md")).read()
+alone = re.search(r"^\| \d \| \S*start_0\.9 \| none given[^|]*\| 0\.9000 \| \d+ \| ([-0-9.e]+) \|", md, re.M)
+if not alone or abs(float(alone.group(1)) - (SPEED + MESHES) * Y_MAX) > 1e-6:
+    fail(f"--mirror: the 0.9 start given alone is not listed alone with its own v_p:\n{md}")
+if not re.search(r"^\| \d \| \S*start_0\.5 \| \S*mirror_0\.5 \|", md, re.M):
+    fail(f"--mirror: the 0.5 pair is not listed beside the start alone:\n{md}")
+print("a start given without its mirror start enters alone, listed so")
+
 refused_out = os.path.join(work, "curves_refused")
 centred = write_run("centred", 0.0)
-for runs, named in (([pairs[0], pairs[1], pairs[2]], "start_0.9"),  # 0.9 without its mirror start
-                    ([pairs[0], pairs[3], centred], "centred"),
+again = write_run("again_0.9", 0.9)
+for runs, named in (([pairs[0], pairs[3], centred], "centred"),
+                    ([pairs[0], again, pairs[3]], "again_0.9"),
                     ([pairs[0], short], "mirror_short")):
     result = run([softflow, "migration", *runs, "--mirror", "--transient", "2", "-o", refused_out], expect=1)
     if named not in result.stderr or "--mirror" not in result.stderr:
         fail(f"--mirror refusal does not name {named} and the option: {result.stderr}")
     if os.path.exists(refused_out):
         fail("a refused --mirror left output behind")
-print("--mirror refuses an unpaired start, a centred start and a pair at other times")
+print("--mirror refuses a centred start, two starts at one height and a pair at other times")

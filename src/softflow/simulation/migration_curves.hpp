@@ -71,24 +71,25 @@ std::vector<NeutralHeight> neutral_heights(const MasterCurve& curve);
 /// How assemble_migration reads its runs.
 enum class RunPairing {
   separate,  ///< every run is a start of its own
-  /// The runs come in pairs, a start at y_p0 > 0 and its mirror start at
-  /// -y_p0, each on a mesh of its own. Shear flow between walls is symmetric
-  /// under the half turn about the vorticity (z) axis, which takes y_p, v_p
-  /// and Delta S to minus themselves, so the pair's point-symmetric mean
-  /// (q(start) - q(mirror)) / 2, row by row, keeps the particle's migration and
-  /// drops the part the two meshes add in common, (q(start) + q(mirror)) / 2.
-  /// A mesh error odd in y_p (both meshes graded alike towards the nearer
-  /// wall) stays in the mean: only refinement removes that.
+  /// Runs in pairs, a start at y_p0 > 0 and its mirror start at -y_p0, each
+  /// on a mesh of its own (a run without its pair enters alone). Shear flow between walls is
+  /// symmetric under the half turn about the vorticity (z) axis, which takes y_p, v_p and Delta S
+  /// to minus themselves, so the pair's point-symmetric mean (q(start) - q(mirror)) / 2, row by
+  /// row, keeps the particle's migration and drops the part the two meshes add in common, (q(start)
+  /// + q(mirror)) / 2. A mesh error odd in y_p (both meshes graded alike towards the nearer wall)
+  /// stays in the mean: only refinement removes that.
   mirror,
 };
 
 /// A start and its mirror start (RunPairing::mirror), with each one's mean
-/// migration over its kept rows.
+/// migration over its kept rows; or a run given without its mirror start.
 struct MirrorPair {
-  std::filesystem::path start;   ///< the run from y_p0 > 0
-  std::filesystem::path mirror;  ///< the run from -y_p0
+  std::filesystem::path start;   ///< the run from y_p0 > 0 (or, alone, from any y_p0)
+  std::filesystem::path mirror;  ///< the run from -y_p0; empty for a run alone
+  bool paired() const { return !mirror.empty(); }
   double y_rel0 = 0.0;           ///< y_p0 / y_p,max of the start
-  /// The slope of y_p(t) between the first and last kept rows of each run.
+  /// The slope of y_p(t) between the first and last kept rows of each run
+  /// (v_mirror NaN for a run alone).
   double v_start = 0.0, v_mirror = 0.0;
   double v_mirror_averaged() const { return 0.5 * (v_start - v_mirror); }
   double v_meshes() const { return 0.5 * (v_start + v_mirror); }  ///< what the meshes add
@@ -98,7 +99,7 @@ struct MigrationCurves {
   /// The runs, or with RunPairing::mirror the starts from y_p0 > 0, one per
   /// pair (the points' and stretches' `run` index into it either way).
   std::vector<std::filesystem::path> runs;
-  std::vector<MirrorPair> mirror_pairs;  ///< empty unless RunPairing::mirror
+  std::vector<MirrorPair> mirror_pairs;  ///< one per run (pair or alone) with RunPairing::mirror
   double blockage_ratio = 0.0;       ///< beta = 2R/H, of the first run (all must agree)
   double y_max = 0.0;                ///< y_p,max = H/2 - R of the first run (y_rel's unit)
   double capillary_number = 0.0;     ///< Ca_e of the first object (0 for a drop)
@@ -124,10 +125,12 @@ struct MigrationCurves {
 /// Each run's kept rows are cut into stretches of `segment` time units from
 /// its first kept row (a last stretch shorter than half of it joins the one
 /// before); the neutral heights are the zeros of their master_curve.
-/// With RunPairing::mirror each run's start y_p0 (its case's centre) must have
-/// exactly one partner at -y_p0 with the same kept times, and the curves are
-/// those of the pairs' means; InputError names the run without a partner,
-/// a centred start (its own mirror), or a pair whose times differ.
+/// With RunPairing::mirror each run whose start y_p0 (its case's centre) has a
+/// partner at -y_p0 is averaged with it (the same kept times needed), and a
+/// run without one enters alone (listed so in migration.md: near the centre
+/// plane the meshes' part matters, far from it less); InputError names a
+/// centred start (its own mirror), two starts at one height, or a pair whose
+/// times differ.
 MigrationCurves assemble_migration(const std::vector<std::filesystem::path>& directories,
                                    double transient, double segment = 2.0,
                                    RunPairing pairing = RunPairing::separate);
