@@ -17,14 +17,22 @@ A drop (R = 1, lambda = 1, Gamma = 1) in a 24 x 16 x 24 cell on 20 equator nodes
    same to 1e-6.
 3. --cube-sides 4,6,16 with bulk_stress.box_side = 4: cubes.csv's side-4 row
    is response.csv's cube, and phi side^3 is the drop's volume in every cube.
-4. Bad input: exit 1, one message naming the key or option, no output:
+4. A sweep stopped by SIGTERM after its first frequency exits with 5 and
+   keeps the solved frequencies in <dir>.frequencies-done.json; run again,
+   it takes them and solves the rest: response.csv equal to 1. to the bit,
+   the record removed.
+5. Bad input: exit 1, one message naming the key or option, no output:
    an elastic particle, steady flow without --frequency, --frequency 0, a bad
    --log-range, a cube that does not fit in the cell.
 """
+import json
 import math
 import os
 import shutil
+import signal
+import subprocess
 import sys
+import time
 
 from cli_support import fail, read_json, rows, run
 
@@ -104,6 +112,33 @@ def main(softflow, work, *launcher):
             fail(f"{name} missing")
     if [e for e in os.listdir(work) if ".partial-" in e]:
         fail(f"a staging directory was left: {os.listdir(work)}")
+
+    # A sweep stopped part-way keeps its solved frequencies beside the output
+    # directory; the next run takes them and solves the rest, to the bit.
+    resumed = os.path.join(work, "resumed")
+    record = resumed + ".frequencies-done.json"
+    process = subprocess.Popen([softflow, "response", case, "-o", resumed, "--log-range", "0.4", "10", "3"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    while process.poll() is None and not os.path.exists(record):
+        time.sleep(0.02)
+    process.send_signal(signal.SIGTERM)
+    out_text, err_text = process.communicate()
+    if process.returncode != 5 or os.path.exists(resumed) or not os.path.exists(record):
+        fail(f"a sweep stopped after its first frequency: exit {process.returncode} (expected 5), output directory "
+             f"{'left' if os.path.exists(resumed) else 'absent'}, record {'kept' if os.path.exists(record) else 'gone'}"
+             f"\n{out_text}\n{err_text}")
+    if "frequencies-done.json" not in err_text:
+        fail(f"the stop message does not say where the solved frequencies are kept: {err_text}")
+    kept = len(json.load(open(record))["points"])
+    again = run([softflow, "response", case, "-o", resumed, "--log-range", "0.4", "10", "3"]).stdout
+    if again.count("kept from an interrupted run") != kept or not 1 <= kept < 3:
+        fail(f"the rerun kept {again.count('kept from an interrupted run')} frequencies, the record held {kept}:\n{again}")
+    if os.path.exists(record):
+        fail("the record of solved frequencies outlived the committed results")
+    for a, b in zip(table, rows(resumed, "response.csv")):
+        if (a["c_real"], a["c_imag"], a["cell_phi"]) != (b["c_real"], b["c_imag"], b["cell_phi"]):
+            fail(f"the resumed sweep differs from the uninterrupted one: {b} against {a}")
+    print(f"a sweep stopped after {kept} of 3 frequencies resumes with them kept, the same to the bit")
 
     # A cube-side study (--cube-sides): the cube of bulk_stress.box_side gives
     # response.csv's cube columns again; every cube holding the drop has

@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <optional>
 
 #include <fmt/format.h>
+#include <mpi.h>
+#include <petscsys.h>
 
 #include "softflow/analysis/box_clipping.hpp"
 #include "softflow/analysis/theory/oldroyd_emulsion.hpp"
@@ -299,6 +304,137 @@ std::string response_markdown(const io::CaseConfig& config, int drops, int unkno
   return md;
 }
 
+nlohmann::json cube_json(const CubeModuli& c) {
+  return {{"side", c.side},
+          {"phi", c.phi},
+          {"drops", c.drops},
+          {"storage", c.storage},
+          {"loss", c.loss},
+          {"oldroyd_storage", c.oldroyd_storage},
+          {"oldroyd_loss", c.oldroyd_loss}};
+}
+
+CubeModuli cube_from_json(const nlohmann::json& j) {
+  return {j.at("side"),        j.at("phi"),  j.at("drops"),
+          j.at("storage"),     j.at("loss"), j.at("oldroyd_storage"),
+          j.at("oldroyd_loss")};
+}
+
+/// A solved frequency as the record of finished frequencies keeps it: every
+/// field, doubles to the bit (nlohmann writes them round-trip exact).
+nlohmann::json point_json(const ResponsePoint& p) {
+  nlohmann::json cubes = nlohmann::json::array();
+  for (const auto& c : p.cubes) cubes.push_back(cube_json(c));
+  return {{"omega", p.omega},
+          {"omega_star", p.omega_star},
+          {"intrinsic_viscosity", {p.intrinsic_viscosity.real(), p.intrinsic_viscosity.imag()}},
+          {"cell_phi", p.cell_phi},
+          {"cell_storage", p.cell_storage},
+          {"cell_loss", p.cell_loss},
+          {"box", p.box ? cube_json(*p.box) : nlohmann::json()},
+          {"oldroyd_intrinsic_viscosity",
+           {p.oldroyd_intrinsic_viscosity.real(), p.oldroyd_intrinsic_viscosity.imag()}},
+          {"oldroyd_cell_storage", p.oldroyd_cell_storage},
+          {"oldroyd_cell_loss", p.oldroyd_cell_loss},
+          {"cubes", cubes},
+          {"seconds", p.seconds},
+          {"iterations", p.iterations},
+          {"inner_solves", p.inner_solves},
+          {"inner_iterations", p.inner_iterations}};
+}
+
+ResponsePoint point_from_json(const nlohmann::json& j) {
+  ResponsePoint p;
+  p.omega = j.at("omega");
+  p.omega_star = j.at("omega_star");
+  p.intrinsic_viscosity = {j.at("intrinsic_viscosity").at(0), j.at("intrinsic_viscosity").at(1)};
+  p.cell_phi = j.at("cell_phi");
+  p.cell_storage = j.at("cell_storage");
+  p.cell_loss = j.at("cell_loss");
+  if (!j.at("box").is_null()) p.box = cube_from_json(j.at("box"));
+  p.oldroyd_intrinsic_viscosity = {j.at("oldroyd_intrinsic_viscosity").at(0),
+                                   j.at("oldroyd_intrinsic_viscosity").at(1)};
+  p.oldroyd_cell_storage = j.at("oldroyd_cell_storage");
+  p.oldroyd_cell_loss = j.at("oldroyd_cell_loss");
+  for (const auto& c : j.at("cubes")) p.cubes.push_back(cube_from_json(c));
+  p.seconds = j.at("seconds");
+  p.iterations = j.at("iterations");
+  p.inner_solves = j.at("inner_solves");
+  p.inner_iterations = j.at("inner_iterations");
+  return p;
+}
+
+/// The frequencies a run of the command has solved so far, kept beside the
+/// output directory (`<dir>.frequencies-done.json`, rewritten atomically
+/// after each solve, removed once the results are committed), so that a run
+/// stopped or killed part-way loses only the frequency it was solving: the
+/// next run of the same case on the same mesh takes the kept ones and solves
+/// the rest. A sweep of several frequencies on a million unknowns takes an
+/// hour or more (docs/benchmarks/response.md).
+class FinishedFrequencies {
+ public:
+  FinishedFrequencies(const fs::path& directory, std::string case_text,
+                      std::vector<double> cube_sides, int unknowns)
+      : path_(directory.parent_path() / (directory.filename().string() + ".frequencies-done.json")),
+        key_({{"case", std::move(case_text)},
+              {"cube_sides", std::move(cube_sides)},
+              {"unknowns", unknowns}}) {
+    // The root reads the record, every rank parses it: all hold the same points.
+    std::string text;
+    if (is_root() && fs::exists(path_)) {
+      std::ifstream in(path_);
+      text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    long n = static_cast<long>(text.size());
+    MPI_Bcast(&n, 1, MPI_LONG, 0, PETSC_COMM_WORLD);
+    text.resize(static_cast<std::size_t>(n));
+    if (n > 0) MPI_Bcast(text.data(), static_cast<int>(n), MPI_CHAR, 0, PETSC_COMM_WORLD);
+    if (text.empty()) return;
+    try {
+      const auto j = nlohmann::json::parse(text);
+      if (j.at("key") != key_) {
+        ignored_ = "it was made for another case, mesh or set of cubes";
+        return;
+      }
+      for (const auto& p : j.at("points")) points_.push_back(point_from_json(p));
+    } catch (const std::exception& e) {
+      ignored_ = fmt::format("it cannot be read ({})", e.what());
+      points_.clear();
+    }
+  }
+
+  [[nodiscard]] const fs::path& path() const { return path_; }
+  /// Why an existing record is not used; empty when it is (or there is none).
+  [[nodiscard]] const std::string& ignored() const { return ignored_; }
+
+  /// The kept point of `omega`, if this record has one.
+  [[nodiscard]] std::optional<ResponsePoint> find(double omega) const {
+    for (const auto& p : points_)
+      if (p.omega == omega) return p;
+    return std::nullopt;
+  }
+
+  void add(const ResponsePoint& p) {
+    points_.push_back(p);
+    if (!is_root()) return;
+    nlohmann::json points = nlohmann::json::array();
+    for (const auto& q : points_) points.push_back(point_json(q));
+    io::write_text_file_atomically(
+        path_, nlohmann::json{{"key", key_}, {"points", points}}.dump(1) + "\n");
+  }
+
+  /// The results are committed: nothing to resume any more.
+  void forget() const {
+    if (is_root()) fs::remove(path_);
+  }
+
+ private:
+  fs::path path_;
+  nlohmann::json key_;
+  std::vector<ResponsePoint> points_;
+  std::string ignored_;
+};
+
 }  // namespace
 
 std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, const ResponseOptions& options) {
@@ -325,13 +461,28 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
                iterative ? "iterative: FGMRES with PRESB" : "direct: MUMPS LU", system.method_reason());
   const Averaging where(config, mesh, options.cube_sides);
 
+  FinishedFrequencies finished(directory, io::to_toml(config), options.cube_sides,
+                               system.n_unknowns());
+  if (!options.quiet && root && !finished.ignored().empty())
+    fmt::print("not resuming from {}: {}\n", finished.path().string(), finished.ignored());
   std::vector<ResponsePoint> points;
   for (double omega : frequencies) {
     if (const int signal = stop_requested())
-      throw RunInterrupted(fmt::format("stopped by {} before the results were written; run the command again",
-                                       signal_name(signal)));
+      throw RunInterrupted(
+          fmt::format("stopped by {} before the results were written; the {} frequencies solved "
+                      "are kept in {}: run the "
+                      "command again to solve the rest",
+                      signal_name(signal), points.size(), finished.path().string()));
+    if (const std::optional<ResponsePoint> kept = finished.find(omega)) {
+      if (!options.quiet && root)
+        fmt::print("omega {:g}: kept from an interrupted run ({})\n", omega,
+                   finished.path().filename().string());
+      points.push_back(*kept);
+      continue;
+    }
     problem.omega = omega;
     const ResponsePoint p = measure(config, mesh, system, problem, system.solve(problem), where);
+    finished.add(p);
     if (!options.quiet && root)
       fmt::print("omega {:g} (omega* {:.4g}): c = {:.5f} {:+.5f} i (Oldroyd's dilute {:.5f} {:+.5f} i); cell: G' "
                  "R/Gamma {:.5g}, G''/(eta_m omega) {:.5g}; {:.1f} s{}\n",
@@ -380,6 +531,7 @@ std::vector<ResponsePoint> run_frequency_response(const io::CaseConfig& config, 
     output->write_text("response.md", response_markdown(config, mesh.n_objects, system.n_unknowns(), points));
     output->write_text("summary.json", summary.dump(2) + "\n");
     output->commit();
+    finished.forget();
   });
   if (root) draw_plot("plot_response.py", directory, "response.png", options.quiet);
   if (!options.quiet && root) fmt::print("wrote {}/response.md, response.csv, response.png\n", directory.string());
