@@ -21,6 +21,13 @@ int mpi_rank(MPI_Comm comm) {
   return r;
 }
 
+void broadcast_text(std::string& text, int root, MPI_Comm comm) {
+  int n = static_cast<int>(text.size());
+  MPI_Bcast(&n, 1, MPI_INT, root, comm);
+  text.resize(static_cast<std::size_t>(n));
+  if (n > 0) MPI_Bcast(text.data(), n, MPI_CHAR, root, comm);
+}
+
 int mpi_size(MPI_Comm comm) {
   int s = 1;
   MPI_Comm_size(comm, &s);

@@ -61,6 +61,9 @@ struct OwnershipRange {
 
 int mpi_rank(MPI_Comm comm = PETSC_COMM_WORLD);
 int mpi_size(MPI_Comm comm = PETSC_COMM_WORLD);
+/// Gives every rank of `comm` rank `root`'s `text` (a message, a file read on one rank).
+/// Collective.
+void broadcast_text(std::string& text, int root = 0, MPI_Comm comm = PETSC_COMM_WORLD);
 
 /// A distributed vector with the given local size.
 Vector make_vector(PetscInt n_local, PetscInt n_global);

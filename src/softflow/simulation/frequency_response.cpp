@@ -8,8 +8,6 @@
 #include <optional>
 
 #include <fmt/format.h>
-#include <mpi.h>
-#include <petscsys.h>
 
 #include "softflow/analysis/box_clipping.hpp"
 #include "softflow/analysis/theory/oldroyd_emulsion.hpp"
@@ -18,6 +16,7 @@
 #include "softflow/fem/tabulation.hpp"
 #include "softflow/io/report_table.hpp"
 #include "softflow/io/output_directory.hpp"
+#include "softflow/la/petsc.hpp"
 #include "softflow/physics/interface/interface_mesh.hpp"
 #include "softflow/physics/stokes/oscillatory_response.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
@@ -385,10 +384,7 @@ class FinishedFrequencies {
       std::ifstream in(path_);
       text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
-    long n = static_cast<long>(text.size());
-    MPI_Bcast(&n, 1, MPI_LONG, 0, PETSC_COMM_WORLD);
-    text.resize(static_cast<std::size_t>(n));
-    if (n > 0) MPI_Bcast(text.data(), static_cast<int>(n), MPI_CHAR, 0, PETSC_COMM_WORLD);
+    la::broadcast_text(text);
     if (text.empty()) return;
     try {
       const auto j = nlohmann::json::parse(text);

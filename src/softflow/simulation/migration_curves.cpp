@@ -211,17 +211,15 @@ MigrationCurves assemble_migration(const std::vector<fs::path>& directories, dou
       series.push_back(std::move(start.rows));
     }
   }
-  for (std::size_t r = 0; r < series.size(); ++r)
+  // Each series' finite rows (in time order, as kept_rows and mirror_mean give
+  // them) are its points and are cut into its stretches.
+  for (std::size_t r = 0; r < series.size(); ++r) {
+    std::vector<MigrationPoint> rows;
     for (MigrationPoint p : series[r]) {
       p.run = static_cast<int>(r);
-      if (std::isfinite(p.v_p) && std::isfinite(p.y_rel)) curves.points.push_back(p);
+      if (std::isfinite(p.v_p) && std::isfinite(p.y_rel)) rows.push_back(p);
     }
-  // Each run's stretches, from its rows in time order (as in migration.csv).
-  for (std::size_t r = 0; r < curves.runs.size(); ++r) {
-    std::vector<MigrationPoint> rows;
-    for (const auto& p : curves.points)
-      if (p.run == static_cast<int>(r)) rows.push_back(p);
-    std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+    curves.points.insert(curves.points.end(), rows.begin(), rows.end());
     std::size_t begin = 0;
     while (begin + 1 < rows.size()) {
       std::size_t end = begin + 1;

@@ -14,6 +14,7 @@
 #include "softflow/analysis/theory/small_deformation.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/geometry/shear_cell.hpp"
+#include "softflow/la/petsc.hpp"
 #include "softflow/mesh/fingerprint.hpp"
 #include "softflow/mesh/node_relocation.hpp"
 #include "softflow/mesh/quality.hpp"
@@ -52,10 +53,7 @@ void on_root_sharing_failure(const std::function<void()>& work) {
   }
   MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
   if (!failed) return;
-  int n = static_cast<int>(error.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  error.resize(n);
-  MPI_Bcast(error.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+  la::broadcast_text(error, 0, MPI_COMM_WORLD);
   if (failed == 1) throw InputError(error);
   if (failed == 2) throw MeshError(error);
   throw Error(error);

@@ -10,6 +10,7 @@
 #include <mpi.h>
 
 #include "softflow/fem/mesh_transfer.hpp"
+#include "softflow/la/petsc.hpp"
 #include "softflow/simulation/step_module.hpp"
 #include "softflow/common/error.hpp"
 #include "softflow/physics/stokes/stokes_system.hpp"
@@ -264,10 +265,7 @@ void ViscoelasticPhases::update_conformation_and_stress(double t_new, int step) 
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     const int mine = any_bad == bad ? rank : -1;
     MPI_Allreduce(&mine, &owner, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
-    int length = static_cast<int>(why.size());
-    MPI_Bcast(&length, 1, MPI_INT, owner, PETSC_COMM_WORLD);
-    why.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(why.data(), length, MPI_CHAR, owner, PETSC_COMM_WORLD);
+    la::broadcast_text(why, owner);
     throw SolverError(fmt::format(
         "step {} (t = {:.4f}): the conformation left the domain of the {} model at {}: {}. The "
         "conformation equation was not resolved there: try a smaller time.step or a finer mesh "
