@@ -1,7 +1,8 @@
 // The coarse corrections that make the iterative Stokes preconditioner
 // robust in the viscosity ratio: la::make_two_level (an exact solve on a
 // few vectors, then a smoother), la::make_coarse_corrected_jacobi (Jacobi
-// plus a low-rank term), and the laws that weight them
+// plus a low-rank term), la::make_block_corrected (a smoother, then an
+// exact solve on a block of rows), and the laws that weight them
 // (physics/stokes/schur_estimate.hpp). Each preconditioner is applied to a
 // vector and compared with the formula evaluated densely.
 //
@@ -12,6 +13,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "softflow/la/block_corrected.hpp"
 #include "softflow/la/coarse_corrected_jacobi.hpp"
 #include "softflow/la/petsc.hpp"
 #include "softflow/la/two_level.hpp"
@@ -176,6 +178,68 @@ TEST(TwoLevel, WithoutCoarseVectorsIsTheSmoother) {
   const Eigen::VectorXd y =
       apply_shell(m.get(), r, [&](PC pc) { la::make_two_level(pc, jacobi_smoother(), none); });
   EXPECT_LT((y - a.diagonal().cwiseInverse().cwiseProduct(r)).norm(), 1e-14 * r.norm());
+}
+
+/// The block of rows 5-9 and 14-16 (crossing the ranks' boundary on 2):
+/// each rank's local positions.
+std::vector<int> block_rows() { return {5, 6, 7, 8, 9, 14, 15, 16}; }
+
+std::vector<PetscInt> local_block_rows() {
+  const auto [first, last] = owned_rows();
+  std::vector<PetscInt> local;
+  for (int i : block_rows())
+    if (i >= first && i < last) local.push_back(i - first);
+  return local;
+}
+
+TEST(BlockCorrected, FollowsTheSmootherByAnExactSolveOnTheBlock) {
+  const Eigen::MatrixXd a = dense_matrix();
+  const la::Matrix m = petsc_matrix(a);
+  const std::vector<int> rows = block_rows();
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd block(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) block(i, j) = a(rows[i], rows[j]);
+  // y = D^{-1} r, then y_I += A_II^{-1} (r - A y)_I.
+  const Eigen::VectorXd r = random_dense(7);
+  Eigen::VectorXd expected = a.diagonal().cwiseInverse().cwiseProduct(r);
+  const Eigen::VectorXd left = r - a * expected;
+  Eigen::VectorXd left_block(n);
+  for (Eigen::Index i = 0; i < n; ++i) left_block(i) = left(rows[i]);
+  const Eigen::VectorXd correction = block.lu().solve(left_block);
+  for (Eigen::Index i = 0; i < n; ++i) expected(rows[i]) += correction(i);
+  const bool active = true;
+  const Eigen::VectorXd y = apply_shell(m.get(), r, [&](PC pc) {
+    la::make_block_corrected(pc, jacobi_smoother(), local_block_rows(), &active);
+  });
+  EXPECT_LT((y - expected).norm(), 1e-12 * expected.norm());
+  // After it the residual vanishes on the block: the block is solved exactly.
+  const Eigen::VectorXd residual = r - a * y;
+  for (int i : rows) EXPECT_LT(std::abs(residual(i)), 1e-12 * r.norm());
+}
+
+TEST(BlockCorrected, InactiveIsTheSmootherAndMaySwitchOnBetweenApplications) {
+  const Eigen::MatrixXd a = dense_matrix();
+  const la::Matrix m = petsc_matrix(a);
+  const Eigen::VectorXd r = random_dense(9);
+  bool active = false;
+  PC pc = nullptr;
+  la::check(PCCreate(PETSC_COMM_WORLD, &pc), "PCCreate");
+  la::check(PCSetOperators(pc, m.get(), m.get()), "PCSetOperators");
+  la::make_block_corrected(pc, jacobi_smoother(), local_block_rows(), &active);
+  la::check(PCSetUp(pc), "PCSetUp");  // not factored while inactive
+  auto apply = [&] {
+    la::Vector x = petsc_vector(r), y = petsc_vector(Eigen::VectorXd::Zero(kSize));
+    la::check(PCApply(pc, x.get(), y.get()), "PCApply");
+    return dense_vector(y.get());
+  };
+  const Eigen::VectorXd smoothed = apply();
+  EXPECT_LT((smoothed - a.diagonal().cwiseInverse().cwiseProduct(r)).norm(), 1e-14 * r.norm());
+  active = true;  // factored at its first use
+  const Eigen::VectorXd corrected = apply();
+  const Eigen::VectorXd residual = r - a * corrected;
+  for (int i : block_rows()) EXPECT_LT(std::abs(residual(i)), 1e-12 * r.norm());
+  la::check(PCDestroy(&pc), "PCDestroy");
 }
 
 TEST(CoarseCorrectedJacobi, AddsTheLowRankTermToJacobi) {

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "softflow/common/error.hpp"
+#include "softflow/la/block_corrected.hpp"
 
 namespace softflow::la {
 
@@ -303,7 +304,8 @@ void SaddlePointSolver::renew_coarse_space() {
 void SaddlePointSolver::install_coarse_spaces() {
   if (coarse_spaces_installed_ || settings_.method != SaddlePointMethod::iterative) return;
   coarse_spaces_installed_ = true;  // decided once, whatever the outcome
-  if (schur_correction_->empty() && primal_coarse_space_->empty()) return;
+  if (schur_correction_->empty() && primal_coarse_space_->empty() && !has_primal_exact_block_)
+    return;
   PC pc = nullptr;
   check(KSPGetPC(ksp_.get(), &pc), "KSPGetPC");
   PetscBool fieldsplit = PETSC_FALSE;
@@ -314,15 +316,30 @@ void SaddlePointSolver::install_coarse_spaces() {
   check(PCFieldSplitGetType(pc, &type), "PCFieldSplitGetType");
   if (type != PC_COMPOSITE_SCHUR) return;
   for_each_split(ksp_.get(), [&](KSP split, PetscInt k) {
-    if (k == 0 && !primal_coarse_space_->empty()) {
-      PC split_pc = nullptr, smoother = nullptr;
+    if (k == 0 && (!primal_coarse_space_->empty() || has_primal_exact_block_)) {
+      PC split_pc = nullptr;
       check(KSPGetPC(split, &split_pc), "KSPGetPC");
       const char* prefix = nullptr;
       check(KSPGetOptionsPrefix(split, &prefix), "KSPGetOptionsPrefix");
-      check(PCCreate(PetscObjectComm(reinterpret_cast<PetscObject>(split)), &smoother), "PCCreate");
+      const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(split));
+      // The split's own choice (BoomerAMG by default), made anew from the options.
+      PC smoother = nullptr;
+      check(PCCreate(comm, &smoother), "PCCreate");
       check(PCSetOptionsPrefix(smoother, prefix), "PCSetOptionsPrefix");
       check(PCSetFromOptions(smoother), "PCSetFromOptions");
-      make_two_level(split_pc, smoother, *primal_coarse_space_);
+      if (primal_coarse_space_->empty()) {
+        make_block_corrected(split_pc, smoother, primal_exact_block_,
+                             primal_exact_block_active_.get());
+      } else {
+        if (has_primal_exact_block_) {
+          PC corrected = nullptr;
+          check(PCCreate(comm, &corrected), "PCCreate");
+          make_block_corrected(corrected, smoother, primal_exact_block_,
+                               primal_exact_block_active_.get());
+          smoother = corrected;
+        }
+        make_two_level(split_pc, smoother, *primal_coarse_space_);
+      }
       return;
     }
     if (k != 1 || schur_correction_->empty()) return;  // the Schur complement's solver

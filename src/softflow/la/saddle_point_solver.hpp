@@ -202,6 +202,19 @@ class SaddlePointSolver {
   [[nodiscard]] const std::vector<SparseVector>& primal_coarse_space() const {
     return *primal_coarse_space_;
   }
+  /// Iterative method: unknowns of the first field (this rank's positions
+  /// in its split, ascending) that its preconditioner is to follow by an
+  /// exact solve of their block, la::make_block_corrected (the oscillatory
+  /// system: the interface nodes' velocities under the tension's stiff
+  /// normal coupling at low frequency). Read at the first solve.
+  /// It is solved while active (the default), and the switch may change
+  /// between solves.
+  /// Collective: every rank calls it, with its own rows (maybe none).
+  void set_primal_exact_block(std::vector<PetscInt> rows) {
+    primal_exact_block_ = std::move(rows);
+    has_primal_exact_block_ = true;
+  }
+  void set_primal_exact_block_active(bool active) { *primal_exact_block_active_ = active; }
   /// Builds the preconditioner (factors) on the current operators now,
   /// without solving: a restart rebuilding the factors an earlier run had.
   void set_up();
@@ -212,8 +225,9 @@ class SaddlePointSolver {
   [[nodiscard]] bool reduces_residual(Vec b, Vec x) const;
 
   /// After the outer setup, which makes the splits, once: the velocity
-  /// split's preconditioner is wrapped by la::make_two_level if there is a
-  /// primal coarse space, and the Schur split's Jacobi becomes
+  /// split's preconditioner is followed by la::make_block_corrected if
+  /// there is a primal exact block, then wrapped by la::make_two_level if
+  /// there is a primal coarse space, and the Schur split's Jacobi becomes
   /// la::make_coarse_corrected_jacobi if there is a Schur correction.
   void install_coarse_spaces();
   /// Before a build of the preconditioner: the primal coarse space renewed.
@@ -225,6 +239,9 @@ class SaddlePointSolver {
   std::unique_ptr<std::vector<SparseVector>> primal_coarse_space_ =
       std::make_unique<std::vector<SparseVector>>();
   std::function<void(std::vector<SparseVector>&)> renew_primal_coarse_space_;
+  std::vector<PetscInt> primal_exact_block_;
+  bool has_primal_exact_block_ = false;
+  std::unique_ptr<bool> primal_exact_block_active_ = std::make_unique<bool>(true);
   bool coarse_spaces_installed_ = false;
   Solver ksp_;
   bool have_preconditioner_ = false;

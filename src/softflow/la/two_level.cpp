@@ -4,6 +4,8 @@
 
 #include <Eigen/Dense>
 
+#include "softflow/la/shell_smoother.hpp"
+
 namespace softflow::la {
 
 namespace {
@@ -60,15 +62,9 @@ PetscErrorCode set_up(PC pc) {
   PetscFunctionBeginUser;
   Context* ctx = nullptr;
   PetscCall(PCShellGetContext(pc, &ctx));
-  Mat a = nullptr, p = nullptr;
-  PetscCall(PCGetOperators(pc, &a, &p));
-  // The smoother is rebuilt here and only here: PCApply sets a PC up when
-  // its matrix changed, and the shell's reuse flag (a kept preconditioner)
-  // does not reach it, so it carries its own, raised after the build.
-  PetscCall(PCSetReusePreconditioner(ctx->smoother, PETSC_FALSE));
-  PetscCall(PCSetOperators(ctx->smoother, a, p));
-  PetscCall(PCSetUp(ctx->smoother));
-  PetscCall(PCSetReusePreconditioner(ctx->smoother, PETSC_TRUE));
+  Mat a = nullptr;
+  PetscCall(PCGetOperators(pc, &a, nullptr));
+  PetscCall(set_up_shell_smoother(pc, ctx->smoother));
   if (!ctx->work) PetscCall(MatCreateVecs(a, &ctx->work, &ctx->product));
   const auto& z = *ctx->z;
   const auto n = static_cast<Eigen::Index>(z.size());

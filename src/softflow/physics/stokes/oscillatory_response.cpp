@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -93,6 +94,47 @@ struct OscillatorySystem::Impl {
 };
 
 namespace {
+
+/// Whether the inner solves follow each AMG cycle of the velocity block
+/// by an exact solve on the interface nodes' velocities (la::make_block_corrected).
+///
+/// Why: the tension's block B = T / omega couples the three components of
+/// each interface node through n n^T with the stiffness Gamma / omega, which
+/// outweighs the viscous block by Gamma / (omega eta R) (eta the lower of
+/// the two phases' viscosities) at low frequency or low viscosity ratio.
+/// BoomerAMG coarsens the components apart and cannot represent fields
+/// held tangential by that penalty, so its cycles lose their grip there:
+/// 10 inner iterations a solve at omega* = 10 but 48 at 0.2 (4 drops,
+/// lambda = 0.1, 174k real unknowns), and 91 on the 24-drop phi = 0.2
+/// configurations. The exact block is the interface's part of the
+/// velocity block (a surface-like pattern, cheap to factor); it brings
+/// the 48 to 31 (a whole frequency 146 -> 105 s; ratio 50) and at
+/// omega* = 0.4 (ratio 25) 26 to 19 (138 -> 92 s), but at omega* = 1
+/// (ratio 10) it only breaks even (14 -> 12.6 a solve, 34 -> 36 s), so it
+/// is used from a ratio of 20.
+/// -oscillatory_interface_block always|never overrides the rule.
+bool interface_block_pays(const OscillatoryProblem& problem) {
+  char choice[16] = "";
+  PetscBool set = PETSC_FALSE;
+  check(PetscOptionsGetString(nullptr, nullptr, "-oscillatory_interface_block", choice,
+                              sizeof choice, &set),
+        "PetscOptionsGetString");
+  if (set) {
+    const std::string_view c(choice);
+    if (c == "always") return true;
+    if (c == "never") return false;
+    throw InputError(
+        fmt::format("-oscillatory_interface_block {}: allowed are always and never", c));
+  }
+  constexpr double kStiffnessRatioFrom = 20.0;
+  double ratio = 0.0;
+  for (std::size_t k = 0; k < problem.interfacial_tension.size(); ++k) {
+    const double eta = std::min(problem.viscosity.at(0), problem.viscosity.at(k + 1));
+    ratio = std::max(ratio,
+                     problem.interfacial_tension[k] / (problem.omega * eta * problem.radius.at(k)));
+  }
+  return ratio >= kStiffnessRatioFrom;
+}
 
 /// PRESB's application to the residual (r_r, r_i), interleaved as the real
 /// form's unknowns (OscillatorySystem's header derives it):
@@ -288,6 +330,20 @@ void OscillatorySystem::create_inner_matrices() {
   settings.max_iterations = 300;
   settings.prefix = "oscillatory_inner_";
   impl.inner_solver = std::make_unique<la::SaddlePointSolver>(settings, fields, impl.near_nullspace.get());
+  // The interface nodes' velocities, solved exactly after each AMG cycle
+  // where the tension's normal coupling is stiff (interface_block_pays).
+  std::vector<char> on_interface(mesh_.n_nodes(), 0);
+  for (const auto& tri : mesh_.interface_faces)
+    for (int node : tri) on_interface[node] = 1;
+  std::vector<PetscInt> interface_rows;
+  PetscInt position = 0;  // among this rank's velocity unknowns
+  for (PetscInt i = rows.begin; i < rows.end; ++i) {
+    const int dof = static_cast<int>(i);
+    if (dofs_.field_of(dof) != kVelocityField) continue;
+    if (on_interface[dofs_.node_of(dof)]) interface_rows.push_back(position);
+    ++position;
+  }
+  impl.inner_solver->set_primal_exact_block(std::move(interface_rows));
   impl.a = la::make_vector(rows.size(), n);
   for (la::Vector* v : {&impl.b, &impl.z, &impl.y, &impl.bz}) check(VecDuplicate(impl.a.get(), v->out()), "VecDuplicate");
 
@@ -612,6 +668,7 @@ void OscillatorySystem::solve_iterative(const OscillatoryProblem& problem, Vec r
   auto& impl = *impl_;
   impl.inner_solver->set_operators(impl.inner->get(), impl.inner_pmat->get());
   impl.inner_solver->refactor_at_next_solve();  // a new frequency: a new matrix
+  impl.inner_solver->set_primal_exact_block_active(interface_block_pays(problem));
   impl.inner_solves = impl.inner_iterations = 0;
   check(KSPSetOperators(impl.outer.get(), impl.matrix->get(), impl.matrix->get()), "KSPSetOperators");
   check(KSPSetFromOptions(impl.outer.get()), "KSPSetFromOptions");
