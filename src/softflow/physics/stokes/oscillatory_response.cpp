@@ -102,15 +102,20 @@ namespace {
 /// each interface node through n n^T with the stiffness Gamma / omega, which
 /// outweighs the viscous block by Gamma / (omega eta R) (eta the lower of
 /// the two phases' viscosities) at low frequency or low viscosity ratio.
-/// BoomerAMG coarsens the components apart and cannot represent fields
-/// held tangential by that penalty, so its cycles lose their grip there:
-/// 10 inner iterations a solve at omega* = 10 but 48 at 0.2 (4 drops,
-/// lambda = 0.1, 174k real unknowns), and 91 on the 24-drop phi = 0.2
-/// configurations. The exact block is the interface's part of the
-/// velocity block (a surface-like pattern, cheap to factor); it brings
-/// the 48 to 31 (a whole frequency 146 -> 105 s; ratio 50) and at
-/// omega* = 0.4 (ratio 25) 26 to 19 (138 -> 92 s), but at omega* = 1
-/// (ratio 10) it only breaks even (14 -> 12.6 a solve, 34 -> 36 s), so it
+/// BoomerAMG's cycles lose their grip there: 10 inner iterations a solve
+/// at omega* = 10 but 48 at 0.2 (4 drops, lambda = 0.1), 91 on the 24-drop
+/// phi = 0.2 configurations. With the velocity block factored exactly
+/// instead the same solves take 18, so the AMG fails, not the Schur
+/// estimate. Scalar AMG (no block size) made it worse (72), a coarse
+/// space of the drops' translations did nothing (48; the preconditioning
+/// matrix's B lacks the -2/R^2 mass term, so it stiffens them), and on one
+/// drop (omega* = 0.002) nodal coarsening and a lower strength threshold
+/// did not help either. The exact
+/// block is the interface's part of the velocity block (a surface-like
+/// pattern, cheap to factor). Measured (benchmarks/interface_block.md, the
+/// 4 drops, 174k real unknowns): 48 -> 31 inner iterations a solve and
+/// 0.71 of the time at a ratio of 50, 0.81 at 25, 0.96 at 10 and 1.16 at 1
+/// (the factorisation and one more product a cycle, for nothing), so it
 /// is used from a ratio of 20.
 /// -oscillatory_interface_block always|never overrides the rule.
 bool interface_block_pays(const OscillatoryProblem& problem) {
