@@ -327,19 +327,17 @@ void SaddlePointSolver::install_coarse_spaces() {
       check(PCCreate(comm, &smoother), "PCCreate");
       check(PCSetOptionsPrefix(smoother, prefix), "PCSetOptionsPrefix");
       check(PCSetFromOptions(smoother), "PCSetFromOptions");
-      if (primal_coarse_space_->empty()) {
-        make_block_corrected(split_pc, smoother, primal_exact_block_,
+      // The block correction is the split's preconditioner, or the two-level
+      // one's smoother when there is a coarse space too.
+      const bool two_level = !primal_coarse_space_->empty();
+      if (has_primal_exact_block_) {
+        PC corrected = split_pc;
+        if (two_level) check(PCCreate(comm, &corrected), "PCCreate");
+        make_block_corrected(corrected, smoother, primal_exact_block_,
                              primal_exact_block_active_.get());
-      } else {
-        if (has_primal_exact_block_) {
-          PC corrected = nullptr;
-          check(PCCreate(comm, &corrected), "PCCreate");
-          make_block_corrected(corrected, smoother, primal_exact_block_,
-                               primal_exact_block_active_.get());
-          smoother = corrected;
-        }
-        make_two_level(split_pc, smoother, *primal_coarse_space_);
+        smoother = corrected;
       }
+      if (two_level) make_two_level(split_pc, smoother, *primal_coarse_space_);
       return;
     }
     if (k != 1 || schur_correction_->empty()) return;  // the Schur complement's solver
